@@ -1,0 +1,27 @@
+#pragma once
+// A keyframe as the robot agent emits it and the base station consumes it (the DDS `Keyframe`
+// message mirrors this; dds/ converts). Poses are in the robot's own local map frame, whose origin
+// is where that robot started: the base station does not know how these frames relate.
+#include <vector>
+
+#include "common/ids.h"
+#include "common/laser_scan.h"
+#include "common/se2.h"
+#include "common/time.h"
+
+namespace cairn {
+
+struct Keyframe {
+  KeyframeId id;
+  StampNs stamp_ns = 0;
+  SE2 T_local_base;                                      ///< pose in the robot's local frame
+  Covariance3 covariance = Covariance3::Identity() * 1e-4;
+  /// Relative pose from the previous keyframe (seq-1) to this one, as local SLAM measured it.
+  /// Unused for seq 0.
+  SE2 T_prev_this;
+  Covariance3 edge_covariance = Covariance3::Identity() * 1e-4;
+  LaserScan scan;                                        ///< in the base frame (laser at origin)
+  std::vector<float> place_descriptor;                   ///< rotation-invariant, may be empty
+};
+
+}  // namespace cairn

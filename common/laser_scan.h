@@ -1,0 +1,40 @@
+#pragma once
+// A planar laser scan and its conversion to points with bad readings filtered and counted.
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "common/time.h"
+
+namespace cairn {
+
+struct LaserScan {
+  StampNs stamp_ns = 0;
+  float angle_min_rad = 0.f;        ///< angle of ranges_m[0] in the sensor frame (CCW, 0 = forward)
+  float angle_increment_rad = 0.f;  ///< CCW step between beams
+  float range_min_m = 0.05f;        ///< readings at or below this are "no return"
+  float range_max_m = 30.f;         ///< readings at or above this are "no return"
+  std::vector<float> ranges_m;
+};
+
+/// Why readings were dropped; reported so bad sensors are visible, never silently swallowed.
+struct ScanFilterStats {
+  int valid = 0;
+  int nan_or_inf = 0;
+  int too_close = 0;  ///< zero or below range_min_m
+  int max_range = 0;  ///< at or beyond range_max_m (no return)
+  ScanFilterStats& operator+=(const ScanFilterStats& o) {
+    valid += o.valid; nan_or_inf += o.nan_or_inf; too_close += o.too_close; max_range += o.max_range;
+    return *this;
+  }
+};
+
+/// Endpoints of the valid beams in the sensor frame (metres).
+std::vector<Eigen::Vector2f> scan_to_points(const LaserScan& scan, ScanFilterStats* stats = nullptr);
+
+/// Angle of beam i.
+inline float beam_angle_rad(const LaserScan& scan, size_t i) {
+  return scan.angle_min_rad + float(i) * scan.angle_increment_rad;
+}
+
+}  // namespace cairn
