@@ -1,0 +1,110 @@
+#include "dds/conversions.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace cairn::dds {
+namespace {
+
+Keyframe make_keyframe() {
+  Keyframe kf;
+  kf.id = {RobotId(2), 7};
+  kf.stamp_ns = 123456789;
+  kf.T_local_base = SE2(1.5, -2.0, 0.3);
+  kf.T_prev_this = SE2(0.5, 0.01, 0.02);
+  kf.scan.angle_min_rad = -M_PI;
+  kf.scan.angle_increment_rad = float(2 * M_PI / 360);
+  kf.scan.range_max_m = 12.f;
+  for (int i = 0; i < 360; ++i) kf.scan.ranges_m.push_back(1.0f + 0.01f * i);
+  kf.place_descriptor = {1.f, 2.f, 3.f};
+  return kf;
+}
+
+TEST(Conversions, KeyframeRoundTripKeepsPoseAndScanToAMillimetre) {
+  const Keyframe kf = make_keyframe();
+  std::string error;
+  auto back = from_msg(to_msg(kf), &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_EQ(back->id, kf.id);
+  EXPECT_EQ(back->stamp_ns, kf.stamp_ns);
+  EXPECT_NEAR(back->T_local_base.x(), 1.5, 1e-12);
+  EXPECT_NEAR(back->T_prev_this.yaw(), 0.02, 1e-12);
+  ASSERT_EQ(back->scan.ranges_m.size(), 360u);
+  for (size_t i = 0; i < 360; ++i) EXPECT_NEAR(back->scan.ranges_m[i], kf.scan.ranges_m[i], 5e-4);
+  EXPECT_EQ(back->place_descriptor, kf.place_descriptor);
+}
+
+TEST(Conversions, KeyframeWithNanPoseIsRejectedNamingTheField) {
+  auto msg = to_msg(make_keyframe());
+  msg.T_local_base().x_m(std::nan(""));
+  std::string error;
+  EXPECT_FALSE(from_msg(msg, &error));
+  EXPECT_NE(error.find("T_local_base"), std::string::npos) << error;
+}
+
+TEST(Conversions, KeyframeWithCorruptScanIsRejected) {
+  auto msg = to_msg(make_keyframe());
+  msg.scan_zstd().resize(msg.scan_zstd().size() / 2);
+  std::string error;
+  EXPECT_FALSE(from_msg(msg, &error));
+  EXPECT_NE(error.find("scan_zstd"), std::string::npos) << error;
+}
+
+TEST(Conversions, ObjectRoundTripAndBadConfidence) {
+  ObjectReport o;
+  o.id = {RobotId(1), 3};
+  o.class_name = "victim";
+  o.confidence = 0.8f;
+  o.anchor_seq = 4;
+  o.T_anchor_object.translation() = Eigen::Vector3d(1, 2, 0.3);
+  for (int i = 0; i < 100; ++i) o.cloud.push_back({0.01f * i, -0.01f * i, 0.2f, 200, 10, 10});
+  std::string error;
+  auto back = from_msg(to_msg(o), &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_EQ(back->class_name, "victim");
+  ASSERT_EQ(back->cloud.size(), 100u);
+  EXPECT_NEAR(back->cloud[50].x, 0.5f, 1e-3);
+  EXPECT_EQ(back->cloud[50].r, 200);
+  EXPECT_NEAR(back->T_anchor_object.translation().y(), 2.0, 1e-12);
+
+  auto msg = to_msg(o);
+  msg.confidence(std::nanf(""));
+  EXPECT_FALSE(from_msg(msg, &error));
+  EXPECT_NE(error.find("confidence"), std::string::npos);
+}
+
+TEST(Conversions, RgbdFrameWithWrongSizesIsRejected) {
+  RgbdFrame f;
+  f.intrinsics = {4, 3, 100, 100, 2, 1.5, 0.001};
+  f.rgb.assign(4 * 3 * 3, 0);
+  f.depth.assign(4 * 3, 1000);
+  std::string error;
+  ASSERT_TRUE(from_msg(to_msg(RobotId(0), f), &error)) << error;
+  auto msg = to_msg(RobotId(0), f);
+  msg.depth().pop_back();
+  EXPECT_FALSE(from_msg(msg, &error));
+  EXPECT_NE(error.find("sizes"), std::string::npos);
+  msg = to_msg(RobotId(0), f);
+  msg.T_base_camera()[0] = 5.0;  // not a rotation
+  EXPECT_FALSE(from_msg(msg, &error));
+}
+
+TEST(Conversions, LaserScanKeepsNanRangesButRejectsBadGeometry) {
+  LaserScan s;
+  s.angle_increment_rad = 0.01f;
+  s.ranges_m = {1.f, std::nanf(""), INFINITY};
+  std::string error;
+  auto back = from_msg(to_msg(RobotId(0), s), &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_TRUE(std::isnan(back->ranges_m[1]));
+  auto msg = to_msg(RobotId(0), s);
+  msg.range_max_m(0.f);
+  EXPECT_FALSE(from_msg(msg, &error));
+  msg = to_msg(RobotId(-3), s);
+  EXPECT_FALSE(from_msg(msg, &error));
+  EXPECT_NE(error.find("robot_id"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace cairn::dds

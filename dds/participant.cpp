@@ -1,0 +1,82 @@
+#include "dds/participant.h"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
+
+namespace cairn::dds {
+
+using namespace eprosima::fastdds::dds;
+using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
+using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
+using eprosima::fastrtps::rtps::IPLocator;
+using eprosima::fastrtps::rtps::Locator_t;
+
+std::unique_ptr<Participant> Participant::create(const ParticipantOptions& options, std::string* error) {
+  std::unique_ptr<Participant> p(new Participant(options));
+  DomainParticipantQos qos = PARTICIPANT_QOS_DEFAULT;
+  qos.name(options.name);
+
+  // Transports: UDPv4 always (the radio link), shared memory for same-host peers.
+  qos.transport().use_builtin_transports = false;
+  auto udp = std::make_shared<UDPv4TransportDescriptor>();
+  udp->maxInitialPeersRange = options.max_initial_peers_range;
+  qos.transport().user_transports.push_back(udp);
+  if (options.use_shared_memory) {
+    auto shm = std::make_shared<SharedMemTransportDescriptor>();
+    shm->segment_size(options.shm_segment_bytes);
+    shm->maxInitialPeersRange = options.max_initial_peers_range;
+    qos.transport().user_transports.push_back(shm);
+  }
+
+  // Unicast discovery: loopback plus configured peers.
+  std::vector<std::string> peers = options.initial_peers;
+  peers.insert(peers.begin(), "127.0.0.1");
+  for (const auto& address : peers) {
+    Locator_t locator;
+    if (!IPLocator::setIPv4(locator, address)) {
+      if (error) *error = "invalid initial peer address '" + address + "'";
+      return nullptr;
+    }
+    locator.kind = LOCATOR_KIND_UDPv4;
+    qos.wire_protocol().builtin.initialPeersList.push_back(locator);
+  }
+
+  if (options.large_data_bytes_per_sec > 0) {
+    auto flow = std::make_shared<eprosima::fastdds::rtps::FlowControllerDescriptor>();
+    flow->name = kLargeDataFlowController;
+    flow->period_ms = 50;
+    flow->max_bytes_per_period = int32_t(options.large_data_bytes_per_sec / 20);
+    qos.flow_controllers().push_back(flow);
+  }
+
+  p->participant_ = DomainParticipantFactory::get_instance()->create_participant(options.domain_id, qos);
+  if (!p->participant_) {
+    if (error) *error = "cannot create DDS participant on domain " + std::to_string(options.domain_id);
+    return nullptr;
+  }
+  p->publisher_ = p->participant_->create_publisher(PUBLISHER_QOS_DEFAULT);
+  p->subscriber_ = p->participant_->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
+  if (!p->publisher_ || !p->subscriber_) {
+    if (error) *error = "cannot create DDS publisher/subscriber";
+    return nullptr;
+  }
+  return p;
+}
+
+Topic* Participant::register_topic(const std::string& name, TypeSupport type) {
+  if (type.register_type(participant_) != ReturnCode_t::RETCODE_OK) return nullptr;
+  Topic* topic = participant_->create_topic(name, type.get_type_name(), TOPIC_QOS_DEFAULT);
+  if (topic) topics_[name] = topic;
+  return topic;
+}
+
+Participant::~Participant() {
+  if (participant_) {
+    participant_->delete_contained_entities();
+    DomainParticipantFactory::get_instance()->delete_participant(participant_);
+  }
+}
+
+}  // namespace cairn::dds

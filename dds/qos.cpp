@@ -1,0 +1,104 @@
+#include "dds/qos.h"
+
+#include "dds/participant.h"
+
+namespace cairn::dds {
+
+using namespace eprosima::fastdds::dds;
+
+namespace {
+
+void reliable_common(DataWriterQos& q) {
+  q.reliability().kind = RELIABLE_RELIABILITY_QOS;
+  q.reliability().max_blocking_time = {5, 0};
+  // The default 3 s heartbeat makes recovery of lost fragments slow on a lossy link.
+  q.reliable_writer_qos().times.heartbeatPeriod = {0, 200'000'000};
+  q.reliable_writer_qos().times.nackResponseDelay = {0, 5'000'000};
+}
+
+template <typename Q>
+void set_limits(Q& q, int32_t instances, int32_t samples_per_instance) {
+  // Fast DDS requires max_samples >= max_instances * max_samples_per_instance.
+  q.resource_limits().max_instances = instances;
+  q.resource_limits().max_samples_per_instance = samples_per_instance;
+  q.resource_limits().max_samples = instances * samples_per_instance;
+}
+
+}  // namespace
+
+DataWriterQos writer_qos(TopicKind kind, const QosOptions& options) {
+  DataWriterQos q = DATAWRITER_QOS_DEFAULT;
+  q.endpoint().history_memory_policy = eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  switch (kind) {
+    case TopicKind::kSensor:
+      reliable_common(q);
+      q.history().kind = KEEP_ALL_HISTORY_QOS;
+      set_limits(q, 4, 2000);
+      q.publish_mode().kind = ASYNCHRONOUS_PUBLISH_MODE;
+      break;
+    case TopicKind::kClock:
+      reliable_common(q);
+      q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+      q.history().kind = KEEP_LAST_HISTORY_QOS;
+      q.history().depth = 1;
+      break;
+    case TopicKind::kKeyframe:
+      reliable_common(q);
+      q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+      q.history().kind = KEEP_ALL_HISTORY_QOS;
+      set_limits(q, 4, 100000);
+      q.publish_mode().kind = ASYNCHRONOUS_PUBLISH_MODE;
+      break;
+    case TopicKind::kObject:
+      reliable_common(q);
+      q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+      q.history().kind = KEEP_LAST_HISTORY_QOS;
+      q.history().depth = 1;
+      q.publish_mode().kind = ASYNCHRONOUS_PUBLISH_MODE;
+      if (options.large_data_flow_controlled) q.publish_mode().flow_controller_name = kLargeDataFlowController;
+      break;
+    case TopicKind::kStatus:
+      q.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
+      q.history().kind = KEEP_LAST_HISTORY_QOS;
+      q.history().depth = 1;
+      break;
+    case TopicKind::kAck:
+    case TopicKind::kCorrection:
+      reliable_common(q);
+      if (kind == TopicKind::kCorrection) q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+      q.history().kind = KEEP_LAST_HISTORY_QOS;
+      q.history().depth = 1;
+      break;
+  }
+  return q;
+}
+
+DataReaderQos reader_qos(TopicKind kind) {
+  DataReaderQos q = DATAREADER_QOS_DEFAULT;
+  q.endpoint().history_memory_policy = eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  const bool reliable = kind != TopicKind::kStatus;
+  q.reliability().kind = reliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
+  switch (kind) {
+    case TopicKind::kSensor:
+    case TopicKind::kKeyframe:
+      q.history().kind = KEEP_ALL_HISTORY_QOS;
+      set_limits(q, 256, 100000);  // a deep reader history: nothing is dropped
+      if (kind == TopicKind::kKeyframe) q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+      break;
+    case TopicKind::kClock:
+    case TopicKind::kCorrection:
+    case TopicKind::kObject:
+      q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+      q.history().kind = kind == TopicKind::kObject ? KEEP_ALL_HISTORY_QOS : KEEP_LAST_HISTORY_QOS;
+      q.history().depth = 1;
+      break;
+    case TopicKind::kStatus:
+    case TopicKind::kAck:
+      q.history().kind = KEEP_LAST_HISTORY_QOS;
+      q.history().depth = 1;
+      break;
+  }
+  return q;
+}
+
+}  // namespace cairn::dds

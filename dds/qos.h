@@ -1,0 +1,37 @@
+#pragma once
+// Per-topic QoS, in one place (the table in docs/architecture.md). deploy/cairn_profiles.xml
+// states the same for operators who configure peers by XML.
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+
+namespace cairn::dds {
+
+enum class TopicKind {
+  kSensor,      ///< odometry, laser, RGB-D: reliable, keep all (a replay must not drop input)
+  kClock,       ///< mission clock: reliable, transient local, keep last 1
+  kKeyframe,    ///< reliable, transient local, keep all: the writer history is the outbox
+  kObject,      ///< reliable, transient local, keep last 1 per object, flow-controlled
+  kStatus,      ///< best effort, keep last 1
+  kAck,         ///< reliable, keep last 1 per robot
+  kCorrection,  ///< reliable, transient local, keep last 1 per robot
+};
+
+struct QosOptions {
+  bool large_data_flow_controlled = false;  ///< objects through the participant's flow controller
+};
+
+eprosima::fastdds::dds::DataWriterQos writer_qos(TopicKind kind, const QosOptions& options = {});
+eprosima::fastdds::dds::DataReaderQos reader_qos(TopicKind kind);
+
+/// Topic names.
+constexpr const char* kOdometryTopic = "cairn/odometry";
+constexpr const char* kLaserTopic = "cairn/laser_scan";
+constexpr const char* kRgbdTopic = "cairn/rgbd";
+constexpr const char* kClockTopic = "cairn/mission_clock";
+constexpr const char* kKeyframeTopic = "cairn/keyframe";
+constexpr const char* kObjectTopic = "cairn/object";
+constexpr const char* kStatusTopic = "cairn/status";
+constexpr const char* kAckTopic = "cairn/ack";
+constexpr const char* kCorrectionTopic = "cairn/correction";
+
+}  // namespace cairn::dds
