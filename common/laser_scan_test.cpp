@@ -1,2 +1,30 @@
+#include "common/laser_scan.h"
+
 #include <gtest/gtest.h>
-TEST(Placeholder, Builds) { SUCCEED(); }
+
+#include <cmath>
+
+namespace cairn {
+namespace {
+
+TEST(LaserScan, FiltersAndCountsBadReadings) {
+  LaserScan s;
+  s.angle_min_rad = 0.f;
+  s.angle_increment_rad = float(M_PI / 2);
+  s.range_min_m = 0.1f;
+  s.range_max_m = 10.f;
+  s.ranges_m = {1.f, std::nanf(""), INFINITY, 0.f, 10.f, 2.f};
+  ScanFilterStats stats;
+  const auto pts = scan_to_points(s, &stats);
+  ASSERT_EQ(pts.size(), 2u);
+  EXPECT_NEAR(pts[0].x(), 1.f, 1e-6);
+  EXPECT_NEAR(pts[1].x(), 0.f, 1e-5);   // beam 5 at 450 deg = 90 deg
+  EXPECT_NEAR(pts[1].y(), 2.f, 1e-5);
+  EXPECT_EQ(stats.valid, 2);
+  EXPECT_EQ(stats.nan_or_inf, 2);
+  EXPECT_EQ(stats.too_close, 1);
+  EXPECT_EQ(stats.max_range, 1);
+}
+
+}  // namespace
+}  // namespace cairn
