@@ -1,0 +1,52 @@
+#pragma once
+// Scores a merged mission against the simulator's ground truth: per-robot trajectory error of the
+// base station's global keyframe poses, and objects found (recall, precision, position error) per
+// class. Inputs are the files the simulator and the base station write; see docs/architecture.md.
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/ids.h"
+#include "common/trajectory.h"
+
+namespace cairn::eval {
+
+struct EvalOptions {
+  double object_match_distance_m = 1.0;  ///< a detection within this (xy) of a same-class truth matches
+};
+
+struct ObjectScore {
+  std::string class_name;  ///< "all" for the total
+  int ground_truth = 0;
+  int detected = 0;
+  int matched = 0;
+  double mean_error_xy_m = 0, max_error_xy_m = 0, mean_error_xyz_m = 0;
+  double recall() const { return ground_truth ? double(matched) / ground_truth : 0.0; }
+  double precision() const { return detected ? double(matched) / detected : 0.0; }
+};
+
+struct RobotScore {
+  RobotId robot;
+  int keyframes = 0;
+  std::optional<TrajectoryErrorStats> global;   ///< in the world frame, no alignment
+  std::optional<TrajectoryErrorStats> aligned;  ///< after a best SE2 alignment
+};
+
+struct MissionScore {
+  std::vector<RobotScore> robots;
+  std::vector<ObjectScore> classes;
+  ObjectScore objects;  ///< all classes together
+};
+
+/// Reads gt_robot<N>.csv / gt_objects.csv from `ground_truth_dir` and trajectory_robot<N>.csv /
+/// objects.csv from `results_dir`. Throws InputError naming a missing or malformed file.
+MissionScore evaluate_mission(const std::string& ground_truth_dir, const std::string& results_dir,
+                              const EvalOptions& options = {});
+
+nlohmann::json to_json(const MissionScore& score);
+/// A few human-readable lines for the terminal.
+std::string format_score(const MissionScore& score);
+
+}  // namespace cairn::eval

@@ -1,0 +1,74 @@
+#include "tools/eval/mission_eval.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "common/errors.h"
+
+namespace cairn::eval {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Dirs {
+  fs::path gt, res;
+};
+
+Dirs make_dirs(const std::string& name) {
+  Dirs d{fs::path(::testing::TempDir()) / name / "gt", fs::path(::testing::TempDir()) / name / "res"};
+  fs::create_directories(d.gt);
+  fs::create_directories(d.res);
+  Trajectory truth, est;
+  for (int i = 0; i < 50; ++i) {
+    truth.push_back({StampNs(i) * kNsPerSec / 10, SE2(0.1 * i, 0, 0)});
+    if (i % 5 == 0) est.push_back({StampNs(i) * kNsPerSec / 10, SE2(0.1 * i, 0.05, 0)});
+  }
+  write_trajectory_csv((d.gt / "gt_robot0.csv").string(), truth);
+  write_trajectory_csv((d.res / "trajectory_robot0.csv").string(), est);
+  std::ofstream(d.gt / "gt_objects.csv") << "id,class,shape,x_m,y_m,z_m,yaw_rad,size_x,size_y,size_z,r,g,b\n"
+                                            "0,victim,box,1,1,0.2,0,1,1,1,255,0,0\n"
+                                            "1,victim,box,5,1,0.2,0,1,1,1,255,0,0\n"
+                                            "2,exit,box,3,3,1.0,0,1,1,1,0,255,0\n";
+  return d;
+}
+
+TEST(MissionEval, ScoresTrajectoryAndObjects) {
+  const Dirs d = make_dirs("eval_ok");
+  // One victim 0.1 m off, one exit labelled hazard (a false positive), one victim missed.
+  std::ofstream(d.res / "objects.csv") << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n"
+                                          "0-0,victim,0.9,1.1,1,0.2,0,5,1,1,1\n"
+                                          "0-1,hazard,0.9,3,3,1.0,0,5,1,1,1\n";
+  const MissionScore s = evaluate_mission(d.gt.string(), d.res.string());
+  ASSERT_EQ(s.robots.size(), 1u);
+  ASSERT_TRUE(s.robots[0].global);
+  EXPECT_NEAR(s.robots[0].global->ate_rmse_m, 0.05, 1e-6);
+  EXPECT_EQ(s.robots[0].keyframes, 10);
+  EXPECT_EQ(s.objects.ground_truth, 3);
+  EXPECT_EQ(s.objects.detected, 2);
+  EXPECT_EQ(s.objects.matched, 1);
+  EXPECT_NEAR(s.objects.mean_error_xy_m, 0.1, 1e-9);
+  EXPECT_NEAR(s.objects.recall(), 1.0 / 3, 1e-9);
+  EXPECT_NEAR(s.objects.precision(), 0.5, 1e-9);
+  ASSERT_EQ(s.classes.size(), 3u);  // exit, hazard, victim
+  EXPECT_EQ(s.classes[2].class_name, "victim");
+  EXPECT_EQ(s.classes[2].matched, 1);
+  EXPECT_NE(format_score(s).find("victim: found 1/2"), std::string::npos);
+}
+
+TEST(MissionEval, MalformedResultsNameTheFile) {
+  const Dirs d = make_dirs("eval_bad");
+  std::ofstream(d.res / "objects.csv") << "id,class,confidence,x_m,y_m,z_m\n0-0,victim,0.9,abc,1,0.2\n";
+  try {
+    evaluate_mission(d.gt.string(), d.res.string());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("objects.csv: column 'x_m' has a bad value"), std::string::npos) << e.what();
+  }
+  fs::remove(d.res / "objects.csv");
+  EXPECT_THROW(evaluate_mission(d.gt.string(), d.res.string()), InputError);
+}
+
+}  // namespace
+}  // namespace cairn::eval
