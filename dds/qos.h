@@ -4,6 +4,10 @@
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 
+#include <string>
+
+#include "common/ids.h"
+
 namespace cairn::dds {
 
 enum class TopicKind {
@@ -23,10 +27,14 @@ struct QosOptions {
 eprosima::fastdds::dds::DataWriterQos writer_qos(TopicKind kind, const QosOptions& options = {});
 eprosima::fastdds::dds::DataReaderQos reader_qos(TopicKind kind);
 
-/// Topic names.
-constexpr const char* kOdometryTopic = "cairn/odometry";
-constexpr const char* kLaserTopic = "cairn/laser_scan";
-constexpr const char* kRgbdTopic = "cairn/rgbd";
+/// Topic names. Sensor topics are per robot (a driver runs on its robot), the rest are shared
+/// and keyed by robot id.
+constexpr const char* kOdometryTopic = "odometry";
+constexpr const char* kLaserTopic = "laser_scan";
+constexpr const char* kRgbdTopic = "rgbd";
+inline std::string robot_topic(const char* name, RobotId robot) {
+  return "cairn/robot" + std::to_string(robot.value) + "/" + name;
+}
 constexpr const char* kClockTopic = "cairn/mission_clock";
 constexpr const char* kKeyframeTopic = "cairn/keyframe";
 constexpr const char* kObjectTopic = "cairn/object";

@@ -1,0 +1,79 @@
+// cairn_base: the base station. Merges every robot's keyframes and objects into one global map
+// (base_station/core), serves the console, and exports the results when the mission ends.
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <sstream>
+
+#include "base_station/app/base_node.h"
+#include "common/logging.h"
+
+namespace {
+cairn::base::BaseNode* g_node = nullptr;
+void on_signal(int) {
+  if (g_node) g_node->stop();
+}
+
+/// "id,x_m,y_m,yaw_rad" -> a robot's start pose; false when malformed.
+bool parse_start(const std::string& text, cairn::RobotId* robot, cairn::SE2* pose) {
+  std::istringstream ss(text);
+  int id;
+  double x, y, yaw;
+  char c1, c2, c3;
+  if (!(ss >> id >> c1 >> x >> c2 >> y >> c3 >> yaw) || c1 != ',' || c2 != ',' || c3 != ',' || id < 0 ||
+      !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(yaw)) {
+    return false;
+  }
+  *robot = cairn::RobotId(id);
+  *pose = cairn::SE2(x, y, yaw);
+  return true;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Cairn base station"};
+  cairn::base::BaseNodeOptions options;
+  std::vector<std::string> starts;
+  std::string log_level = "info";
+  app.add_option("--domain", options.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_option("--out", options.out_dir, "results folder")->required();
+  app.add_option("--robots", options.expected_robots, "finish when this many robots are done (0 = run until Ctrl-C)");
+  app.add_option("--start", starts, "known start pose of a robot: id,x_m,y_m,yaw_rad (repeatable)");
+  app.add_option("--port", options.console.port, "console HTTP port (0 = any free port)");
+  app.add_option("--bind", options.console.bind_address, "console bind address");
+  app.add_flag("--serve", options.serve_after_finish, "keep the console up after the mission");
+  app.add_option("--log-level", log_level);
+  CLI11_PARSE(app, argc, argv);
+  cairn::set_log_level(log_level);
+  auto log = cairn::make_logger("base");
+
+  for (const auto& s : starts) {
+    cairn::RobotId robot;
+    cairn::SE2 pose;
+    if (!parse_start(s, &robot, &pose)) {
+      log->error("--start '{}': expected id,x_m,y_m,yaw_rad with finite numbers", s);
+      return 2;
+    }
+    options.robot_starts[robot] = pose;
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(options.out_dir, ec);
+  if (ec) {
+    log->error("cannot create results folder '{}': {}", options.out_dir, ec.message());
+    return 2;
+  }
+  std::string error;
+  auto node = cairn::base::BaseNode::create(options, cairn::base::MapperOptions{}, &error);
+  if (!node) {
+    log->error("{}", error);
+    return 3;
+  }
+  g_node = node.get();
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  const int code = node->run();
+  g_node = nullptr;
+  return code;
+}

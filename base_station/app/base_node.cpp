@@ -1,0 +1,226 @@
+#include "base_station/app/base_node.h"
+
+#include <fstream>
+#include <thread>
+
+#include "base_station/core/exporter.h"
+#include "dds/conversions.h"
+
+namespace cairn::base {
+
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+/// Highest seq such that every keyframe 0..seq of `robot` is stored (-1 = none).
+int32_t contiguous_seq(const MultiRobotMapper& mapper, RobotId robot) {
+  const auto& kfs = mapper.keyframes();
+  int32_t expected = 0;
+  for (auto it = kfs.lower_bound(KeyframeId{robot, 0}); it != kfs.end() && it->first.robot == robot; ++it) {
+    if (it->first.seq != expected) break;
+    ++expected;
+  }
+  return expected - 1;
+}
+
+cairn_msgs::Pose2D pose_msg(const SE2& p) {
+  cairn_msgs::Pose2D m;
+  m.x_m(p.x());
+  m.y_m(p.y());
+  m.yaw_rad(p.yaw());
+  return m;
+}
+
+}  // namespace
+
+BaseNode::BaseNode(const BaseNodeOptions& options, const MapperOptions& mapper_options)
+    : options_(options), mapper_options_(mapper_options), mapper_(mapper_options), log_(make_logger("base")) {
+  for (const auto& [robot, start] : options_.robot_starts) mapper_.set_robot_start(robot, start);
+}
+
+std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const MapperOptions& mapper_options,
+                                           std::string* error) {
+  std::unique_ptr<BaseNode> n(new BaseNode(options, mapper_options));
+  dds::ParticipantOptions po;
+  po.domain_id = options.domain_id;
+  po.name = "cairn_base";
+  n->participant_ = dds::Participant::create(po, error);
+  if (!n->participant_) return nullptr;
+  auto& p = *n->participant_;
+  using dds::TopicKind;
+  n->keyframe_in_ = std::make_unique<R<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>>(
+      p, dds::kKeyframeTopic, TopicKind::kKeyframe);
+  n->object_in_ = std::make_unique<R<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>>(
+      p, dds::kObjectTopic, TopicKind::kObject);
+  n->status_in_ = std::make_unique<R<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>>(
+      p, dds::kStatusTopic, TopicKind::kStatus);
+  n->ack_out_ = std::make_unique<W<cairn_msgs::Ack, cairn_msgs::AckPubSubType>>(p, dds::kAckTopic, TopicKind::kAck);
+  n->correction_out_ = std::make_unique<W<cairn_msgs::Correction, cairn_msgs::CorrectionPubSubType>>(
+      p, dds::kCorrectionTopic, TopicKind::kCorrection);
+  if (!n->keyframe_in_->ok() || !n->object_in_->ok() || !n->status_in_->ok() || !n->ack_out_->ok() ||
+      !n->correction_out_->ok()) {
+    *error = "cannot create the base station's DDS readers/writers";
+    return nullptr;
+  }
+  BaseNode* self = n.get();
+  n->console_ = std::make_unique<ConsoleServer>(
+      options.console, ConsoleServer::SharedProvider([self] { return self->latest_snapshot_.get(); }));
+  if (!n->console_->start()) {
+    *error = "cannot start the console on " + options.console.bind_address + ":" + std::to_string(options.console.port);
+    return nullptr;
+  }
+  return n;
+}
+
+double BaseNode::now_s() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+bool BaseNode::poll_inputs() {
+  bool any = false;
+  std::string error;
+  for (const auto& m : keyframe_in_->take_all()) {
+    any = true;
+    auto kf = dds::from_msg(m, &error);
+    const AddResult r = kf ? mapper_.add_keyframe(*kf) : AddResult{AddStatus::kRejected, error};
+    if (r.status == AddStatus::kRejected) {
+      ++rejected_samples_;
+      ++links_[RobotId(m.robot_id())].bad_samples;
+      CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe robot{}/{}: {}", m.robot_id(),
+                            m.seq(), r.reason);
+    }
+  }
+  for (const auto& m : object_in_->take_all()) {
+    any = true;
+    auto obj = dds::from_msg(m, &error);
+    const AddResult r = obj ? mapper_.add_object(*obj) : AddResult{AddStatus::kRejected, error};
+    if (r.status == AddStatus::kRejected) {
+      ++rejected_samples_;
+      ++links_[RobotId(m.robot_id())].bad_samples;
+      CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected object robot{}/{}: {}", m.robot_id(),
+                            m.object_seq(), r.reason);
+    } else if (obj) {
+      CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 1.0, "{} {} from robot{} ({})", obj->class_name,
+                            obj->id.seq, obj->id.robot.value, to_string(r.status));
+    }
+  }
+  for (const auto& m : status_in_->take_all()) {
+    RobotLink& link = links_[RobotId(m.robot_id())];
+    link.last_status = m;
+    link.has_status = true;
+    link.last_heard_s = now_s();
+  }
+  return any;
+}
+
+void BaseNode::publish_acks_and_corrections() {
+  for (const RobotSummary& r : mapper_.robots()) {
+    cairn_msgs::Ack ack;
+    ack.robot_id(r.id.value);
+    ack.keyframe_seq(contiguous_seq(mapper_, r.id));
+    ack.object_count(r.objects);
+    ack_out_->write(ack);
+    cairn_msgs::Correction c;
+    c.robot_id(r.id.value);
+    c.linked(r.linked);
+    c.T_global_local(pose_msg(r.T_global_local));
+    correction_out_->write(c);
+  }
+}
+
+nlohmann::json BaseNode::link_stats() const {
+  nlohmann::json links = nlohmann::json::object();
+  for (const auto& [robot, link] : links_) {
+    nlohmann::json j;
+    j["bytes_sent"] = link.has_status ? link.last_status.bytes_sent() : 0;
+    j["keyframe_bytes"] = link.has_status ? link.last_status.keyframe_bytes() : 0;
+    j["object_bytes"] = link.has_status ? link.last_status.object_bytes() : 0;
+    j["object_messages"] = link.has_status ? link.last_status.object_messages() : 0;
+    j["keyframes_sent"] = link.has_status ? link.last_status.keyframes_sent() : 0;
+    j["objects_sent"] = link.has_status ? link.last_status.objects_sent() : 0;
+    j["scans_processed"] = link.has_status ? link.last_status.scans_processed() : 0;
+    j["finished"] = link.has_status && link.last_status.finished();
+    j["last_heard_age_s"] = link.last_heard_s < 0 ? -1.0 : now_s() - link.last_heard_s;
+    j["bad_samples"] = link.bad_samples;
+    links[std::to_string(robot.value)] = j;
+  }
+  return links;
+}
+
+void BaseNode::refresh_snapshot() {
+  latest_snapshot_.publish(make_snapshot(mapper_, link_stats()));
+}
+
+bool BaseNode::all_finished() const {
+  if (options_.expected_robots <= 0) return false;
+  int finished = 0;
+  for (const auto& [robot, link] : links_) finished += link.has_status && link.last_status.finished();
+  return finished >= options_.expected_robots;
+}
+
+int BaseNode::run() {
+  log_->info("console at http://{}:{}/  (domain {}, expecting {} robots)", options_.console.bind_address,
+             console_->port(), options_.domain_id, options_.expected_robots);
+  auto next_optimize = Clock::now();
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.optimize_period_s));
+  while (!stop_) {
+    const bool got = poll_inputs();
+    if (Clock::now() >= next_optimize) {
+      if (mapper_.version() != optimized_version_) {
+        const OptimizeResult r = mapper_.optimize();
+        optimized_version_ = mapper_.version();
+        if (!r.solve.converged) log_->warn("pose graph did not converge: {}", r.solve.reason);
+      }
+      publish_acks_and_corrections();
+      refresh_snapshot();
+      next_optimize = Clock::now() + period;
+    }
+    if (all_finished()) break;
+    if (!got) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return finish();
+}
+
+int BaseNode::finish() {
+  const OptimizeResult r = mapper_.optimize();
+  refresh_snapshot();
+  const ExportSummary exported = export_all(mapper_, options_.out_dir);
+  for (const auto& f : exported.files) {
+    if (!f.ok) log_->error("export of {} failed: {}", f.path, f.error);
+  }
+  nlohmann::json summary;
+  summary["robots"] = nlohmann::json::array();
+  const nlohmann::json links = link_stats();
+  for (const RobotSummary& rs : mapper_.robots()) {
+    nlohmann::json j;
+    j["id"] = rs.id.value;
+    j["linked"] = rs.linked;
+    j["keyframes"] = rs.keyframes;
+    j["missing_keyframes"] = rs.missing_keyframes;
+    j["object_reports"] = rs.objects;
+    const std::string key = std::to_string(rs.id.value);
+    j["link"] = links.contains(key) ? links[key] : nlohmann::json::object();
+    summary["robots"].push_back(j);
+  }
+  summary["objects"] = mapper_.objects().size();
+  summary["mapped_area_m2"] = mapper_.mapped_area_m2();
+  summary["graph"] = {{"nodes", r.nodes}, {"edges", r.edges}, {"converged", r.solve.converged},
+                      {"final_cost", r.solve.final_cost}};
+  summary["rejected_samples"] = rejected_samples_;
+  summary["export_ok"] = exported.ok();
+  std::ofstream out(options_.out_dir + "/summary.json");
+  out << summary.dump(2) << "\n";
+  if (!out) {
+    log_->error("cannot write {}/summary.json", options_.out_dir);
+    return 4;
+  }
+  log_->info("mission merged: {} robots, {} objects, {:.1f} m2 mapped; results in {}", mapper_.robots().size(),
+             mapper_.objects().size(), mapper_.mapped_area_m2(), options_.out_dir);
+  if (options_.serve_after_finish) {
+    log_->info("serving the console at http://{}:{}/ until stopped (Ctrl-C)", options_.console.bind_address,
+               console_->port());
+    while (!stop_) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  console_->stop();
+  return exported.ok() ? 0 : 5;
+}
+
+}  // namespace cairn::base

@@ -1,0 +1,83 @@
+#pragma once
+// The base station's DDS side around MultiRobotMapper: keyframe/object/status readers in;
+// ack/correction writers out; a console snapshot refreshed for the HTTP thread; exports at the end.
+// Data flow: keyframe/object topics -> dds::from_msg -> MultiRobotMapper -> optimize ->
+//            ack + correction topics, console snapshot, export_all().
+#include <atomic>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "base_station/console/console_server.h"
+#include "base_station/console/snapshot.h"
+#include "base_station/core/multi_robot_mapper.h"
+#include "cairn_msgsPubSubTypes.h"
+#include "common/logging.h"
+#include "dds/endpoints.h"
+
+namespace cairn::base {
+
+struct BaseNodeOptions {
+  int domain_id = 0;
+  std::string out_dir = "out";
+  int expected_robots = 0;                ///< finish once this many robots reported "finished"; 0 = run until stopped
+  std::map<RobotId, SE2> robot_starts;    ///< known start poses (until cross-robot merging lands)
+  double optimize_period_s = 1.0;
+  ConsoleOptions console;
+  bool serve_after_finish = false;        ///< keep the console up after the mission ended
+};
+
+class BaseNode {
+ public:
+  static std::unique_ptr<BaseNode> create(const BaseNodeOptions& options, const MapperOptions& mapper_options,
+                                          std::string* error);
+  /// Runs until every expected robot finished (or stop() is called); exports; returns an exit code.
+  int run();
+  void stop() { stop_ = true; }
+  int console_port() const { return console_ ? console_->port() : -1; }
+
+ private:
+  struct RobotLink {
+    cairn_msgs::RobotStatus last_status;
+    bool has_status = false;
+    double last_heard_s = -1;     ///< wall seconds since start
+    int bad_samples = 0;
+  };
+  BaseNode(const BaseNodeOptions& options, const MapperOptions& mapper_options);
+  bool poll_inputs();
+  void publish_acks_and_corrections();
+  void refresh_snapshot();
+  nlohmann::json link_stats() const;
+  bool all_finished() const;
+  int finish();
+  double now_s() const;
+
+  template <typename M, typename T>
+  using R = dds::Reader<M, T>;
+  template <typename M, typename T>
+  using W = dds::Writer<M, T>;
+
+  BaseNodeOptions options_;
+  MapperOptions mapper_options_;
+  MultiRobotMapper mapper_;
+  std::shared_ptr<spdlog::logger> log_;
+  std::unique_ptr<dds::Participant> participant_;
+  std::unique_ptr<R<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>> keyframe_in_;
+  std::unique_ptr<R<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>> object_in_;
+  std::unique_ptr<R<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>> status_in_;
+  std::unique_ptr<W<cairn_msgs::Ack, cairn_msgs::AckPubSubType>> ack_out_;
+  std::unique_ptr<W<cairn_msgs::Correction, cairn_msgs::CorrectionPubSubType>> correction_out_;
+  std::unique_ptr<ConsoleServer> console_;
+
+  std::map<RobotId, RobotLink> links_;
+  LatestSnapshot latest_snapshot_;  ///< handed to the console's HTTP threads
+  std::atomic<bool> stop_{false};
+  uint64_t optimized_version_ = 0;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  int rejected_samples_ = 0;
+};
+
+}  // namespace cairn::base

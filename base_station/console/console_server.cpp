@@ -1,0 +1,124 @@
+#include "base_station/console/console_server.h"
+
+#include <httplib.h>
+
+#include <fstream>
+#include <sstream>
+
+#ifndef CAIRN_WEB_DIR
+#define CAIRN_WEB_DIR "base_station/console/web"
+#endif
+
+namespace cairn::base {
+namespace {
+
+std::optional<std::string> read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void reply_json(httplib::Response& res, const nlohmann::json& j) {
+  res.set_header("Cache-Control", "no-store");
+  res.set_content(j.dump(), "application/json");
+}
+
+void reply_not_found(httplib::Response& res, const std::string& what) {
+  res.status = 404;
+  res.set_content(nlohmann::json{{"error", what + " not found"}}.dump(), "application/json");
+}
+
+}  // namespace
+
+ConsoleServer::ConsoleServer(const ConsoleOptions& options, SharedProvider provider)
+    : options_(options),
+      provider_(std::move(provider)),
+      web_dir_(options.web_dir.empty() ? std::string(CAIRN_WEB_DIR) : options.web_dir),
+      server_(std::make_unique<httplib::Server>()) {
+  register_routes();
+}
+
+ConsoleServer::ConsoleServer(const ConsoleOptions& options, Provider provider)
+    : ConsoleServer(options, SharedProvider([p = std::move(provider)] {
+                      return std::make_shared<const ConsoleSnapshot>(p());
+                    })) {}
+
+ConsoleServer::~ConsoleServer() { stop(); }
+
+void ConsoleServer::register_routes() {
+  auto snapshot = [this] {
+    std::shared_ptr<const ConsoleSnapshot> s = provider_ ? provider_() : nullptr;
+    return s ? s : std::make_shared<const ConsoleSnapshot>();
+  };
+  auto asset = [this](const std::string& name, const std::string& type) {
+    return [this, name, type](const httplib::Request&, httplib::Response& res) {
+      const std::optional<std::string> body = read_file(web_dir_ + "/" + name);
+      if (!body) return reply_not_found(res, name);
+      res.set_content(*body, type.c_str());
+    };
+  };
+  server_->Get("/", asset("index.html", "text/html; charset=utf-8"));
+  server_->Get("/index.html", asset("index.html", "text/html; charset=utf-8"));
+  server_->Get("/app.js", asset("app.js", "application/javascript; charset=utf-8"));
+  server_->Get("/style.css", asset("style.css", "text/css; charset=utf-8"));
+  server_->Get("/api/status", [snapshot](const httplib::Request&, httplib::Response& res) {
+    reply_json(res, snapshot()->status);
+  });
+  server_->Get("/api/robots", [snapshot](const httplib::Request&, httplib::Response& res) {
+    reply_json(res, snapshot()->robots);
+  });
+  server_->Get("/api/objects", [snapshot](const httplib::Request&, httplib::Response& res) {
+    reply_json(res, snapshot()->objects);
+  });
+  server_->Get("/api/map.png", [snapshot](const httplib::Request&, httplib::Response& res) {
+    const auto s = snapshot();
+    if (s->map_png.empty()) return reply_not_found(res, "map");
+    res.set_header("Cache-Control", "no-store");
+    res.set_content(reinterpret_cast<const char*>(s->map_png.data()), s->map_png.size(), "image/png");
+  });
+  server_->Get(R"(/api/objects/([0-9]+-[0-9]+)/thumbnail\.jpg)",
+               [snapshot](const httplib::Request& req, httplib::Response& res) {
+                 const auto s = snapshot();
+                 auto it = s->thumbnails.find(req.matches[1]);
+                 if (it == s->thumbnails.end() || it->second.empty()) return reply_not_found(res, "thumbnail");
+                 res.set_content(reinterpret_cast<const char*>(it->second.data()), it->second.size(), "image/jpeg");
+               });
+  server_->Get(R"(/api/objects/([0-9]+-[0-9]+)/cloud)",
+               [snapshot](const httplib::Request& req, httplib::Response& res) {
+                 const auto s = snapshot();
+                 auto it = s->clouds.find(req.matches[1]);
+                 if (it == s->clouds.end()) return reply_not_found(res, "object");
+                 reply_json(res, it->second);
+               });
+}
+
+bool ConsoleServer::start() {
+  if (thread_.joinable()) {
+    error_ = "already started";
+    return false;
+  }
+  if (options_.port == 0) {
+    port_ = server_->bind_to_any_port(options_.bind_address);
+  } else {
+    port_ = server_->bind_to_port(options_.bind_address, options_.port) ? options_.port : -1;
+  }
+  if (port_ <= 0) {
+    port_ = -1;
+    error_ = "cannot bind " + options_.bind_address + ":" + std::to_string(options_.port);
+    return false;
+  }
+  thread_ = std::thread([this] { server_->listen_after_bind(); });
+  return true;
+}
+
+void ConsoleServer::stop() {
+  if (!thread_.joinable()) return;
+  server_->stop();
+  thread_.join();
+}
+
+bool ConsoleServer::running() const { return thread_.joinable() && server_->is_running(); }
+
+}  // namespace cairn::base

@@ -1,0 +1,63 @@
+#pragma once
+// ConsoleServer: the rescue team's web console (DESIGN.md "Base station" 6), served by cpp-httplib
+// on a background thread. It only reads snapshots from a provider (the app thread prepares them
+// with make_snapshot), never the mapper. Endpoints:
+//   GET /, /app.js, /style.css          web assets from ConsoleOptions::web_dir
+//   GET /api/status, /api/robots, /api/objects      JSON
+//   GET /api/map.png                                 the rendered map
+//   GET /api/objects/<robot>-<seq>/thumbnail.jpg     object thumbnail
+//   GET /api/objects/<robot>-<seq>/cloud             JSON [[x,y,z,r,g,b],...] (<= 2000 points)
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "base_station/console/snapshot.h"
+
+namespace httplib {
+class Server;
+}
+
+namespace cairn::base {
+
+struct ConsoleOptions {
+  std::string bind_address = "127.0.0.1";
+  int port = 8080;      ///< 0 = pick a free port (see ConsoleServer::port())
+  std::string web_dir;  ///< empty = the source tree's console/web (CAIRN_WEB_DIR)
+};
+
+class ConsoleServer {
+ public:
+  using SharedProvider = std::function<std::shared_ptr<const ConsoleSnapshot>()>;
+  using Provider = std::function<ConsoleSnapshot()>;
+
+  /// Preferred: no copy per request (e.g. [&latest] { return latest.get(); } with LatestSnapshot).
+  ConsoleServer(const ConsoleOptions& options, SharedProvider provider);
+  /// Convenience: the provider's snapshot is copied on each request.
+  ConsoleServer(const ConsoleOptions& options, Provider provider);
+  ~ConsoleServer();
+  ConsoleServer(const ConsoleServer&) = delete;
+  ConsoleServer& operator=(const ConsoleServer&) = delete;
+
+  /// Binds and starts serving on a background thread. False (with error()) if the bind fails.
+  bool start();
+  void stop();
+  bool running() const;
+  /// The bound port (useful with port 0); -1 before start().
+  int port() const { return port_; }
+  const std::string& error() const { return error_; }
+  const std::string& web_dir() const { return web_dir_; }
+
+ private:
+  void register_routes();
+
+  ConsoleOptions options_;
+  SharedProvider provider_;
+  std::string web_dir_;
+  std::unique_ptr<httplib::Server> server_;
+  std::thread thread_;
+  int port_ = -1;
+  std::string error_;
+};
+
+}  // namespace cairn::base

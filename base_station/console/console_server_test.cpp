@@ -1,0 +1,103 @@
+#include "base_station/console/console_server.h"
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include "base_station/core/synthetic_world_test_util.h"
+
+namespace cairn::base {
+namespace {
+
+MultiRobotMapper make_mapper() {
+  MultiRobotMapper mapper;
+  mapper.set_robot_start(RobotId(0), testing::left_path()[0]);
+  for (const Keyframe& kf : testing::make_keyframes(RobotId(0), testing::left_path(), testing::room_walls())) {
+    mapper.add_keyframe(kf);
+  }
+  for (const Keyframe& kf : testing::make_keyframes(RobotId(3), testing::right_path(), testing::room_walls())) {
+    mapper.add_keyframe(kf);
+  }
+  mapper.add_object(testing::make_object({RobotId(0), 2}, "victim", {4.3, 3.5, 0.2}, 3, testing::left_path()[3]));
+  mapper.optimize();
+  return mapper;
+}
+
+TEST(Snapshot, DescribesRobotsObjectsAndAlerts) {
+  const MultiRobotMapper mapper = make_mapper();
+  const ConsoleSnapshot s = make_snapshot(mapper, {{"0", {{"state", "ok"}, {"bytes_rx", 1234}}}});
+  ASSERT_EQ(s.robots.size(), 2u);
+  EXPECT_EQ(s.robots[0]["linked"], true);
+  EXPECT_EQ(s.robots[0]["trajectory"].size(), 6u);
+  EXPECT_EQ(s.robots[0]["link"]["bytes_rx"], 1234);
+  EXPECT_EQ(s.robots[1]["linked"], false);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0]["id"], "0-2");
+  EXPECT_EQ(s.objects[0]["thumbnail"], "/api/objects/0-2/thumbnail.jpg");
+  EXPECT_EQ(s.status["alerts"][0]["level"], "critical");
+  EXPECT_NE(s.status["alerts"][0]["text"].get<std::string>().find("Victim found by robot 0"), std::string::npos);
+  EXPECT_EQ(s.status["alerts"].size(), 2u);  // + robot 3 not linked
+  EXPECT_GT(s.map_png.size(), 8u);
+  EXPECT_LE(s.clouds.at("0-2").size(), 2000u);
+}
+
+TEST(ConsoleServer, ServesPagesAndApi) {
+  LatestSnapshot latest;
+  latest.publish(make_snapshot(make_mapper(), nlohmann::json::object()));
+  ConsoleServer server({"127.0.0.1", 0, ""}, [&latest] { return latest.get(); });
+  ASSERT_TRUE(server.start()) << server.error();
+  ASSERT_GT(server.port(), 0);
+  httplib::Client client("127.0.0.1", server.port());
+  client.set_connection_timeout(5);
+
+  auto index = client.Get("/");
+  ASSERT_TRUE(index);
+  EXPECT_EQ(index->status, 200);
+  EXPECT_NE(index->body.find("<html"), std::string::npos);
+  for (const char* path : {"/app.js", "/style.css"}) {
+    auto r = client.Get(path);
+    ASSERT_TRUE(r) << path;
+    EXPECT_EQ(r->status, 200) << path;
+  }
+  auto status = client.Get("/api/status");
+  ASSERT_TRUE(status);
+  EXPECT_EQ(status->status, 200);
+  EXPECT_EQ(nlohmann::json::parse(status->body)["objects"], 1);
+  auto robots = client.Get("/api/robots");
+  ASSERT_TRUE(robots);
+  EXPECT_EQ(nlohmann::json::parse(robots->body).size(), 2u);
+  auto objects = client.Get("/api/objects");
+  ASSERT_TRUE(objects);
+  EXPECT_EQ(nlohmann::json::parse(objects->body)[0]["class"], "victim");
+  auto map = client.Get("/api/map.png");
+  ASSERT_TRUE(map);
+  EXPECT_EQ(map->status, 200);
+  ASSERT_GT(map->body.size(), 8u);
+  EXPECT_EQ(map->body.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  auto thumb = client.Get("/api/objects/0-2/thumbnail.jpg");
+  ASSERT_TRUE(thumb);
+  EXPECT_EQ(thumb->status, 200);
+  EXPECT_EQ(uint8_t(thumb->body[0]), 0xFF);
+  auto cloud = client.Get("/api/objects/0-2/cloud");
+  ASSERT_TRUE(cloud);
+  EXPECT_GT(nlohmann::json::parse(cloud->body).size(), 0u);
+  auto missing = client.Get("/api/objects/9-9/cloud");
+  ASSERT_TRUE(missing);
+  EXPECT_EQ(missing->status, 404);
+  server.stop();
+  EXPECT_FALSE(server.running());
+}
+
+TEST(ConsoleServer, CopyingProviderAndEmptySnapshot) {
+  ConsoleServer server({"127.0.0.1", 0, ""}, [] { return ConsoleSnapshot{}; });
+  ASSERT_TRUE(server.start());
+  httplib::Client client("127.0.0.1", server.port());
+  auto status = client.Get("/api/status");
+  ASSERT_TRUE(status);
+  EXPECT_EQ(status->status, 200);
+  auto map = client.Get("/api/map.png");
+  ASSERT_TRUE(map);
+  EXPECT_EQ(map->status, 404);
+}
+
+}  // namespace
+}  // namespace cairn::base

@@ -1,0 +1,139 @@
+#include "base_station/console/snapshot.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+
+#include "base_station/core/exporter.h"
+
+namespace cairn::base {
+namespace {
+
+/// Keeps at most max_points, evenly spaced, always including the last one.
+template <typename T>
+std::vector<size_t> decimate(const std::vector<T>& v, size_t max_points) {
+  std::vector<size_t> idx;
+  if (v.empty() || max_points == 0) return idx;
+  const size_t step = (v.size() + max_points - 1) / max_points;
+  for (size_t i = 0; i < v.size(); i += step) idx.push_back(i);
+  if (idx.back() != v.size() - 1) {
+    if (idx.size() >= max_points) idx.back() = v.size() - 1;
+    else idx.push_back(v.size() - 1);
+  }
+  return idx;
+}
+
+std::string robots_text(const std::vector<RobotId>& robots) {
+  std::string s;
+  for (size_t i = 0; i < robots.size(); ++i) {
+    s += (i == 0 ? "" : i + 1 == robots.size() ? " and " : ", ") + std::to_string(robots[i].value);
+  }
+  return (robots.size() > 1 ? "robots " : "robot ") + s;
+}
+
+nlohmann::json robot_json(const MultiRobotMapper& mapper, const RobotSummary& r, const nlohmann::json& link_stats,
+                          const SnapshotOptions& options) {
+  nlohmann::json trajectory = nlohmann::json::array();
+  const Trajectory t = mapper.global_trajectory(r.id);
+  for (size_t i : decimate(t, options.max_trajectory_points)) {
+    trajectory.push_back({t[i].pose.x(), t[i].pose.y()});
+  }
+  const std::string key = std::to_string(r.id.value);
+  return {{"id", r.id.value},
+          {"linked", r.linked},
+          {"keyframes", r.keyframes},
+          {"missing_keyframes", r.missing_keyframes},
+          {"objects", r.objects},
+          {"last_stamp_s", ns_to_sec(r.last_stamp_ns)},
+          {"correction", {{"x_m", r.T_global_local.x()}, {"y_m", r.T_global_local.y()},
+                          {"yaw_rad", r.T_global_local.yaw()}}},
+          {"trajectory", trajectory},
+          {"link", link_stats.is_object() && link_stats.contains(key) ? link_stats[key] : nlohmann::json::object()}};
+}
+
+nlohmann::json object_json(const GlobalObject& o) {
+  std::vector<int> robots;
+  for (RobotId r : o.robots) robots.push_back(r.value);
+  std::vector<std::string> reports;
+  for (ObjectId id : o.reports) reports.push_back(object_key(id));
+  const std::string key = object_key(o.id);
+  return {{"id", key},
+          {"class", o.class_name},
+          {"confidence", o.confidence},
+          {"position_m", {o.position_m.x(), o.position_m.y(), o.position_m.z()}},
+          {"sigma_m", {std::sqrt(o.covariance(0, 0)), std::sqrt(o.covariance(1, 1)), std::sqrt(o.covariance(2, 2))}},
+          {"size_m", {o.size_m.x(), o.size_m.y(), o.size_m.z()}},
+          {"robots", robots},
+          {"reports", reports},
+          {"observations", o.observations},
+          {"last_stamp_s", ns_to_sec(o.last_stamp_ns)},
+          {"thumbnail", o.thumbnail_jpeg.empty() ? nlohmann::json() : nlohmann::json("/api/objects/" + key + "/thumbnail.jpg")},
+          {"cloud", "/api/objects/" + key + "/cloud"},
+          {"cloud_points", o.cloud_global.size()}};
+}
+
+nlohmann::json alerts_json(const std::vector<RobotSummary>& robots, const std::vector<GlobalObject>& objects) {
+  nlohmann::json alerts = nlohmann::json::array();
+  for (const GlobalObject& o : objects) {
+    const char* level = o.class_name == "victim" ? "critical" : o.class_name == "hazard" ? "warning" : "info";
+    char where[64];
+    std::snprintf(where, sizeof(where), " at (%.1f, %.1f) m", o.position_m.x(), o.position_m.y());
+    std::string what = o.class_name;
+    if (!what.empty()) what[0] = char(std::toupper(static_cast<unsigned char>(what[0])));
+    alerts.push_back({{"level", level}, {"object", object_key(o.id)}, {"stamp_s", ns_to_sec(o.last_stamp_ns)},
+                      {"text", what + " found by " + robots_text(o.robots) + where}});
+  }
+  for (const RobotSummary& r : robots) {
+    if (!r.linked) {
+      alerts.push_back({{"level", "warning"}, {"robot", r.id.value}, {"stamp_s", ns_to_sec(r.last_stamp_ns)},
+                        {"text", "Robot " + std::to_string(r.id.value) + " is not linked to the global map"}});
+    }
+  }
+  // Most urgent first, then newest.
+  std::stable_sort(alerts.begin(), alerts.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
+    auto rank = [](const std::string& l) { return l == "critical" ? 0 : l == "warning" ? 1 : 2; };
+    const int ra = rank(a["level"]), rb = rank(b["level"]);
+    return ra != rb ? ra < rb : a["stamp_s"].get<double>() > b["stamp_s"].get<double>();
+  });
+  return alerts;
+}
+
+}  // namespace
+
+ConsoleSnapshot make_snapshot(const MultiRobotMapper& mapper, const nlohmann::json& link_stats,
+                              const SnapshotOptions& options) {
+  ConsoleSnapshot s;
+  const std::vector<RobotSummary> robots = mapper.robots();
+  const std::vector<GlobalObject> objects = mapper.objects();
+  StampNs mission_ns = 0;
+  int linked = 0;
+  for (const RobotSummary& r : robots) {
+    s.robots.push_back(robot_json(mapper, r, link_stats, options));
+    mission_ns = std::max(mission_ns, r.last_stamp_ns);
+    linked += r.linked;
+  }
+  for (const GlobalObject& o : objects) {
+    const std::string key = object_key(o.id);
+    s.objects.push_back(object_json(o));
+    if (!o.thumbnail_jpeg.empty()) s.thumbnails[key] = o.thumbnail_jpeg;
+    nlohmann::json cloud = nlohmann::json::array();
+    for (size_t i : decimate(o.cloud_global, options.max_cloud_points)) {
+      const ColoredPoint& p = o.cloud_global[i];
+      cloud.push_back({p.x, p.y, p.z, p.r, p.g, p.b});
+    }
+    s.clouds[key] = std::move(cloud);
+  }
+  s.status = {{"mission_time_s", ns_to_sec(mission_ns)},
+              {"mapped_area_m2", mapper.mapped_area_m2()},
+              {"robots", robots.size()},
+              {"linked_robots", linked},
+              {"objects", objects.size()},
+              {"pending_objects", mapper.pending_objects().size()},
+              {"version", mapper.version()},
+              {"alerts", alerts_json(robots, objects)}};
+  s.map_png = render_map_png(mapper);
+  return s;
+}
+
+}  // namespace cairn::base

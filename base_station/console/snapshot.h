@@ -1,0 +1,54 @@
+#pragma once
+// What the web console serves: plain JSON and bytes prepared on the app thread from the mapper, so
+// the HTTP threads never touch the mapper. LatestSnapshot hands the newest one across threads.
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "base_station/core/multi_robot_mapper.h"
+
+namespace cairn::base {
+
+struct ConsoleSnapshot {
+  nlohmann::json status = nlohmann::json::object();   ///< mission_time_s, mapped_area_m2, counts, alerts
+  nlohmann::json robots = nlohmann::json::array();    ///< one entry per robot (see make_snapshot)
+  nlohmann::json objects = nlohmann::json::array();   ///< one entry per merged object
+  std::vector<uint8_t> map_png;
+  std::map<std::string, std::vector<uint8_t>> thumbnails;  ///< object key ("1-3") -> JPEG
+  std::map<std::string, nlohmann::json> clouds;             ///< object key -> [[x,y,z,r,g,b],...]
+};
+
+struct SnapshotOptions {
+  size_t max_trajectory_points = 500;  ///< per robot, decimated uniformly (last point kept)
+  size_t max_cloud_points = 2000;      ///< per object
+};
+
+/// Builds a snapshot. `link_stats` is an object keyed by robot id as a decimal string (e.g. "1"),
+/// each value free-form (the console shows "state", "bytes_rx" and "rtt_ms" when present); it is
+/// copied into the robot's "link" field. Must run on the thread that owns the mapper.
+ConsoleSnapshot make_snapshot(const MultiRobotMapper& mapper, const nlohmann::json& link_stats,
+                              const SnapshotOptions& options = {});
+
+/// Thread-safe holder of the latest snapshot: the app publishes, the console reads.
+class LatestSnapshot {
+ public:
+  void publish(ConsoleSnapshot snapshot) {
+    auto next = std::make_shared<const ConsoleSnapshot>(std::move(snapshot));
+    std::lock_guard<std::mutex> lock(mutex_);
+    latest_ = std::move(next);
+  }
+  std::shared_ptr<const ConsoleSnapshot> get() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return latest_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::shared_ptr<const ConsoleSnapshot> latest_ = std::make_shared<const ConsoleSnapshot>();
+};
+
+}  // namespace cairn::base

@@ -1,0 +1,121 @@
+// Cairn console: polls the base station's JSON API every 2 s and refreshes the map image.
+// Plain JS, no build step.
+"use strict";
+
+const REFRESH_MS = 2000;
+const CLASS_COLOURS = { victim: "#dc1e1e", hazard: "#ff8c00", exit: "#28a028" };
+
+function el(tag, attrs = {}, children = []) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (k === "text") e.textContent = v;
+    else e.setAttribute(k, v);
+  }
+  for (const c of children) e.appendChild(c);
+  return e;
+}
+
+function fmtTime(seconds) {
+  const s = Math.max(0, Math.floor(seconds || 0));
+  const h = Math.floor(s / 3600), m = Math.floor((s % 3600) / 60), r = s % 60;
+  return `${String(h).padStart(2, "0")}:${String(m).padStart(2, "0")}:${String(r).padStart(2, "0")}`;
+}
+
+function fmtBytes(n) {
+  if (n === undefined || n === null) return "–";
+  if (n < 1024) return `${n} B`;
+  if (n < 1024 * 1024) return `${(n / 1024).toFixed(1)} kB`;
+  return `${(n / 1024 / 1024).toFixed(1)} MB`;
+}
+
+function replaceRows(tbody, rows, emptyText, columns) {
+  tbody.replaceChildren();
+  if (rows.length === 0) {
+    tbody.appendChild(el("tr", {}, [el("td", { colspan: columns, class: "empty", text: emptyText })]));
+    return;
+  }
+  rows.forEach((r) => tbody.appendChild(r));
+}
+
+function renderStatus(status) {
+  document.getElementById("mission-time").textContent = fmtTime(status.mission_time_s);
+  document.getElementById("mapped-area").textContent = `${(status.mapped_area_m2 || 0).toFixed(0)} m²`;
+  document.getElementById("robots-linked").textContent = `${status.linked_robots ?? 0} / ${status.robots ?? 0}`;
+  document.getElementById("object-count").textContent = `${status.objects ?? 0}`;
+  const list = document.getElementById("alerts");
+  list.replaceChildren();
+  const alerts = status.alerts || [];
+  if (alerts.length === 0) list.appendChild(el("li", { class: "empty", text: "No alerts" }));
+  for (const a of alerts) list.appendChild(el("li", { class: `alert ${a.level}`, text: a.text }));
+}
+
+function renderRobots(robots) {
+  const rows = robots.map((r) => {
+    const link = r.link || {};
+    const linkText = link.state ? `${link.state}${link.rtt_ms !== undefined ? ` · ${link.rtt_ms} ms` : ""}` : "–";
+    return el("tr", {}, [
+      el("td", { text: `Robot ${r.id}` }),
+      el("td", {}, [el("span", { class: r.linked ? "badge ok" : "badge warn", text: r.linked ? "linked" : "not linked" })]),
+      el("td", { text: r.missing_keyframes ? `${r.keyframes} (${r.missing_keyframes} missing)` : `${r.keyframes}` }),
+      el("td", { text: fmtBytes(link.bytes_rx) }),
+      el("td", { class: link.state === "lost" ? "bad" : "", text: linkText }),
+      el("td", { text: r.keyframes ? fmtTime(r.last_stamp_s) : "–" }),
+    ]);
+  });
+  replaceRows(document.getElementById("robots"), rows, "No robots yet", 6);
+}
+
+function renderObjects(objects) {
+  const rows = objects.map((o) => {
+    const colour = CLASS_COLOURS[o.class] || "#3c3cb4";
+    const photo = o.thumbnail
+      ? el("a", { href: o.thumbnail, target: "_blank" }, [el("img", { class: "thumb", src: o.thumbnail, alt: `${o.class} ${o.id}` })])
+      : el("span", { class: "muted", text: "none" });
+    const p = o.position_m || [0, 0, 0];
+    return el("tr", {}, [
+      el("td", {}, [el("span", { class: "chip", style: `background:${colour}` }), document.createTextNode(o.class)]),
+      el("td", { text: o.id }),
+      el("td", { text: `${Math.round(100 * o.confidence)} %` }),
+      el("td", { class: "num", text: p[0].toFixed(2) }),
+      el("td", { class: "num", text: p[1].toFixed(2) }),
+      el("td", { class: "num", text: p[2].toFixed(2) }),
+      el("td", { text: (o.robots || []).map((r) => `Robot ${r}`).join(", ") }),
+      el("td", {}, [photo]),
+    ]);
+  });
+  replaceRows(document.getElementById("objects"), rows, "No objects yet", 8);
+}
+
+async function getJson(path) {
+  const res = await fetch(path, { cache: "no-store" });
+  if (!res.ok) throw new Error(`${path}: HTTP ${res.status}`);
+  return res.json();
+}
+
+function refreshMap() {
+  const img = document.getElementById("map");
+  const next = new Image();
+  next.onload = () => { img.src = next.src; };
+  next.src = `/api/map.png?t=${Date.now()}`;
+}
+
+async function refresh() {
+  const conn = document.getElementById("connection");
+  try {
+    const [status, robots, objects] = await Promise.all([
+      getJson("/api/status"), getJson("/api/robots"), getJson("/api/objects"),
+    ]);
+    renderStatus(status);
+    renderRobots(robots);
+    renderObjects(objects);
+    refreshMap();
+    conn.textContent = "live";
+    conn.className = "connection ok";
+  } catch (e) {
+    conn.textContent = "base station unreachable";
+    conn.className = "connection bad";
+  }
+}
+
+refresh();
+setInterval(refresh, REFRESH_MS);

@@ -1,0 +1,159 @@
+// export_all and the text formats (GeoJSON, CSV, g2o). Images: exporter_image.cpp; clouds and
+// OctoMap: exporter_clouds.cpp.
+#include "base_station/core/exporter.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace cairn::base {
+namespace {
+
+std::string join_robots(const std::vector<RobotId>& robots, const char* sep) {
+  std::string s;
+  for (size_t i = 0; i < robots.size(); ++i) s += (i ? sep : "") + std::to_string(robots[i].value);
+  return s;
+}
+
+bool write_text(const std::string& path, const std::string& text, std::string* error) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) {
+    *error = "cannot open for writing";
+    return false;
+  }
+  out << text;
+  out.flush();
+  if (!out) {
+    *error = "write failed";
+    return false;
+  }
+  return true;
+}
+
+/// Runs one writer and records its outcome; exceptions from libraries become failures.
+template <typename Fn>
+void run(ExportSummary* summary, const std::string& path, Fn&& fn) {
+  ExportedFile f{path, false, {}};
+  try {
+    f.ok = fn(path, &f.error);
+  } catch (const std::exception& e) {
+    f.ok = false;
+    f.error = std::string("exception: ") + e.what();
+  } catch (...) {
+    f.ok = false;
+    f.error = "unknown exception";
+  }
+  if (!f.ok && f.error.empty()) f.error = "write failed";
+  summary->files.push_back(std::move(f));
+}
+
+}  // namespace
+
+bool write_objects_geojson(const std::vector<GlobalObject>& objects, const std::string& path, std::string* error) {
+  nlohmann::json features = nlohmann::json::array();
+  for (const GlobalObject& o : objects) {
+    std::vector<int> robots;
+    for (RobotId r : o.robots) robots.push_back(r.value);
+    features.push_back({
+        {"type", "Feature"},
+        {"geometry", {{"type", "Point"}, {"coordinates", {o.position_m.x(), o.position_m.y()}}}},
+        {"properties",
+         {{"id", object_key(o.id)},
+          {"class", o.class_name},
+          {"confidence", o.confidence},
+          {"z_m", o.position_m.z()},
+          {"robots", robots},
+          {"observations", o.observations},
+          {"size", {o.size_m.x(), o.size_m.y(), o.size_m.z()}}}},
+    });
+  }
+  const nlohmann::json doc = {{"type", "FeatureCollection"},
+                              {"properties", {{"crs", "cairn global map frame, metres"}}},
+                              {"features", features}};
+  return write_text(path, doc.dump(2) + "\n", error);
+}
+
+bool write_objects_csv(const std::vector<GlobalObject>& objects, const std::string& path, std::string* error) {
+  std::ostringstream s;
+  s << std::setprecision(9);
+  s << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n";
+  for (const GlobalObject& o : objects) {
+    s << object_key(o.id) << ',' << o.class_name << ',' << o.confidence << ',' << o.position_m.x() << ','
+      << o.position_m.y() << ',' << o.position_m.z() << ',' << join_robots(o.robots, ";") << ','
+      << o.observations << ',' << o.size_m.x() << ',' << o.size_m.y() << ',' << o.size_m.z() << '\n';
+  }
+  return write_text(path, s.str(), error);
+}
+
+bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::string* error) {
+  std::ostringstream s;
+  s << std::setprecision(12);
+  s << "# cairn pose graph. Vertex id = dense index over keyframes in (robot, seq) order;"
+       " '# KEYFRAME <vertex> <robot> <seq>' lines give the mapping.\n";
+  std::map<KeyframeId, int> index;
+  for (const auto& [id, pose] : graph.estimates()) {
+    const int v = int(index.size());
+    index[id] = v;
+    s << "# KEYFRAME " << v << ' ' << id.robot.value << ' ' << id.seq << '\n';
+    s << "VERTEX_SE2 " << v << ' ' << pose.x() << ' ' << pose.y() << ' ' << pose.yaw() << '\n';
+  }
+  auto upper = [&](const Eigen::Matrix3d& I) {
+    s << ' ' << I(0, 0) << ' ' << I(0, 1) << ' ' << I(0, 2) << ' ' << I(1, 1) << ' ' << I(1, 2) << ' ' << I(2, 2);
+  };
+  for (const PoseGraphEdge& e : graph.edges()) {
+    s << "EDGE_SE2 " << index.at(e.from) << ' ' << index.at(e.to) << ' ' << e.T_from_to.x() << ' '
+      << e.T_from_to.y() << ' ' << e.T_from_to.yaw();
+    upper(e.information);
+    s << '\n';
+  }
+  for (const auto& [id, p] : graph.priors()) {
+    s << "EDGE_PRIOR_SE2 " << index.at(id) << ' ' << p.T_world_node.x() << ' ' << p.T_world_node.y() << ' '
+      << p.T_world_node.yaw();
+    upper(p.information);
+    s << '\n';
+  }
+  return write_text(path, s.str(), error);
+}
+
+ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_dir, const ExportOptions& options) {
+  ExportSummary summary;
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec || !std::filesystem::is_directory(out_dir, ec)) {
+    summary.files.push_back({out_dir, false, "cannot create directory: " + (ec ? ec.message() : "not a directory")});
+    return summary;
+  }
+  const std::string dir = out_dir + "/";
+  const std::vector<GlobalObject> objects = mapper.objects();
+  run(&summary, dir + "map.pgm", [&](const std::string&, std::string*) {
+    return mapper.global_map().write_pgm_yaml(dir + "map");
+  });
+  summary.files.push_back({dir + "map.yaml", summary.files.back().ok, summary.files.back().error});
+  run(&summary, dir + "map.png",
+      [&](const std::string& p, std::string* e) { return write_map_png(mapper, p, options, e); });
+  run(&summary, dir + "objects.geojson",
+      [&](const std::string& p, std::string* e) { return write_objects_geojson(objects, p, e); });
+  run(&summary, dir + "objects.csv",
+      [&](const std::string& p, std::string* e) { return write_objects_csv(objects, p, e); });
+  for (const GlobalObject& o : objects) {
+    run(&summary, dir + "object_" + object_key(o.id) + ".ply",
+        [&](const std::string& p, std::string* e) { return write_object_ply(o, p, e); });
+  }
+  run(&summary, dir + "objects.bt", [&](const std::string& p, std::string* e) {
+    return write_objects_octomap(objects, options.octomap_resolution_m, p, e);
+  });
+  run(&summary, dir + "graph.g2o",
+      [&](const std::string& p, std::string* e) { return write_graph_g2o(mapper.graph(), p, e); });
+  for (const RobotSummary& r : mapper.robots()) {
+    if (!r.linked) continue;
+    run(&summary, dir + "trajectory_robot" + std::to_string(r.id.value) + ".csv",
+        [&](const std::string& p, std::string*) {
+          return write_trajectory_csv(p, mapper.global_trajectory(r.id));
+        });
+  }
+  return summary;
+}
+
+}  // namespace cairn::base

@@ -1,0 +1,58 @@
+#pragma once
+// Exports of the base station's state for the rescue team and for offline tools (DESIGN.md
+// "Base station" 6): map.pgm + map.yaml, map.png, objects.geojson, objects.csv, object_<id>.ply,
+// objects.bt (OctoMap), graph.g2o, trajectory_robot<N>.csv. OpenCV, PCL and OctoMap are used
+// only inside exporter_*.cpp. Never throws: every failure is reported with its path.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "base_station/core/multi_robot_mapper.h"
+
+namespace cairn::base {
+
+struct ExportOptions {
+  double octomap_resolution_m = 0.03;
+  int png_min_size_px = 800;   ///< the map image is scaled up (integer factor) to about this size
+  int png_max_scale = 8;
+};
+
+struct ExportedFile {
+  std::string path;
+  bool ok = false;
+  std::string error;  ///< empty when ok
+};
+
+struct ExportSummary {
+  std::vector<ExportedFile> files;
+  bool ok() const {
+    for (const auto& f : files) if (!f.ok) return false;
+    return !files.empty();
+  }
+  int failures() const {
+    int n = 0;
+    for (const auto& f : files) n += f.ok ? 0 : 1;
+    return n;
+  }
+};
+
+/// Writes every export into out_dir (created if needed).
+ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_dir,
+                         const ExportOptions& options = {});
+
+/// The map image (grid, trajectories, keyframes, objects) as PNG bytes; empty on failure.
+std::vector<uint8_t> render_map_png(const MultiRobotMapper& mapper, const ExportOptions& options = {});
+
+/// Individual writers (used by export_all); each returns false and sets *error on failure.
+bool write_objects_geojson(const std::vector<GlobalObject>& objects, const std::string& path, std::string* error);
+bool write_objects_csv(const std::vector<GlobalObject>& objects, const std::string& path, std::string* error);
+/// VERTEX_SE2 / EDGE_SE2 (information upper triangle) / EDGE_PRIOR_SE2; vertex ids are a dense
+/// index over the nodes in (robot, seq) order, listed in "# KEYFRAME <vertex> <robot> <seq>" lines.
+bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::string* error);
+bool write_map_png(const MultiRobotMapper& mapper, const std::string& path, const ExportOptions& options,
+                   std::string* error);
+bool write_object_ply(const GlobalObject& object, const std::string& path, std::string* error);
+bool write_objects_octomap(const std::vector<GlobalObject>& objects, double resolution_m,
+                           const std::string& path, std::string* error);
+
+}  // namespace cairn::base

@@ -1,0 +1,140 @@
+// The map image: occupancy grid (ROS map_server shades) scaled up, each robot's trajectory as a
+// coloured polyline with keyframe dots, objects as class-coloured markers with labels.
+#include <algorithm>
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "base_station/core/exporter.h"
+
+namespace cairn::base {
+namespace {
+
+cv::Scalar robot_colour(RobotId robot) {
+  static const cv::Scalar kPalette[] = {  // BGR, distinct on light grey
+      {200, 90, 20}, {30, 140, 30}, {150, 40, 160}, {20, 120, 200}, {120, 120, 0}, {90, 60, 140}};
+  return kPalette[size_t(std::max(0, robot.value)) % (sizeof(kPalette) / sizeof(kPalette[0]))];
+}
+
+cv::Scalar class_colour(const std::string& class_name) {
+  if (class_name == "victim") return {30, 30, 220};
+  if (class_name == "hazard") return {0, 140, 255};
+  if (class_name == "exit") return {40, 160, 40};
+  return {180, 60, 60};
+}
+
+/// Maps global metres to image pixels of the scaled grid (row 0 = top = largest y).
+struct PixelMapper {
+  Eigen::Vector2d origin_m;
+  double resolution_m;
+  int height_cells;
+  int scale;
+  cv::Point operator()(const Eigen::Vector2d& p_m) const {
+    const Eigen::Vector2d c = (p_m - origin_m) / resolution_m;
+    return {int(std::lround(c.x() * scale)), int(std::lround((height_cells - c.y()) * scale))};
+  }
+};
+
+/// Cells [col0, col1] x [row0, row1] (inclusive) worth drawing: the known cells plus a margin.
+struct CellBox {
+  int col0, row0, col1, row1;
+};
+
+CellBox known_box(const OccupancyGrid& grid, int margin_cells) {
+  CellBox b{grid.width(), grid.height(), -1, -1};
+  for (int r = 0; r < grid.height(); ++r) {
+    for (int c = 0; c < grid.width(); ++c) {
+      if (!grid.known(c, r)) continue;
+      b.col0 = std::min(b.col0, c); b.col1 = std::max(b.col1, c);
+      b.row0 = std::min(b.row0, r); b.row1 = std::max(b.row1, r);
+    }
+  }
+  if (b.col1 < 0) return {0, 0, grid.width() - 1, grid.height() - 1};
+  return {std::max(0, b.col0 - margin_cells), std::max(0, b.row0 - margin_cells),
+          std::min(grid.width() - 1, b.col1 + margin_cells), std::min(grid.height() - 1, b.row1 + margin_cells)};
+}
+
+cv::Mat grid_image(const OccupancyGrid& grid, const CellBox& box, int scale) {
+  const std::vector<uint8_t> cells = grid.to_image();  // top row first
+  const cv::Mat gray(grid.height(), grid.width(), CV_8UC1, const_cast<uint8_t*>(cells.data()));
+  const cv::Rect roi(box.col0, grid.height() - 1 - box.row1, box.col1 - box.col0 + 1, box.row1 - box.row0 + 1);
+  cv::Mat bgr;
+  cv::cvtColor(gray(roi), bgr, cv::COLOR_GRAY2BGR);
+  cv::Mat scaled;
+  cv::resize(bgr, scaled, cv::Size(), scale, scale, cv::INTER_NEAREST);
+  return scaled;
+}
+
+void draw_trajectories(const MultiRobotMapper& mapper, const PixelMapper& px, cv::Mat* img) {
+  for (const RobotSummary& r : mapper.robots()) {
+    if (!r.linked) continue;
+    const Trajectory trajectory = mapper.global_trajectory(r.id);
+    std::vector<cv::Point> points;
+    for (const StampedPose& p : trajectory) points.push_back(px(p.pose.translation()));
+    const cv::Scalar colour = robot_colour(r.id);
+    if (points.size() >= 2) cv::polylines(*img, points, false, colour, 2, cv::LINE_AA);
+    for (const cv::Point& p : points) cv::circle(*img, p, 3, colour, cv::FILLED, cv::LINE_AA);
+    if (!points.empty()) {
+      cv::putText(*img, "R" + std::to_string(r.id.value), points.back() + cv::Point(6, -6),
+                  cv::FONT_HERSHEY_SIMPLEX, 0.6, colour, 2, cv::LINE_AA);
+    }
+  }
+}
+
+void draw_objects(const std::vector<GlobalObject>& objects, const PixelMapper& px, cv::Mat* img) {
+  for (const GlobalObject& o : objects) {
+    const cv::Point c = px(o.position_m.head<2>());
+    const cv::Scalar colour = class_colour(o.class_name);
+    cv::drawMarker(*img, c, colour, cv::MARKER_DIAMOND, 18, 3, cv::LINE_AA);
+    char conf[16];
+    std::snprintf(conf, sizeof(conf), " %.0f%%", 100.0 * o.confidence);
+    const std::string label = o.class_name + conf;
+    const cv::Point at = c + cv::Point(12, 5);
+    cv::putText(*img, label, at, cv::FONT_HERSHEY_SIMPLEX, 0.55, {255, 255, 255}, 4, cv::LINE_AA);
+    cv::putText(*img, label, at, cv::FONT_HERSHEY_SIMPLEX, 0.55, colour, 2, cv::LINE_AA);
+  }
+}
+
+cv::Mat render(const MultiRobotMapper& mapper, const ExportOptions& options) {
+  const OccupancyGrid& grid = mapper.global_map();
+  if (grid.width() == 0 || grid.height() == 0) {
+    cv::Mat blank(240, 320, CV_8UC3, cv::Scalar(205, 205, 205));
+    cv::putText(blank, "no map yet", {90, 125}, cv::FONT_HERSHEY_SIMPLEX, 0.8, {60, 60, 60}, 2, cv::LINE_AA);
+    return blank;
+  }
+  const CellBox box = known_box(grid, int(std::ceil(0.5 / grid.resolution_m())));
+  const int longest = std::max(box.col1 - box.col0 + 1, box.row1 - box.row0 + 1);
+  const int scale = std::clamp((options.png_min_size_px + longest - 1) / longest, 1, std::max(1, options.png_max_scale));
+  cv::Mat img = grid_image(grid, box, scale);
+  const Eigen::Vector2d origin_m = grid.origin_m() + grid.resolution_m() * Eigen::Vector2d(box.col0, box.row0);
+  const PixelMapper px{origin_m, grid.resolution_m(), box.row1 - box.row0 + 1, scale};
+  draw_trajectories(mapper, px, &img);
+  draw_objects(mapper.objects(), px, &img);
+  return img;
+}
+
+}  // namespace
+
+std::vector<uint8_t> render_map_png(const MultiRobotMapper& mapper, const ExportOptions& options) {
+  std::vector<uint8_t> png;
+  try {
+    if (!cv::imencode(".png", render(mapper, options), png)) png.clear();
+  } catch (const cv::Exception&) {
+    png.clear();
+  }
+  return png;
+}
+
+bool write_map_png(const MultiRobotMapper& mapper, const std::string& path, const ExportOptions& options,
+                   std::string* error) {
+  try {
+    if (cv::imwrite(path, render(mapper, options))) return true;
+    *error = "cv::imwrite failed";
+  } catch (const cv::Exception& e) {
+    *error = std::string("OpenCV: ") + e.what();
+  }
+  return false;
+}
+
+}  // namespace cairn::base

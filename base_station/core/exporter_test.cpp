@@ -1,0 +1,133 @@
+#include "base_station/core/exporter.h"
+
+#include <gtest/gtest.h>
+#include <octomap/OcTree.h>
+#include <pcl/io/ply_io.h>
+#include <pcl/point_types.h>
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "base_station/core/synthetic_world_test_util.h"
+
+namespace cairn::base {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::left_path;
+using testing::right_path;
+
+MultiRobotMapper make_mapper() {
+  MultiRobotMapper mapper;
+  mapper.set_robot_start(RobotId(0), left_path()[0]);
+  mapper.set_robot_start(RobotId(1), right_path()[0]);
+  for (const Keyframe& kf : testing::make_keyframes(RobotId(0), left_path(), testing::room_walls())) mapper.add_keyframe(kf);
+  for (const Keyframe& kf : testing::make_keyframes(RobotId(1), right_path(), testing::room_walls())) mapper.add_keyframe(kf);
+  for (const Keyframe& kf : testing::make_keyframes(RobotId(2), right_path(), testing::room_walls())) mapper.add_keyframe(kf);
+  mapper.add_object(testing::make_object({RobotId(0), 0}, "victim", {4.3, 3.5, 0.2}, 3, left_path()[3]));
+  mapper.add_object(testing::make_object({RobotId(1), 0}, "victim", {4.1, 3.4, 0.2}, 4, right_path()[4]));
+  mapper.add_object(testing::make_object({RobotId(1), 1}, "hazard", {8.0, 2.0, 0.1}, 1, right_path()[1]));
+  mapper.optimize();
+  return mapper;
+}
+
+std::string temp_dir(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("cairn_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  return p.string();
+}
+
+std::vector<std::string> lines_of(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> out;
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+int count_prefix(const std::vector<std::string>& lines, const std::string& prefix) {
+  return int(std::count_if(lines.begin(), lines.end(), [&](const auto& l) { return l.rfind(prefix, 0) == 0; }));
+}
+
+TEST(Exporter, WritesEveryFileAndTheyParseBack) {
+  const MultiRobotMapper mapper = make_mapper();
+  const std::string dir = temp_dir("export");
+  const ExportSummary summary = export_all(mapper, dir);
+  for (const ExportedFile& f : summary.files) EXPECT_TRUE(f.ok) << f.path << ": " << f.error;
+  ASSERT_TRUE(summary.ok());
+  // map.pgm + map.yaml
+  std::ifstream pgm(dir + "/map.pgm", std::ios::binary);
+  std::string magic;
+  pgm >> magic;
+  EXPECT_EQ(magic, "P5");
+  const YAML::Node yaml = YAML::LoadFile(dir + "/map.yaml");
+  EXPECT_NEAR(yaml["resolution"].as<double>(), 0.05, 1e-9);
+  // map.png
+  std::ifstream png(dir + "/map.png", std::ios::binary);
+  char sig[8] = {};
+  png.read(sig, 8);
+  EXPECT_EQ(std::string(sig + 1, 3), "PNG");
+  // objects: 2 merged (victim from both robots, hazard)
+  std::ifstream geojson_in(dir + "/objects.geojson");
+  const nlohmann::json geojson = nlohmann::json::parse(geojson_in);
+  EXPECT_EQ(geojson["type"], "FeatureCollection");
+  ASSERT_EQ(geojson["features"].size(), 2u);
+  EXPECT_EQ(geojson["features"][0]["properties"]["class"], "victim");
+  EXPECT_EQ(geojson["features"][0]["properties"]["robots"].size(), 2u);
+  EXPECT_EQ(lines_of(dir + "/objects.csv").size(), 3u);
+  // PLY per object
+  for (const GlobalObject& o : mapper.objects()) {
+    pcl::PointCloud<pcl::PointXYZRGB> cloud;
+    ASSERT_EQ(pcl::io::loadPLYFile(dir + "/object_" + object_key(o.id) + ".ply", cloud), 0);
+    EXPECT_EQ(cloud.size(), o.cloud_global.size());
+    EXPECT_NEAR(cloud[0].z, o.cloud_global[0].z, 1e-5);
+  }
+  // OctoMap
+  octomap::OcTree tree(0.1);
+  ASSERT_TRUE(tree.readBinary(dir + "/objects.bt"));
+  EXPECT_GT(tree.size(), 0u);
+  EXPECT_NEAR(tree.getResolution(), 0.03, 1e-9);
+  octomap::OcTreeNode* node = tree.search(8.0, 2.0, 0.25);
+  ASSERT_NE(node, nullptr);
+  EXPECT_TRUE(tree.isNodeOccupied(node));
+  // g2o: 12 linked keyframes, 10 odometry edges, 2 priors (robot 2 is not linked)
+  const std::vector<std::string> g2o = lines_of(dir + "/graph.g2o");
+  EXPECT_EQ(count_prefix(g2o, "VERTEX_SE2 "), 12);
+  EXPECT_EQ(count_prefix(g2o, "EDGE_SE2 "), 10);
+  EXPECT_EQ(count_prefix(g2o, "EDGE_PRIOR_SE2 "), 2);
+  EXPECT_EQ(count_prefix(g2o, "# KEYFRAME "), 12);
+  // trajectories of linked robots only
+  EXPECT_EQ(read_trajectory_csv(dir + "/trajectory_robot0.csv").size(), 6u);
+  EXPECT_EQ(read_trajectory_csv(dir + "/trajectory_robot1.csv").size(), 6u);
+  EXPECT_FALSE(fs::exists(dir + "/trajectory_robot2.csv"));
+  fs::remove_all(dir);
+}
+
+TEST(Exporter, UnwritableDirectoryIsReportedNotFatal) {
+  const std::string file = temp_dir("not_a_dir");
+  std::ofstream(file) << "x";
+  const ExportSummary summary = export_all(make_mapper(), file + "/sub");
+  EXPECT_FALSE(summary.ok());
+  ASSERT_GE(summary.failures(), 1);
+  EXPECT_NE(summary.files[0].path.find(file), std::string::npos);
+  EXPECT_FALSE(summary.files[0].error.empty());
+  // Writing into an existing file path as a directory fails per file too.
+  std::string error;
+  EXPECT_FALSE(write_objects_csv({}, file + "/objects.csv", &error));
+  EXPECT_FALSE(error.empty());
+  fs::remove_all(file);
+}
+
+TEST(Exporter, RenderMapPngHasSignature) {
+  const std::vector<uint8_t> png = render_map_png(make_mapper());
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png[0], 0x89);
+  EXPECT_EQ(png[1], 'P');
+  const std::vector<uint8_t> empty = render_map_png(MultiRobotMapper());
+  ASSERT_GT(empty.size(), 8u);
+}
+
+}  // namespace
+}  // namespace cairn::base

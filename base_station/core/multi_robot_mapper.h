@@ -1,0 +1,114 @@
+#pragma once
+// MultiRobotMapper: the base station's merger. It stores every robot's keyframes (odometry chains
+// in each robot's local frame) and object reports, places linked robots in the global frame with a
+// Ceres SE2 pose graph (DESIGN.md "Base station" 1, 4, 5), and derives the global occupancy grid and
+// the merged objects in global coordinates.
+// A robot is "linked" once its start pose in the global frame is known (set_robot_start; automatic
+// cross-robot merging comes later). Unlinked robots' data is kept but not placed.
+// Single-threaded and deterministic; queries rebuild cached results lazily, so even const methods
+// must not be called concurrently (the console works on snapshots, see console/snapshot.h).
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "base_station/core/global_object.h"
+#include "base_station/core/mapper_options.h"
+#include "base_station/core/pose_graph_2d.h"
+#include "common/keyframe.h"
+#include "common/object_report.h"
+#include "common/occupancy_grid.h"
+#include "common/trajectory.h"
+
+namespace cairn::base {
+
+enum class AddStatus {
+  kAccepted,   ///< stored and usable
+  kPending,    ///< stored, waits for something else (e.g. an object's anchor keyframe)
+  kDuplicate,  ///< already stored (or an older version of it): nothing changed
+  kRejected,   ///< invalid input: nothing changed
+};
+const char* to_string(AddStatus status);
+
+struct AddResult {
+  AddStatus status = AddStatus::kRejected;
+  std::string reason;  ///< why it was rejected / pending, or notes (e.g. dropped NaN points)
+  bool stored() const { return status == AddStatus::kAccepted || status == AddStatus::kPending; }
+};
+
+struct OptimizeResult {
+  PoseGraphSolveResult solve;
+  int nodes = 0;
+  int edges = 0;
+  int priors = 0;
+  int gap_edges = 0;          ///< chains bridged by local poses because a keyframe is missing
+  int unlinked_robots = 0;
+};
+
+struct RobotSummary {
+  RobotId id;
+  bool linked = false;
+  int keyframes = 0;
+  int objects = 0;                 ///< reports from this robot (placed or pending)
+  StampNs last_stamp_ns = 0;
+  int32_t last_seq = -1;
+  int missing_keyframes = 0;       ///< gaps in seq 0..last_seq
+  /// Correction global <- robot local frame (identity when not linked); the "correction" topic.
+  SE2 T_global_local;
+};
+
+class MultiRobotMapper {
+ public:
+  explicit MultiRobotMapper(const MapperOptions& options = {});
+
+  /// Links a robot: its local frame sits at T_global_local in the global frame.
+  void set_robot_start(RobotId robot, const SE2& T_global_local);
+  AddResult add_keyframe(const Keyframe& keyframe);
+  AddResult add_object(const ObjectReport& report);
+  /// Rebuilds the pose graph of all linked robots (warm-started from the last solution) and solves.
+  OptimizeResult optimize();
+
+  std::vector<RobotSummary> robots() const;
+  bool linked(RobotId robot) const { return starts_.count(robot) > 0; }
+  /// Keyframe poses in the global frame, by seq; empty when the robot is not linked.
+  Trajectory global_trajectory(RobotId robot) const;
+  /// nullopt when the keyframe is unknown or its robot is not linked.
+  std::optional<SE2> global_pose(KeyframeId id) const;
+  const std::map<KeyframeId, Keyframe>& keyframes() const { return keyframes_; }
+  const std::map<ObjectId, ObjectReport>& object_reports() const { return reports_; }
+  /// Reports whose anchor keyframe has not arrived yet.
+  std::vector<ObjectId> pending_objects() const;
+  /// Merged objects of linked robots, sorted by id.
+  std::vector<GlobalObject> objects() const;
+  /// Occupancy grid of every linked keyframe's scan at its current global pose.
+  const OccupancyGrid& global_map() const;
+  double mapped_area_m2() const { return global_map().known_area_m2(); }
+  /// The pose graph as last optimised (for export).
+  const PoseGraph2d& graph() const { return graph_; }
+  const MapperOptions& options() const { return options_; }
+  /// Bumped whenever any global pose or object may have changed.
+  uint64_t version() const { return version_; }
+
+ private:
+  SE2 start_of(RobotId robot) const { return starts_.at(robot); }
+  /// Current T_global_local of a linked robot from its latest optimised keyframe.
+  SE2 correction(RobotId robot) const;
+  void add_robot_chain(RobotId robot, OptimizeResult* result);
+  std::vector<GlobalObject> compute_objects() const;
+
+  MapperOptions options_;
+  std::map<RobotId, SE2> starts_;
+  std::map<KeyframeId, Keyframe> keyframes_;
+  std::map<ObjectId, ObjectReport> reports_;
+  std::map<KeyframeId, SE2> optimized_;  ///< global poses from the last optimize()
+  PoseGraph2d graph_;
+  uint64_t version_ = 1;        ///< anything changed
+  uint64_t poses_version_ = 1;  ///< keyframes, starts or optimised poses changed
+
+  mutable uint64_t map_version_ = 0;
+  mutable OccupancyGrid map_;
+  mutable uint64_t objects_version_ = 0;
+  mutable std::vector<GlobalObject> objects_;
+};
+
+}  // namespace cairn::base

@@ -1,0 +1,42 @@
+#include "robot_agent/app/agent_config.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "common/errors.h"
+
+namespace cairn::agent {
+namespace {
+
+std::string write_file(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(AgentConfig, ReadsKeyframerAndSwitches) {
+  const auto path = write_file("agent_ok.yaml",
+                               "keyframer: {min_distance_m: 0.8, min_angle_deg: 30, max_interval_s: 4}\n"
+                               "odometry: {use: false}\nobjects: {enabled: false}\n");
+  const AgentOptions o = load_agent_options(path);
+  EXPECT_DOUBLE_EQ(o.keyframer.min_distance_m, 0.8);
+  EXPECT_NEAR(o.keyframer.min_angle_rad, 30 * M_PI / 180, 1e-12);
+  EXPECT_FALSE(o.use_odometry);
+  EXPECT_FALSE(o.enable_objects);
+}
+
+TEST(AgentConfig, BadValuesNameTheKey) {
+  const auto path = write_file("agent_bad.yaml", "keyframer: {min_distance_m: -1}\n");
+  try {
+    load_agent_options(path);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("keyframer.min_distance_m"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(load_agent_options(write_file("agent_type.yaml", "odometry: {use: maybe}\n")), InputError);
+  EXPECT_THROW(load_agent_options("/nonexistent/agent.yaml"), InputError);
+}
+
+}  // namespace
+}  // namespace cairn::agent

@@ -1,0 +1,168 @@
+#include "robot_agent/app/agent_node.h"
+
+#include <chrono>
+#include <thread>
+
+#include "dds/conversions.h"
+
+namespace cairn::agent {
+
+using Clock = std::chrono::steady_clock;
+
+AgentNode::AgentNode(RobotId robot, const AgentOptions& core_options, const AgentNodeOptions& options)
+    : robot_(robot), options_(options), pipeline_(robot, core_options), log_(make_logger("agent", robot)) {}
+
+std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& core_options,
+                                             const AgentNodeOptions& options, std::string* error) {
+  std::unique_ptr<AgentNode> n(new AgentNode(robot, core_options, options));
+  dds::ParticipantOptions po;
+  po.domain_id = options.domain_id;
+  po.name = "cairn_agent_" + std::to_string(robot.value);
+  po.large_data_bytes_per_sec = options.large_data_bytes_per_sec;
+  n->participant_ = dds::Participant::create(po, error);
+  if (!n->participant_) return nullptr;
+  auto& p = *n->participant_;
+  using dds::TopicKind;
+  n->odometry_in_ = std::make_unique<R<cairn_msgs::Odometry, cairn_msgs::OdometryPubSubType>>(
+      p, dds::robot_topic(dds::kOdometryTopic, robot), TopicKind::kSensor);
+  n->laser_in_ = std::make_unique<R<cairn_msgs::LaserScan, cairn_msgs::LaserScanPubSubType>>(
+      p, dds::robot_topic(dds::kLaserTopic, robot), TopicKind::kSensor);
+  n->rgbd_in_ = std::make_unique<R<cairn_msgs::RgbdFrame, cairn_msgs::RgbdFramePubSubType>>(
+      p, dds::robot_topic(dds::kRgbdTopic, robot), TopicKind::kSensor);
+  n->clock_in_ = std::make_unique<R<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>>(
+      p, dds::kClockTopic, TopicKind::kClock);
+  n->ack_in_ = std::make_unique<R<cairn_msgs::Ack, cairn_msgs::AckPubSubType>>(p, dds::kAckTopic, TopicKind::kAck);
+  dds::QosOptions large;
+  large.large_data_flow_controlled = options.large_data_bytes_per_sec > 0;
+  n->keyframe_out_ = std::make_unique<W<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>>(
+      p, dds::kKeyframeTopic, TopicKind::kKeyframe);
+  n->object_out_ = std::make_unique<W<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>>(
+      p, dds::kObjectTopic, TopicKind::kObject, large);
+  n->status_out_ = std::make_unique<W<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>>(
+      p, dds::kStatusTopic, TopicKind::kStatus);
+  if (!n->odometry_in_->ok() || !n->laser_in_->ok() || !n->rgbd_in_->ok() || !n->clock_in_->ok() ||
+      !n->ack_in_->ok() || !n->keyframe_out_->ok() || !n->object_out_->ok() || !n->status_out_->ok()) {
+    *error = "cannot create the agent's DDS readers/writers";
+    return nullptr;
+  }
+  return n;
+}
+
+bool AgentNode::poll_inputs() {
+  bool any = false;
+  std::string error;
+  auto reject = [&](const char* topic) {
+    ++bad_samples_;
+    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "dropped a bad {} sample: {}", topic, error);
+  };
+  for (const auto& m : odometry_in_->take_all()) {
+    any = true;
+    if (auto o = dds::from_msg(m, &error)) pipeline_.add_odometry(*o); else reject("odometry");
+  }
+  for (const auto& m : laser_in_->take_all()) {
+    any = true;
+    if (auto s = dds::from_msg(m, &error)) pipeline_.add_scan(*s); else reject("laser_scan");
+  }
+  for (const auto& m : rgbd_in_->take_all()) {
+    any = true;
+    if (auto f = dds::from_msg(m, &error)) pipeline_.add_rgbd(*f); else reject("rgbd");
+  }
+  for (const auto& c : clock_in_->take_all()) input_finished_ = input_finished_ || c.finished();
+  for (const auto& a : ack_in_->take_all()) {
+    if (a.robot_id() != robot_.value) continue;
+    acked_keyframe_seq_ = std::max(acked_keyframe_seq_, a.keyframe_seq());
+    acked_object_count_ = std::max(acked_object_count_, int(a.object_count()));
+  }
+  return any;
+}
+
+void AgentNode::publish(const AgentOutputs& outputs) {
+  for (const auto& kf : outputs.keyframes) {
+    if (!keyframe_out_->write(dds::to_msg(kf))) {
+      log_->error("keyframe {} could not be queued (history full)", kf.id.seq);
+      continue;
+    }
+    last_keyframe_seq_ = kf.id.seq;
+  }
+  for (const auto& obj : outputs.objects) {
+    if (!object_out_->write(dds::to_msg(obj))) {
+      log_->error("object {} could not be queued", obj.id.seq);
+      continue;
+    }
+    if (objects_published_.insert(obj.id.seq).second) {
+      log_->info("object {} ({}) confirmed after {} observations", obj.id.seq, obj.class_name, obj.observations);
+    }
+  }
+}
+
+void AgentNode::publish_status(bool finished) {
+  const AgentStats s = pipeline_.stats();
+  cairn_msgs::RobotStatus st;
+  st.robot_id(robot_.value);
+  const auto& traj = pipeline_.trajectory();
+  st.stamp_ns(traj.empty() ? 0 : traj.back().stamp_ns);
+  st.battery_pct(100.f);  // the simulator models no battery; a driver fills this in
+  st.keyframes_sent(last_keyframe_seq_ + 1);
+  st.objects_sent(int32_t(objects_published_.size()));
+  st.bytes_sent(int64_t(keyframe_out_->bytes_written() + object_out_->bytes_written()));
+  st.keyframe_bytes(int64_t(keyframe_out_->bytes_written()));
+  st.object_bytes(int64_t(object_out_->bytes_written()));
+  st.object_messages(int32_t(object_out_->samples_written()));
+  st.scans_processed(s.scans_matched);
+  st.scan_rate_hz(0.f);
+  st.collision_risk(false);
+  st.finished(finished);
+  status_out_->write(st);
+}
+
+bool AgentNode::base_has_everything() {
+  return acked_keyframe_seq_ >= last_keyframe_seq_ && acked_object_count_ >= int(objects_published_.size());
+}
+
+int AgentNode::run() {
+  log_->info("waiting for sensor data");
+  auto next_status = Clock::now();
+  bool flushed = false;
+  Clock::time_point flush_time;
+  while (true) {
+    const bool got = poll_inputs();
+    if (input_finished_ && !flushed && !got) {
+      // The simulator announces the end only after every reading was acknowledged, so an empty
+      // poll after it means the input is complete.
+      publish(pipeline_.process(/*flush=*/true));
+      flushed = true;
+      flush_time = Clock::now();
+      const AgentStats s = pipeline_.stats();
+      log_->info("input ended: {} scans matched, {} keyframes, {} objects; waiting for the base to store them",
+                 s.scans_matched, last_keyframe_seq_ + 1, objects_published_.size());
+    } else if (!flushed) {
+      publish(pipeline_.process(false));
+    }
+    if (Clock::now() >= next_status) {
+      publish_status(false);
+      next_status = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                       std::chrono::duration<double>(options_.status_period_s));
+    }
+    if (flushed && base_has_everything()) break;
+    if (flushed && Clock::now() - flush_time > std::chrono::duration<double>(options_.ack_timeout_s)) {
+      log_->error("the base station did not acknowledge everything within {} s (acked keyframe {} of {})",
+                  options_.ack_timeout_s, acked_keyframe_seq_, last_keyframe_seq_);
+      return 3;
+    }
+    if (!got) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  // Status is best effort: say "finished" a few times so the base hears it.
+  for (int i = 0; i < 5; ++i) {
+    publish_status(true);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  const AgentStats s = pipeline_.stats();
+  log_->info("done: {} keyframes, {} objects, {} bytes sent; {} bad samples dropped; beams: {} valid, {} NaN/inf, "
+             "{} too close, {} max range",
+             last_keyframe_seq_ + 1, objects_published_.size(),
+             keyframe_out_->bytes_written() + object_out_->bytes_written(), bad_samples_, s.beams.valid,
+             s.beams.nan_or_inf, s.beams.too_close, s.beams.max_range);
+  return 0;
+}
+
+}  // namespace cairn::agent

@@ -1,0 +1,65 @@
+#pragma once
+// The robot agent's DDS side around its core: sensor readers in, AgentPipeline, keyframe/object/
+// status writers out; acks and corrections from the base station in. Single-threaded: run() polls.
+// Data flow: sensor topics -> dds::from_msg -> AgentPipeline -> dds::to_msg -> keyframe/object.
+#include <memory>
+#include <set>
+#include <string>
+
+#include "cairn_msgsPubSubTypes.h"
+#include "common/logging.h"
+#include "dds/endpoints.h"
+#include "robot_agent/core/agent_pipeline.h"
+
+namespace cairn::agent {
+
+struct AgentNodeOptions {
+  int domain_id = 0;
+  double status_period_s = 0.5;
+  double ack_timeout_s = 60.0;   ///< how long to wait for the base to store everything at the end
+  uint32_t large_data_bytes_per_sec = 0;  ///< flow controller for objects; 0 = unlimited
+};
+
+class AgentNode {
+ public:
+  static std::unique_ptr<AgentNode> create(RobotId robot, const AgentOptions& core_options,
+                                           const AgentNodeOptions& options, std::string* error);
+  /// Runs until the mission clock says the input ended and the base acknowledged everything.
+  /// Returns the process exit code.
+  int run();
+
+ private:
+  AgentNode(RobotId robot, const AgentOptions& core_options, const AgentNodeOptions& options);
+  bool poll_inputs();                 ///< true when anything arrived
+  void publish(const AgentOutputs& outputs);
+  void publish_status(bool finished);
+  bool base_has_everything();
+
+  template <typename M, typename T>
+  using R = dds::Reader<M, T>;
+  template <typename M, typename T>
+  using W = dds::Writer<M, T>;
+
+  RobotId robot_;
+  AgentNodeOptions options_;
+  AgentPipeline pipeline_;
+  std::shared_ptr<spdlog::logger> log_;
+  std::unique_ptr<dds::Participant> participant_;
+  std::unique_ptr<R<cairn_msgs::Odometry, cairn_msgs::OdometryPubSubType>> odometry_in_;
+  std::unique_ptr<R<cairn_msgs::LaserScan, cairn_msgs::LaserScanPubSubType>> laser_in_;
+  std::unique_ptr<R<cairn_msgs::RgbdFrame, cairn_msgs::RgbdFramePubSubType>> rgbd_in_;
+  std::unique_ptr<R<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>> clock_in_;
+  std::unique_ptr<R<cairn_msgs::Ack, cairn_msgs::AckPubSubType>> ack_in_;
+  std::unique_ptr<W<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>> keyframe_out_;
+  std::unique_ptr<W<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>> object_out_;
+  std::unique_ptr<W<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>> status_out_;
+
+  bool input_finished_ = false;
+  int32_t last_keyframe_seq_ = -1;
+  int32_t acked_keyframe_seq_ = -1;
+  int acked_object_count_ = 0;
+  std::set<int32_t> objects_published_;
+  int bad_samples_ = 0;
+};
+
+}  // namespace cairn::agent

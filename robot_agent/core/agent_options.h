@@ -1,0 +1,24 @@
+#pragma once
+// All options of the robot agent's algorithm core, one struct per component, with defaults.
+#include "robot_agent/core/keyframer.h"
+#include "robot_agent/core/local_slam.h"
+#include "robot_agent/core/object_detector.h"
+#include "robot_agent/core/object_tracker.h"
+
+namespace cairn::agent {
+
+struct AgentOptions {
+  LocalSlamOptions local_slam;
+  KeyframerOptions keyframer;
+  ObjectDetectorOptions detector;
+  ObjectTrackerOptions tracker;
+  /// false: odometry is ignored and the pose is predicted with a constant-velocity model.
+  bool use_odometry = true;
+  /// A scan waits for odometry with stamp >= its own; beyond this many waiting scans the oldest is
+  /// processed anyway (extrapolating the last odometry), so a dead odometry topic cannot stall the
+  /// agent. Only reached when odometry is missing or far behind.
+  int max_pending_scans = 100;
+  bool enable_objects = true;
+};
+
+}  // namespace cairn::agent

@@ -1,0 +1,147 @@
+#include "robot_agent/core/agent_pipeline.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace cairn::agent {
+
+AgentPipeline::AgentPipeline(RobotId robot, const AgentOptions& options)
+    : robot_(robot),
+      options_(options),
+      local_slam_(options.local_slam),
+      keyframer_(robot, options.keyframer),
+      detector_(options.detector),
+      tracker_(robot, options.tracker) {}
+
+void AgentPipeline::add_odometry(const OdometryReading& odometry) {
+  ++stats_.odometry_received;
+  if (!options_.use_odometry) return;
+  if (!odometry_.empty() && odometry.stamp_ns < odometry_.back().stamp_ns) return;  // out of order
+  odometry_.push_back(odometry);
+}
+
+void AgentPipeline::add_scan(const LaserScan& scan) {
+  ++stats_.scans_received;
+  const StampNs newest = scans_.empty() ? last_scan_stamp_ns_ : scans_.back().stamp_ns;
+  if ((any_scan_processed_ || !scans_.empty()) && scan.stamp_ns < newest) {
+    ++stats_.scans_out_of_order;
+    return;
+  }
+  scans_.push_back(scan);
+}
+
+void AgentPipeline::add_rgbd(const RgbdFrame& frame) {
+  ++stats_.rgbd_received;
+  if (!options_.enable_objects) return;
+  if (!frame.valid()) {
+    ++stats_.rgbd_invalid;
+    return;
+  }
+  frames_.push_back(frame);
+}
+
+bool AgentPipeline::scan_ready(bool flush) const {
+  if (scans_.empty()) return false;
+  if (flush || !options_.use_odometry) return true;
+  if (!odometry_.empty() && odometry_.back().stamp_ns >= scans_.front().stamp_ns) return true;
+  return int(scans_.size()) > options_.max_pending_scans;
+}
+
+bool AgentPipeline::rgbd_ready(bool flush) const {
+  if (frames_.empty()) return false;
+  // Canonical order: a frame right after the first scan with a stamp >= its own.
+  if (any_scan_processed_ && last_scan_stamp_ns_ >= frames_.front().stamp_ns) return true;
+  return flush && scans_.empty();
+}
+
+std::optional<SE2> AgentPipeline::odometry_at(StampNs t) const {
+  if (!options_.use_odometry || odometry_.empty()) return std::nullopt;
+  const auto after = std::lower_bound(odometry_.begin(), odometry_.end(), t,
+                                      [](const OdometryReading& o, StampNs s) { return o.stamp_ns < s; });
+  if (after == odometry_.end()) return odometry_.back().T_odom_base;  // hold the last reading
+  if (after == odometry_.begin() || after->stamp_ns == t) return after->T_odom_base;
+  const auto before = std::prev(after);
+  const double s = double(t - before->stamp_ns) / double(after->stamp_ns - before->stamp_ns);
+  return SE2::interpolate(before->T_odom_base, after->T_odom_base, s);
+}
+
+Anchor AgentPipeline::anchor_at(StampNs t) const {
+  const auto it = std::upper_bound(anchor_stamps_ns_.begin(), anchor_stamps_ns_.end(), t);
+  if (it == anchor_stamps_ns_.begin()) return Anchor{};
+  return anchors_[size_t(std::distance(anchor_stamps_ns_.begin(), it) - 1)];
+}
+
+void AgentPipeline::process_scan(AgentOutputs* out) {
+  const LaserScan scan = std::move(scans_.front());
+  scans_.pop_front();
+  if (options_.use_odometry && (odometry_.empty() || odometry_.back().stamp_ns < scan.stamp_ns)) {
+    ++stats_.scans_without_odometry;
+  }
+  const LocalSlamResult r = local_slam_.add_scan(scan, odometry_at(scan.stamp_ns));
+  any_scan_processed_ = true;
+  last_scan_stamp_ns_ = scan.stamp_ns;
+  // Drop odometry no longer needed for interpolation (keep the last reading <= this scan).
+  while (odometry_.size() > 1 && odometry_[1].stamp_ns <= scan.stamp_ns) odometry_.pop_front();
+  stats_.beams += r.filter_stats;
+  using S = LocalSlamResult::Status;
+  switch (r.status) {
+    case S::kFirstScan:
+    case S::kMatched: ++stats_.scans_matched; break;
+    case S::kMotionFiltered: ++stats_.scans_motion_filtered; break;
+    case S::kTooFewPoints: ++stats_.scans_too_few_points; break;
+    case S::kMatchFailed: ++stats_.scans_match_failed; break;
+  }
+  if (r.status != S::kTooFewPoints || !tracked_.empty()) tracked_.push_back({scan.stamp_ns, r.pose});
+  if (!r.matched()) return;
+  trajectory_.push_back({scan.stamp_ns, r.pose});
+  if (auto kf = keyframer_.add(scan, r.pose, r.covariance)) {
+    anchors_.push_back(Anchor{kf->id.seq, kf->T_local_base});
+    anchor_stamps_ns_.push_back(kf->stamp_ns);
+    out->keyframes.push_back(std::move(*kf));
+    ++stats_.keyframes;
+  }
+}
+
+void AgentPipeline::process_rgbd(AgentOutputs* out) {
+  const RgbdFrame frame = std::move(frames_.front());
+  frames_.pop_front();
+  ++stats_.rgbd_processed;
+  const std::vector<Detection> detections = detector_.detect(frame);
+  stats_.detections += int(detections.size());
+  std::vector<ObjectReport> reports =
+      tracker_.update(frame.stamp_ns, detections, pose_at(frame.stamp_ns), anchor_at(frame.stamp_ns));
+  stats_.object_reports += int(reports.size());
+  for (ObjectReport& r : reports) out->objects.push_back(std::move(r));
+}
+
+AgentOutputs AgentPipeline::process(bool flush) {
+  AgentOutputs out;
+  while (true) {
+    if (rgbd_ready(flush)) {
+      process_rgbd(&out);
+    } else if (scan_ready(flush)) {
+      process_scan(&out);
+    } else {
+      break;
+    }
+  }
+  return out;
+}
+
+SE2 AgentPipeline::pose_at(StampNs t) const {
+  if (tracked_.empty()) return SE2();
+  if (t <= tracked_.front().stamp_ns) return tracked_.front().pose;
+  if (t >= tracked_.back().stamp_ns) return tracked_.back().pose;
+  const auto p = interpolate_pose(tracked_, t, std::numeric_limits<StampNs>::max());
+  return p ? *p : tracked_.back().pose;
+}
+
+AgentStats AgentPipeline::stats() const {
+  AgentStats s = stats_;
+  s.object_tracks = int(tracker_.num_tracks());
+  s.object_tracks_confirmed = int(tracker_.num_confirmed());
+  s.submaps_finished = int(local_slam_.submaps().finished().size());
+  return s;
+}
+
+}  // namespace cairn::agent

@@ -1,0 +1,98 @@
+#pragma once
+// The robot agent's algorithm core behind one class (DESIGN.md "Robot agent"): sensor readings in,
+// keyframes and object reports out. Single-threaded and deterministic: topics may interleave
+// arbitrarily, readings are buffered and processed in stamp order (a scan at t once odometry with
+// stamp >= t is present; an RGB-D frame at t once a scan with stamp >= t has been processed), so
+// the outputs do not depend on arrival order. No clocks, no I/O, no threads.
+#include <deque>
+#include <vector>
+
+#include "common/ids.h"
+#include "common/keyframe.h"
+#include "common/laser_scan.h"
+#include "common/object_report.h"
+#include "common/sensors.h"
+#include "common/trajectory.h"
+#include "robot_agent/core/agent_options.h"
+#include "robot_agent/core/keyframer.h"
+#include "robot_agent/core/local_slam.h"
+#include "robot_agent/core/object_detector.h"
+#include "robot_agent/core/object_tracker.h"
+
+namespace cairn::agent {
+
+struct AgentOutputs {
+  std::vector<Keyframe> keyframes;
+  std::vector<ObjectReport> objects;
+  bool empty() const { return keyframes.empty() && objects.empty(); }
+};
+
+struct AgentStats {
+  int scans_received = 0;
+  int scans_matched = 0;           ///< includes the first scan
+  int scans_motion_filtered = 0;
+  int scans_too_few_points = 0;
+  int scans_match_failed = 0;
+  int scans_out_of_order = 0;      ///< stamp older than the previous scan: dropped
+  int scans_without_odometry = 0;  ///< processed without waiting for odometry (see max_pending_scans)
+  ScanFilterStats beams;           ///< over all processed scans
+  int odometry_received = 0;
+  int rgbd_received = 0;
+  int rgbd_processed = 0;
+  int rgbd_invalid = 0;            ///< size mismatch: skipped
+  int detections = 0;
+  int keyframes = 0;
+  int object_reports = 0;
+  int object_tracks = 0;
+  int object_tracks_confirmed = 0;
+  int submaps_finished = 0;
+};
+
+class AgentPipeline {
+ public:
+  AgentPipeline(RobotId robot, const AgentOptions& options = {});
+
+  void add_odometry(const OdometryReading& odometry);
+  void add_scan(const LaserScan& scan);
+  void add_rgbd(const RgbdFrame& frame);
+
+  /// Processes what is ready and returns what was produced since the last call.
+  /// `flush`: end of input, process everything buffered.
+  AgentOutputs process(bool flush = false);
+
+  AgentStats stats() const;
+  /// Every matched scan's pose, in the local frame.
+  const Trajectory& trajectory() const { return trajectory_; }
+  /// Pose at `stamp_ns` interpolated between processed scans (clamped at the ends).
+  SE2 pose_at(StampNs stamp_ns) const;
+  const LocalSlam& local_slam() const { return local_slam_; }
+  RobotId robot() const { return robot_; }
+
+ private:
+  bool scan_ready(bool flush) const;
+  bool rgbd_ready(bool flush) const;
+  void process_scan(AgentOutputs* out);
+  void process_rgbd(AgentOutputs* out);
+  std::optional<SE2> odometry_at(StampNs stamp_ns) const;
+  Anchor anchor_at(StampNs stamp_ns) const;
+
+  RobotId robot_;
+  AgentOptions options_;
+  LocalSlam local_slam_;
+  Keyframer keyframer_;
+  ObjectDetector detector_;
+  ObjectTracker tracker_;
+
+  std::deque<OdometryReading> odometry_;
+  std::deque<LaserScan> scans_;
+  std::deque<RgbdFrame> frames_;
+  bool any_scan_processed_ = false;
+  StampNs last_scan_stamp_ns_ = 0;
+  Trajectory trajectory_;          ///< matched poses
+  Trajectory tracked_;             ///< every processed scan's pose (matched or predicted)
+  std::vector<Anchor> anchors_;    ///< emitted keyframes' poses, by seq
+  std::vector<StampNs> anchor_stamps_ns_;
+  AgentStats stats_;
+};
+
+}  // namespace cairn::agent

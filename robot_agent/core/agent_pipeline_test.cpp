@@ -1,0 +1,182 @@
+#include "robot_agent/core/agent_pipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "robot_agent/core/test_util.h"
+
+namespace cairn::agent {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+struct Sequence {
+  std::vector<OdometryReading> odometry;
+  std::vector<LaserScan> scans;
+  std::vector<RgbdFrame> frames;
+  std::vector<SE2> truth;  ///< at each scan
+};
+
+// Drives forward 4 m then turns left 90 deg and drives 2 m: scans at 10 Hz, odometry at 20 Hz
+// (3 % scale error), RGB-D at 5 Hz looking at a red object ahead.
+Sequence make_sequence() {
+  const auto room = testing::make_room();
+  Sequence s;
+  SE2 pose(-2.0, -2.0, 0.0), odom;
+  std::vector<SE2> steps;
+  for (int i = 0; i < 40; ++i) steps.push_back(SE2(0.1, 0, 0));
+  for (int i = 0; i < 9; ++i) steps.push_back(SE2(0, 0, 10 * kDeg));
+  for (int i = 0; i < 20; ++i) steps.push_back(SE2(0.1, 0, 0));
+  const StampNs dt = kNsPerSec / 10;
+  for (size_t i = 0; i <= steps.size(); ++i) {
+    const StampNs t = StampNs(i) * dt;
+    s.truth.push_back(pose);
+    s.scans.push_back(testing::ray_cast(room, pose, t, 360, 0.01, unsigned(i)));
+    s.odometry.push_back({t, odom, 0.0, 0.0});
+    if (i % 2 == 0) s.frames.push_back(testing::render_rgbd(pose, {2.8, -2.0, 0.4}, 0.3, t + dt / 4));
+    if (i == steps.size()) break;
+    const SE2 half = SE2::from_vector(0.5 * steps[i].vector());
+    const SE2 odom_half(1.03 * half.x(), half.y(), half.yaw());
+    odom = odom * odom_half;
+    s.odometry.push_back({t + dt / 2, odom, 0.0, 0.0});
+    odom = odom * odom_half;
+    pose = pose * steps[i];
+  }
+  return s;
+}
+
+AgentOptions test_options() {
+  AgentOptions o;
+  o.max_pending_scans = 100000;
+  return o;
+}
+
+struct Event {
+  int topic;  // 0 odometry, 1 scan, 2 rgbd
+  size_t index;
+};
+
+AgentOutputs run(const Sequence& s, const std::vector<Event>& events, int process_every, AgentPipeline* agent) {
+  AgentOutputs all;
+  auto append = [&all](AgentOutputs o) {
+    for (auto& k : o.keyframes) all.keyframes.push_back(std::move(k));
+    for (auto& r : o.objects) all.objects.push_back(std::move(r));
+  };
+  for (size_t i = 0; i < events.size(); ++i) {
+    const Event& e = events[i];
+    if (e.topic == 0) agent->add_odometry(s.odometry[e.index]);
+    if (e.topic == 1) agent->add_scan(s.scans[e.index]);
+    if (e.topic == 2) agent->add_rgbd(s.frames[e.index]);
+    if (int(i) % process_every == 0) append(agent->process());
+  }
+  append(agent->process(true));
+  return all;
+}
+
+std::vector<Event> topic_major(const Sequence& s, const std::vector<int>& order) {
+  std::vector<Event> events;
+  for (int topic : order) {
+    const size_t n = topic == 0 ? s.odometry.size() : topic == 1 ? s.scans.size() : s.frames.size();
+    for (size_t i = 0; i < n; ++i) events.push_back({topic, i});
+  }
+  return events;
+}
+
+std::vector<Event> chronological(const Sequence& s) {
+  std::vector<std::pair<StampNs, Event>> ev;
+  for (size_t i = 0; i < s.odometry.size(); ++i) ev.push_back({s.odometry[i].stamp_ns, {0, i}});
+  for (size_t i = 0; i < s.scans.size(); ++i) ev.push_back({s.scans[i].stamp_ns, {1, i}});
+  for (size_t i = 0; i < s.frames.size(); ++i) ev.push_back({s.frames[i].stamp_ns, {2, i}});
+  std::stable_sort(ev.begin(), ev.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<Event> out;
+  for (const auto& e : ev) out.push_back(e.second);
+  return out;
+}
+
+void expect_identical(const AgentOutputs& a, const AgentOutputs& b) {
+  ASSERT_EQ(a.keyframes.size(), b.keyframes.size());
+  for (size_t i = 0; i < a.keyframes.size(); ++i) {
+    EXPECT_EQ(a.keyframes[i].id, b.keyframes[i].id);
+    EXPECT_EQ(a.keyframes[i].stamp_ns, b.keyframes[i].stamp_ns);
+    EXPECT_EQ(a.keyframes[i].T_local_base.vector(), b.keyframes[i].T_local_base.vector());
+  }
+  ASSERT_EQ(a.objects.size(), b.objects.size());
+  for (size_t i = 0; i < a.objects.size(); ++i) {
+    EXPECT_EQ(a.objects[i].id, b.objects[i].id);
+    EXPECT_EQ(a.objects[i].anchor_seq, b.objects[i].anchor_seq);
+    EXPECT_EQ(a.objects[i].stamp_ns, b.objects[i].stamp_ns);
+    EXPECT_TRUE(a.objects[i].T_anchor_object.isApprox(b.objects[i].T_anchor_object, 0.0));
+    EXPECT_EQ(a.objects[i].cloud.size(), b.objects[i].cloud.size());
+  }
+}
+
+TEST(AgentPipeline, DeterministicUnderInterleavings) {
+  const Sequence s = make_sequence();
+  AgentPipeline a(RobotId(1), test_options()), b(RobotId(1), test_options()), c(RobotId(1), test_options());
+  const AgentOutputs out_a = run(s, chronological(s), 1, &a);
+  const AgentOutputs out_b = run(s, topic_major(s, {1, 2, 0}), 7, &b);
+  const AgentOutputs out_c = run(s, topic_major(s, {0, 2, 1}), 3, &c);
+  ASSERT_GE(out_a.keyframes.size(), 8u);
+  ASSERT_GE(out_a.objects.size(), 1u);
+  expect_identical(out_a, out_b);
+  expect_identical(out_a, out_c);
+  EXPECT_EQ(a.trajectory().size(), b.trajectory().size());
+  // Accuracy against the truth (local frame = start pose).
+  const SE2 end = s.truth.front() * a.pose_at(s.scans.back().stamp_ns);
+  EXPECT_LT((end.translation() - s.truth.back().translation()).norm(), 0.05);
+  // The object is at (2.8, -2.0, 0.4) in the world.
+  const ObjectReport& obj = out_a.objects.back();
+  EXPECT_EQ(obj.class_name, "victim");
+  const Keyframe& anchor = out_a.keyframes[size_t(obj.anchor_seq)];
+  const Eigen::Vector3d p_world =
+      (s.truth.front() * anchor.T_local_base).to_isometry3() * obj.T_anchor_object.translation();
+  EXPECT_LT((p_world - Eigen::Vector3d(2.8, -2.0, 0.4)).norm(), 0.05);
+  const AgentStats st = a.stats();
+  EXPECT_EQ(st.scans_received, int(s.scans.size()));
+  EXPECT_EQ(st.scans_matched + st.scans_motion_filtered, int(s.scans.size()));
+  EXPECT_EQ(st.object_tracks, 1);
+}
+
+TEST(AgentPipeline, WorksWithoutOdometry) {
+  const Sequence s = make_sequence();
+  AgentOptions o = test_options();
+  o.use_odometry = false;
+  AgentPipeline agent(RobotId(0), o);
+  std::vector<Event> events;
+  for (const Event& e : chronological(s)) if (e.topic != 0) events.push_back(e);
+  const AgentOutputs out = run(s, events, 1, &agent);
+  EXPECT_GE(out.keyframes.size(), 8u);
+  const SE2 end = s.truth.front() * agent.trajectory().back().pose;
+  EXPECT_LT((end.translation() - s.truth.back().translation()).norm(), 0.05);
+  EXPECT_EQ(agent.stats().scans_match_failed, 0);
+}
+
+TEST(AgentPipeline, BadInputIsCountedNotFatal) {
+  AgentPipeline agent(RobotId(0), test_options());
+  const auto room = testing::make_room();
+  LaserScan scan = testing::ray_cast(room, SE2(), 0);
+  scan.ranges_m[0] = std::numeric_limits<float>::quiet_NaN();
+  scan.ranges_m[1] = -std::numeric_limits<float>::infinity();
+  agent.add_odometry({0, SE2(), 0, 0});
+  agent.add_scan(scan);
+  LaserScan dead = testing::ray_cast(room, SE2(), kNsPerSec);
+  std::fill(dead.ranges_m.begin(), dead.ranges_m.end(), std::numeric_limits<float>::quiet_NaN());
+  agent.add_odometry({kNsPerSec, SE2(), 0, 0});
+  agent.add_scan(dead);
+  RgbdFrame bad = testing::render_rgbd(SE2(), {2, 0, 0.4}, 0.3, kNsPerSec / 2);
+  bad.rgb.resize(10);
+  agent.add_rgbd(bad);
+  agent.add_scan(scan);  // out of order (stamp 0 < 1 s)
+  const AgentOutputs out = agent.process(true);
+  EXPECT_EQ(out.keyframes.size(), 1u);
+  const AgentStats st = agent.stats();
+  EXPECT_EQ(st.beams.nan_or_inf, 2 + 360);
+  EXPECT_EQ(st.scans_too_few_points, 1);
+  EXPECT_EQ(st.rgbd_invalid, 1);
+  EXPECT_EQ(st.scans_out_of_order, 1);
+  EXPECT_EQ(st.scans_matched, 1);
+}
+
+}  // namespace
+}  // namespace cairn::agent

@@ -1,0 +1,47 @@
+#pragma once
+// Real-time correlative scan matching (Olson, "Real-Time Correlative Scan Matching", ICRA 2009;
+// Cartographer's RealTimeCorrelativeScanMatcher2D): an exhaustive search over a window of
+// translations and rotations around a predicted pose, scoring each candidate by the mean of a
+// smoothed likelihood grid at the transformed scan points. Its result seeds the Ceres refinement.
+#include <Eigen/Core>
+#include <vector>
+
+#include "common/se2.h"
+#include "robot_agent/core/probability_grid.h"
+
+namespace cairn::agent {
+
+struct CorrelativeScanMatcherOptions {
+  double linear_window_m = 0.3;               ///< search +- this in x and y
+  double angular_window_rad = 20.0 * M_PI / 180.0;  ///< search +- this in yaw
+  /// The angular step keeps the farthest point (capped at this range) within one cell per step.
+  double max_range_for_step_m = 15.0;
+  /// Candidate score is multiplied by exp(-(w_t*|dt|)^2 - (w_r*|dyaw|)^2) (Cartographer's
+  /// translation/rotation_delta_cost_weight), preferring the prediction among equal scores.
+  double translation_delta_cost_weight = 0.1;
+  double rotation_delta_cost_weight = 0.1;
+};
+
+struct CorrelativeMatch {
+  SE2 pose;
+  double score = 0.0;   ///< mean likelihood at the points of the best candidate, 0..1
+  int candidates = 0;   ///< candidates evaluated
+};
+
+class CorrelativeScanMatcher {
+ public:
+  explicit CorrelativeScanMatcher(const CorrelativeScanMatcherOptions& options = {});
+
+  /// `points_base` are scan points in the robot base frame; `likelihood` is the smoothed grid in the
+  /// map frame. Returns the best candidate (score 0 when there are no points).
+  CorrelativeMatch match(const SE2& initial_T_map_base, const std::vector<Eigen::Vector2f>& points_base,
+                         const ProbabilityGrid& likelihood) const;
+
+  /// Angular step (rad) so that a point at `range_m` moves by about one cell of `resolution_m`.
+  static double angular_step_rad(double range_m, double resolution_m);
+
+ private:
+  CorrelativeScanMatcherOptions options_;
+};
+
+}  // namespace cairn::agent

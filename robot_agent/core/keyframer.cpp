@@ -1,0 +1,57 @@
+#include "robot_agent/core/keyframer.h"
+
+#include <cmath>
+
+namespace cairn::agent {
+
+Covariance3 compose_covariance(const SE2& A, const Covariance3& cov_A, const SE2& B, const Covariance3& cov_B) {
+  const Eigen::Vector2d t = A.rotation() * B.translation();
+  Eigen::Matrix3d J_A = Eigen::Matrix3d::Identity();
+  J_A(0, 2) = -t.y();
+  J_A(1, 2) = t.x();
+  Eigen::Matrix3d J_B = Eigen::Matrix3d::Identity();
+  J_B.topLeftCorner<2, 2>() = A.rotation();
+  return J_A * cov_A * J_A.transpose() + J_B * cov_B * J_B.transpose();
+}
+
+Keyframer::Keyframer(RobotId robot, const KeyframerOptions& options) : robot_(robot), options_(options) {}
+
+bool Keyframer::should_emit(StampNs stamp_ns, const SE2& pose) const {
+  if (!last_) return true;
+  const SE2 d = last_->T_local_base.between(pose);
+  return d.translation().norm() > options_.min_distance_m || std::abs(d.yaw()) > options_.min_angle_rad ||
+         ns_to_sec(stamp_ns - last_->stamp_ns) > options_.max_interval_s;
+}
+
+std::optional<Keyframe> Keyframer::add(const LaserScan& scan, const SE2& T_local_base,
+                                       const Covariance3& covariance) {
+  if (!should_emit(scan.stamp_ns, T_local_base)) return std::nullopt;
+  Keyframe kf;
+  kf.id = KeyframeId{robot_, next_seq_++};
+  kf.stamp_ns = scan.stamp_ns;
+  kf.T_local_base = T_local_base;
+  kf.scan = scan;  // laser at the base origin: the scan is already in the base frame
+  if (!last_) {
+    kf.T_prev_this = SE2();
+    kf.covariance = covariance;
+  } else {
+    kf.T_prev_this = last_->T_local_base.between(T_local_base);
+    Covariance3 edge = Covariance3::Zero();
+    // Both ends were matched against the local map independently; express both in the prev frame.
+    const Eigen::Matrix2d R_prev_local = last_->T_local_base.rotation().transpose();
+    Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
+    rot.topLeftCorner<2, 2>() = R_prev_local;
+    edge += rot * (last_match_covariance_ + covariance) * rot.transpose();
+    const double dist_m = kf.T_prev_this.translation().norm(), angle_rad = std::abs(kf.T_prev_this.yaw());
+    edge(0, 0) += options_.edge_translation_floor_m2 + options_.edge_translation_variance_per_m * dist_m;
+    edge(1, 1) += options_.edge_translation_floor_m2 + options_.edge_translation_variance_per_m * dist_m;
+    edge(2, 2) += options_.edge_rotation_floor_rad2 + options_.edge_rotation_variance_per_rad * angle_rad;
+    kf.edge_covariance = 0.5 * (edge + edge.transpose());
+    kf.covariance = compose_covariance(last_->T_local_base, last_->covariance, kf.T_prev_this, kf.edge_covariance);
+  }
+  last_match_covariance_ = covariance;
+  last_ = kf;
+  return kf;
+}
+
+}  // namespace cairn::agent

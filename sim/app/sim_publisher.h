@@ -1,0 +1,40 @@
+#pragma once
+// The simulator's DDS side: one odometry, laser and RGB-D writer per robot, plus the mission clock.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cairn_msgsPubSubTypes.h"
+#include "dds/endpoints.h"
+#include "sim/simulator.h"
+
+namespace cairn::sim {
+
+class SimPublisher {
+ public:
+  static std::unique_ptr<SimPublisher> create(int domain, const std::vector<RobotId>& robots, std::string* error);
+  /// True once every robot's laser topic has a subscriber (its agent).
+  bool wait_for_agents(double timeout_s);
+  /// Publishes one step's readings (and the clock once per simulated second).
+  bool publish(const SimStep& step, std::string* error);
+  /// Waits until the agents acknowledged every reading, then announces the end of the mission.
+  bool finish(StampNs final_stamp_ns, std::string* error);
+
+ private:
+  template <typename M, typename T>
+  using W = dds::Writer<M, T>;
+  struct RobotWriters {
+    RobotId robot;
+    std::unique_ptr<W<cairn_msgs::Odometry, cairn_msgs::OdometryPubSubType>> odometry;
+    std::unique_ptr<W<cairn_msgs::LaserScan, cairn_msgs::LaserScanPubSubType>> laser;
+    std::unique_ptr<W<cairn_msgs::RgbdFrame, cairn_msgs::RgbdFramePubSubType>> rgbd;
+  };
+  RobotWriters* writers_of(RobotId robot);
+
+  std::unique_ptr<dds::Participant> participant_;
+  std::vector<RobotWriters> robots_;
+  std::unique_ptr<W<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>> clock_;
+  StampNs next_clock_ns_ = 0;
+};
+
+}  // namespace cairn::sim

@@ -1,0 +1,29 @@
+#pragma once
+// Simulated planar laser: casts each beam through the floor-plan grid (exact Amanatides-Woo cell
+// traversal, FloorPlan::cast_ray) from the sensor pose and adds Gaussian range noise. Beams without
+// a wall within max_range_m read +inf. Only walls block the laser: objects of interest are treated
+// as low / off the scan plane (the scan plane is assumed above them) and are invisible to it.
+#include <random>
+
+#include "common/laser_scan.h"
+#include "common/se2.h"
+#include "sim/floor_plan.h"
+#include "sim/sim_options.h"
+
+namespace cairn::sim {
+
+class LaserSimulator {
+ public:
+  explicit LaserSimulator(const LaserOptions& options);
+  /// One scan from T_world_laser; `rng` supplies the range noise.
+  LaserScan scan(const FloorPlan& plan, const SE2& T_world_laser, StampNs stamp_ns,
+                 std::mt19937_64& rng) const;
+  const LaserOptions& options() const { return options_; }
+
+ private:
+  LaserOptions options_;
+  float angle_min_rad_ = 0.f;
+  float angle_increment_rad_ = 0.f;
+};
+
+}  // namespace cairn::sim

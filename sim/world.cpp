@@ -1,0 +1,222 @@
+#include "sim/world.h"
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include "common/errors.h"
+#include "common/yaml_config.h"
+
+namespace cairn::sim {
+namespace {
+
+// A list of exactly n finite numbers under `key`.
+std::vector<double> require_numbers(const YamlConfig& cfg, const std::string& key, size_t n) {
+  const auto v = cfg.require<std::vector<double>>(key);
+  if (v.size() != n) cfg.fail(key, "must be a list of " + std::to_string(n) + " numbers");
+  for (double x : v) {
+    if (!std::isfinite(x)) cfg.fail(key, "must contain finite numbers (found NaN or inf)");
+  }
+  return v;
+}
+
+double positive(const YamlConfig& cfg, const std::string& key, double default_value) {
+  const double v = cfg.get<double>(key, default_value);
+  if (!(v > 0.0)) cfg.fail(key, "must be > 0 (got " + std::to_string(v) + ")");
+  return v;
+}
+
+double non_negative(const YamlConfig& cfg, const std::string& key, double default_value) {
+  const double v = cfg.get<double>(key, default_value);
+  if (!(v >= 0.0)) cfg.fail(key, "must be >= 0 (got " + std::to_string(v) + ")");
+  return v;
+}
+
+int positive_int(const YamlConfig& cfg, const std::string& key, int default_value) {
+  const int v = cfg.get<int>(key, default_value);
+  if (v <= 0) cfg.fail(key, "must be a positive integer (got " + std::to_string(v) + ")");
+  return v;
+}
+
+void load_sensors(const YamlConfig& root, SimOptions& sim) {
+  if (!root.has("sensors")) return;
+  const YamlConfig s = root["sensors"];
+  if (s.has("odometry")) {
+    const YamlConfig o = s["odometry"];
+    OdometryOptions& od = sim.odometry;
+    od.rate_hz = positive(o, "rate_hz", od.rate_hz);
+    od.trans_noise_per_m = non_negative(o, "trans_noise_per_m", od.trans_noise_per_m);
+    od.rot_noise_rad_per_m = non_negative(o, "rot_noise_rad_per_m", od.rot_noise_rad_per_m);
+    od.rot_noise_per_rad = non_negative(o, "rot_noise_per_rad", od.rot_noise_per_rad);
+  }
+  if (s.has("laser")) {
+    const YamlConfig l = s["laser"];
+    LaserOptions& lo = sim.laser;
+    lo.rate_hz = positive(l, "rate_hz", lo.rate_hz);
+    lo.beams = positive_int(l, "beams", lo.beams);
+    lo.fov_deg = positive(l, "fov_deg", lo.fov_deg);
+    if (lo.fov_deg > 360.0) l.fail("fov_deg", "must be <= 360");
+    lo.max_range_m = positive(l, "max_range_m", lo.max_range_m);
+    lo.min_range_m = non_negative(l, "min_range_m", lo.min_range_m);
+    lo.noise_sd_m = non_negative(l, "noise_sd_m", lo.noise_sd_m);
+  }
+  if (s.has("camera")) {
+    const YamlConfig c = s["camera"];
+    CameraOptions& co = sim.camera;
+    co.rate_hz = positive(c, "rate_hz", co.rate_hz);
+    co.width = positive_int(c, "width", co.width);
+    co.height = positive_int(c, "height", co.height);
+    co.hfov_deg = positive(c, "hfov_deg", co.hfov_deg);
+    if (co.hfov_deg >= 170.0) c.fail("hfov_deg", "must be < 170");
+    co.max_depth_m = positive(c, "max_depth_m", co.max_depth_m);
+    if (co.max_depth_m > 65.0) c.fail("max_depth_m", "must be <= 65 (uint16 millimetres)");
+    co.height_m = positive(c, "height_m", co.height_m);
+    co.pitch_deg = c.get<double>("pitch_deg", co.pitch_deg);
+    if (std::abs(co.pitch_deg) >= 80.0) c.fail("pitch_deg", "must be within (-80, 80)");
+    co.forward_offset_m = c.get<double>("forward_offset_m", co.forward_offset_m);
+    co.depth_noise_sd_m = non_negative(c, "depth_noise_sd_m", co.depth_noise_sd_m);
+    co.rgb_noise_sd = non_negative(c, "rgb_noise_sd", co.rgb_noise_sd);
+    co.render_range_m = positive(c, "render_range_m", co.render_range_m);
+  }
+}
+
+void load_sim(const YamlConfig& root, SimOptions& sim) {
+  if (root.has("sim")) {
+    const YamlConfig s = root["sim"];
+    const long long seed = s.get<long long>("seed", (long long)sim.seed);
+    if (seed < 0) s.fail("seed", "must be >= 0");
+    sim.seed = uint64_t(seed);
+    sim.dt_s = positive(s, "dt_s", sim.dt_s);
+    sim.duration_s = positive(s, "duration_s", sim.duration_s);
+    sim.settle_time_s = non_negative(s, "settle_time_s", sim.settle_time_s);
+  }
+  load_sensors(root, sim);
+}
+
+RobotSpec load_robot(const YamlConfig& r, const FloorPlan& plan, const WorldLoadOptions& options) {
+  RobotSpec spec;
+  const int id = r.require<int>("id");
+  if (id < 0) r.fail("id", "must be >= 0");
+  spec.id = RobotId(id);
+  const auto start = require_numbers(r, "start", 3);
+  spec.T_world_start = SE2(start[0], start[1], start[2]);
+  if (!plan.disc_free(spec.T_world_start.translation(), options.robot_radius_m)) {
+    r.fail("start", "is off the map, inside a wall or closer than " +
+                        std::to_string(options.robot_radius_m) + " m to one");
+  }
+  spec.max_speed_mps = positive(r, "max_speed_mps", spec.max_speed_mps);
+  spec.max_turn_radps = positive(r, "max_turn_radps", spec.max_turn_radps);
+  if (r.has("waypoints")) {
+    for (const YamlConfig& w : r.sequence("waypoints")) {
+      const auto v = w.as<std::vector<double>>();
+      if (v.size() != 2 || !std::isfinite(v[0]) || !std::isfinite(v[1])) {
+        w.fail("", "must be [x, y] with finite numbers");
+      }
+      const Eigen::Vector2d p(v[0], v[1]);
+      if (plan.wall_at(p) || !plan.disc_free(p, 0.0)) w.fail("", "is off the map or inside a wall");
+      spec.waypoints_m.push_back(p);
+    }
+  }
+  return spec;
+}
+
+ObjectShape parse_shape(const YamlConfig& o) {
+  const std::string s = o.get<std::string>("shape", "box");
+  if (s == "box") return ObjectShape::kBox;
+  if (s == "cylinder") return ObjectShape::kCylinder;
+  if (s == "sphere") return ObjectShape::kSphere;
+  o.fail("shape", "must be one of box, cylinder, sphere (got '" + s + "')");
+}
+
+WorldObject load_object(const YamlConfig& o, const WorldLoadOptions& options) {
+  WorldObject obj;
+  obj.id = o.require<int>("id");
+  obj.object_class = o.require<std::string>("class");
+  const auto& classes = options.object_classes;
+  if (std::find(classes.begin(), classes.end(), obj.object_class) == classes.end()) {
+    std::string list;
+    for (const auto& c : classes) list += (list.empty() ? "" : ", ") + c;
+    o.fail("class", "'" + obj.object_class + "' is not one of: " + list);
+  }
+  obj.shape = parse_shape(o);
+  const auto color = require_numbers(o, "color", 3);
+  for (int i = 0; i < 3; ++i) {
+    if (color[i] < 0 || color[i] > 255) o.fail("color", "values must be within 0..255");
+    obj.color_rgb[i] = uint8_t(std::lround(color[i]));
+  }
+  const auto size = require_numbers(o, "size_m", 3);
+  obj.size_m = Eigen::Vector3d(size[0], size[1], size[2]);
+  if ((obj.size_m.array() <= 0.0).any()) o.fail("size_m", "must be > 0");
+  const auto pose = require_numbers(o, "pose", 4);
+  obj.center_m = Eigen::Vector3d(pose[0], pose[1], pose[2]);
+  obj.yaw_rad = normalize_angle(pose[3]);
+  return obj;
+}
+
+}  // namespace
+
+const char* to_string(ObjectShape shape) {
+  switch (shape) {
+    case ObjectShape::kBox: return "box";
+    case ObjectShape::kCylinder: return "cylinder";
+    case ObjectShape::kSphere: return "sphere";
+  }
+  return "?";
+}
+
+FloorPlan load_floor_plan_image(const std::string& image_path, double resolution_m,
+                                const Eigen::Vector2d& origin_m) {
+  if (!std::filesystem::exists(image_path)) throw InputError(image_path + ": cannot open file");
+  const cv::Mat img = cv::imread(image_path, cv::IMREAD_GRAYSCALE);
+  if (img.empty()) throw InputError(image_path + ": not a readable PGM/PNG image");
+  const int w = img.cols, h = img.rows;
+  std::vector<uint8_t> walls(size_t(w) * size_t(h), 0);
+  for (int r = 0; r < h; ++r) {
+    const uint8_t* px = img.ptr<uint8_t>(h - 1 - r);  // image top row = grid top row
+    for (int c = 0; c < w; ++c) walls[size_t(r) * size_t(w) + size_t(c)] = px[c] < 128 ? 1 : 0;
+  }
+  return FloorPlan(w, h, resolution_m, origin_m, std::move(walls));
+}
+
+WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& options) {
+  const YamlConfig root = YamlConfig::load(yaml_path);
+  WorldFile out;
+  World& world = out.world;
+  world.name = root.get<std::string>("name", std::filesystem::path(yaml_path).stem().string());
+  const YamlConfig map = root["map"];
+  const std::string image = map.require<std::string>("image");
+  const double resolution_m = positive(map, "resolution_m", 0.05);
+  const auto origin = map.has("origin_m") ? require_numbers(map, "origin_m", 2)
+                                          : std::vector<double>{0.0, 0.0};
+  world.wall_height_m = positive(map, "wall_height_m", world.wall_height_m);
+  std::filesystem::path image_path(image);
+  if (image_path.is_relative()) image_path = std::filesystem::path(yaml_path).parent_path() / image_path;
+  try {
+    world.floor_plan = load_floor_plan_image(image_path.string(), resolution_m,
+                                             Eigen::Vector2d(origin[0], origin[1]));
+  } catch (const InputError& e) {
+    map.fail("image", std::string("cannot be loaded: ") + e.what());
+  }
+  load_sim(root, out.sim);
+
+  std::set<int> robot_ids;
+  for (const YamlConfig& r : root.sequence("robots")) {
+    world.robots.push_back(load_robot(r, world.floor_plan, options));
+    if (!robot_ids.insert(world.robots.back().id.value).second) r.fail("id", "is a duplicate");
+  }
+  if (world.robots.empty()) root.fail("robots", "must list at least one robot");
+  if (root.has("objects")) {
+    std::set<int> object_ids;
+    for (const YamlConfig& o : root.sequence("objects")) {
+      world.objects.push_back(load_object(o, options));
+      if (!object_ids.insert(world.objects.back().id).second) o.fail("id", "is a duplicate");
+    }
+  }
+  return out;
+}
+
+}  // namespace cairn::sim

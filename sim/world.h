@@ -1,0 +1,65 @@
+#pragma once
+// The static description of a simulated mission: the floor plan (walls extruded to wall_height_m),
+// the robots with their start poses and waypoint routes, and the objects of interest (victims,
+// hazards, exits) as coloured 3D primitives. Loaded from a YAML file plus a floor-plan image
+// (PGM or PNG; pixels darker than 128 are walls). See worlds/office.yaml for the format.
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "common/ids.h"
+#include "common/se2.h"
+#include "sim/floor_plan.h"
+#include "sim/sim_options.h"
+
+namespace cairn::sim {
+
+enum class ObjectShape { kBox, kCylinder, kSphere };
+const char* to_string(ObjectShape shape);
+
+/// An object of interest. size_m: box = (x, y, z) extents in the object frame; cylinder (vertical
+/// axis) = (diameter, diameter, height); sphere = (diameter, diameter, diameter).
+struct WorldObject {
+  int id = 0;
+  std::string object_class;                 ///< "victim", "hazard", "exit", ...
+  ObjectShape shape = ObjectShape::kBox;
+  std::array<uint8_t, 3> color_rgb{{255, 0, 0}};
+  Eigen::Vector3d size_m = Eigen::Vector3d::Constant(0.5);
+  Eigen::Vector3d center_m = Eigen::Vector3d::Zero();  ///< world frame, z = height of the centre
+  double yaw_rad = 0.0;                                 ///< rotation about the vertical axis
+};
+
+/// A robot and the route it drives.
+struct RobotSpec {
+  RobotId id;
+  SE2 T_world_start;
+  double max_speed_mps = 0.6;
+  double max_turn_radps = 1.2;
+  std::vector<Eigen::Vector2d> waypoints_m;  ///< world frame, driven in order
+};
+
+struct World {
+  std::string name;
+  FloorPlan floor_plan;
+  double wall_height_m = 2.0;
+  std::vector<RobotSpec> robots;
+  std::vector<WorldObject> objects;
+};
+
+/// A world file holds both the World and the simulator settings (sections `sim` and `sensors`).
+struct WorldFile {
+  World world;
+  SimOptions sim;
+};
+
+/// Loads a world YAML (and the image it names, relative to the YAML file). Throws InputError naming
+/// the file and key for a missing/malformed file or an invalid value (non-positive resolution, a
+/// start pose inside or too close to a wall, an unknown object class or shape, NaN, ...).
+WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& options = {});
+
+/// Loads a floor-plan image (PGM/PNG) into a FloorPlan; throws InputError naming the file.
+FloorPlan load_floor_plan_image(const std::string& image_path, double resolution_m,
+                                const Eigen::Vector2d& origin_m);
+
+}  // namespace cairn::sim

@@ -1,0 +1,169 @@
+#include "sim/world.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "common/errors.h"
+#include "sim/rgbd_renderer.h"
+#include "sim/simulator.h"
+
+namespace cairn::sim {
+namespace {
+
+const std::string kWorlds = std::string(CAIRN_SOURCE_DIR) + "/worlds/";
+
+// Every segment between consecutive waypoints (from the start), inflated by the robot radius.
+void expect_routes_free(const World& world) {
+  for (const RobotSpec& r : world.robots) {
+    Eigen::Vector2d from = r.T_world_start.translation();
+    for (const Eigen::Vector2d& to : r.waypoints_m) {
+      EXPECT_TRUE(world.floor_plan.segment_free(from, to, 0.2))
+          << to_string(r.id) << ": segment (" << from.transpose() << ") -> (" << to.transpose() << ")";
+      from = to;
+    }
+  }
+}
+
+struct MissionSummary {
+  double end_s = 0;
+  std::map<int, int> best_pixels;  ///< object id -> most pixels seen within 4 m in one frame
+};
+
+// Runs the mission without sensors, then renders every 0.5 s of ground truth with object labels.
+MissionSummary run_mission(const WorldFile& file) {
+  SimOptions options = file.sim;
+  options.enable_camera = false;
+  options.enable_laser = false;
+  Simulator sim(file.world, options);
+  while (!sim.done()) sim.step();
+  MissionSummary out;
+  out.end_s = ns_to_sec(sim.now_ns());
+  for (RobotId id : sim.robot_ids()) EXPECT_TRUE(sim.robot_finished(id)) << to_string(id);
+  const RgbdRenderer renderer(file.sim.camera, file.world.floor_plan, file.world.wall_height_m,
+                              file.world.objects);
+  std::mt19937_64 rng(1);
+  for (RobotId id : sim.robot_ids()) {
+    const Trajectory& gt = sim.ground_truth(id);
+    for (size_t i = 0; i < gt.size(); i += 10) {
+      std::vector<int> ids;
+      const RgbdFrame f = renderer.render(gt[i].pose, gt[i].stamp_ns, rng, &ids);
+      std::map<int, int> count;
+      for (size_t p = 0; p < ids.size(); ++p) {
+        if (ids[p] >= 0 && f.depth[p] > 0 && f.depth[p] < 4000) ++count[ids[p]];
+      }
+      for (const auto& [obj, n] : count) out.best_pixels[obj] = std::max(out.best_pixels[obj], n);
+    }
+  }
+  return out;
+}
+
+void check_shipped_world(const std::string& name, double min_s, double max_s) {
+  const WorldFile file = load_world_file(kWorlds + name + ".yaml");
+  const World& world = file.world;
+  EXPECT_EQ(world.name, name);
+  EXPECT_GE(world.robots.size(), 3u);
+  EXPECT_GE(world.objects.size(), 6u);
+  std::map<std::string, int> classes;
+  for (const WorldObject& o : world.objects) ++classes[o.object_class];
+  EXPECT_EQ(classes.size(), 3u);
+  expect_routes_free(world);
+  const MissionSummary m = run_mission(file);
+  EXPECT_GE(m.end_s, min_s);
+  EXPECT_LE(m.end_s, max_s);
+  for (const WorldObject& o : world.objects) {
+    const auto it = m.best_pixels.find(o.id);
+    EXPECT_TRUE(it != m.best_pixels.end() && it->second >= 50)
+        << name << ": object " << o.id << " (" << o.object_class << ") not seen within 4 m";
+  }
+}
+
+TEST(ShippedWorlds, Office) { check_shipped_world("office", 60.0, 90.0); }
+TEST(ShippedWorlds, Collapsed) { check_shipped_world("collapsed", 120.0, 180.0); }
+
+// Writes a world YAML (and a 4 m x 4 m image with a wall block) into a temp dir.
+class BadInput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() / "cairn_sim_world_test";
+    std::filesystem::create_directories(dir_);
+    std::ofstream img(dir_ / "plan.pgm", std::ios::binary);
+    img << "P5\n80 80\n255\n";
+    for (int r = 0; r < 80; ++r)
+      for (int c = 0; c < 80; ++c) img.put(char(c >= 40 && c < 50 && r >= 30 && r < 50 ? 0 : 254));
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  std::string write(const std::string& text) {
+    const std::string path = (dir_ / "w.yaml").string();
+    std::ofstream(path) << text;
+    return path;
+  }
+  static std::string yaml(const std::string& map, const std::string& robot, const std::string& objects = "") {
+    return "map: {" + map + "}\nrobots:\n  - {" + robot + "}\n" + objects;
+  }
+  // Expects InputError whose message names the file and contains `key`.
+  void expect_error(const std::string& text, const std::string& key) {
+    const std::string path = write(text);
+    try {
+      load_world_file(path);
+      ADD_FAILURE() << "no error for key " << key;
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(path), std::string::npos) << msg;
+      EXPECT_NE(msg.find(key), std::string::npos) << msg;
+    }
+  }
+  std::filesystem::path dir_;
+  const std::string good_map_ = "image: plan.pgm, resolution_m: 0.05";
+  const std::string good_robot_ = "id: 0, start: [1, 1, 0], waypoints: [[3, 1]]";
+};
+
+TEST_F(BadInput, GoodFileLoads) {
+  const WorldFile f = load_world_file(write(yaml(good_map_, good_robot_)));
+  EXPECT_EQ(f.world.floor_plan.width(), 80);
+  EXPECT_TRUE(f.world.floor_plan.wall_at(Eigen::Vector2d(2.2, 2.0)));  // image row 30..49 from the top
+  EXPECT_FALSE(f.world.floor_plan.wall_at(Eigen::Vector2d(2.2, 0.5)));
+}
+
+TEST_F(BadInput, MissingFile) {
+  EXPECT_THROW(load_world_file((dir_ / "nope.yaml").string()), InputError);
+  expect_error(yaml("image: nope.pgm, resolution_m: 0.05", good_robot_), "map.image");
+}
+
+TEST_F(BadInput, MalformedYaml) {
+  const std::string path = write("map: {image: plan.pgm, resolution_m: [0.05\nrobots: - x");
+  try {
+    load_world_file(path);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
+  }
+}
+
+TEST_F(BadInput, MissingKey) {
+  expect_error(yaml("image: plan.pgm", "id: 0, waypoints: []"), "robots[0].start");
+  expect_error("robots: []\n", "map");
+}
+
+TEST_F(BadInput, InvalidValues) {
+  expect_error(yaml("image: plan.pgm, resolution_m: -0.05", good_robot_), "map.resolution_m");
+  expect_error(yaml(good_map_, "id: 0, start: [2.2, 2.0, 0]"), "robots[0].start");  // inside the wall
+  expect_error(yaml(good_map_, "id: 0, start: [1, .nan, 0]"), "robots[0].start");
+  expect_error(yaml(good_map_, "id: 0, start: [1, 1]"), "robots[0].start");
+  expect_error(yaml(good_map_, good_robot_,
+                    "objects:\n  - {id: 0, class: cat, color: [1, 2, 3], size_m: [1, 1, 1], pose: [1, 1, 0, 0]}\n"),
+               "objects[0].class");
+  expect_error(yaml(good_map_, good_robot_,
+                    "objects:\n  - {id: 0, class: exit, shape: cone, color: [1, 2, 3], size_m: [1, 1, 1], pose: [1, 1, 0, 0]}\n"),
+               "objects[0].shape");
+  expect_error(yaml(good_map_, good_robot_,
+                    "objects:\n  - {id: 0, class: exit, color: [1, 2, 3], size_m: [1, 1, 1], pose: [1, .nan, 0, 0]}\n"),
+               "objects[0].pose");
+  expect_error(yaml(good_map_, good_robot_) + "sensors: {laser: {beams: -3}}\n", "sensors.laser.beams");
+}
+
+}  // namespace
+}  // namespace cairn::sim

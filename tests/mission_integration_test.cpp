@@ -1,0 +1,120 @@
+// End to end over real Fast DDS: the simulator, two agents and the base station run as separate
+// processes (cairn_mission) on a private domain; the merged results are checked against the
+// simulator's ground truth with explicit bounds.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "common/yaml_config.h"
+#include "run_command.h"
+#include "tools/eval/mission_eval.h"
+
+namespace cairn::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Pgm {
+  int width = 0, height = 0;
+  std::vector<uint8_t> pixels;  ///< top row first
+  uint8_t at(int col, int row_from_bottom) const { return pixels[size_t(height - 1 - row_from_bottom) * width + col]; }
+};
+
+Pgm read_pgm(const std::string& path) {
+  Pgm p;
+  std::ifstream in(path, std::ios::binary);
+  std::string magic;
+  in >> magic;
+  auto skip_comments = [&] {
+    in >> std::ws;
+    while (in.peek() == '#') { std::string line; std::getline(in, line); in >> std::ws; }
+  };
+  skip_comments();
+  int maxval = 0;
+  in >> p.width;
+  skip_comments();
+  in >> p.height;
+  skip_comments();
+  in >> maxval;
+  in.get();
+  if (magic != "P5" || maxval != 255) return {};
+  p.pixels.resize(size_t(p.width) * p.height);
+  in.read(reinterpret_cast<char*>(p.pixels.data()), std::streamsize(p.pixels.size()));
+  return p;
+}
+
+/// Fraction of the merged map's occupied cells that lie within `tolerance_m` of a floor-plan wall.
+double wall_agreement(const fs::path& map_dir, const std::string& world_yaml, double tolerance_m) {
+  const auto map_cfg = YamlConfig::load((map_dir / "map.yaml").string());
+  const double map_res = map_cfg.require<double>("resolution");
+  const auto origin = map_cfg.node()["origin"].as<std::vector<double>>();
+  const Pgm map = read_pgm((map_dir / "map.pgm").string());
+
+  const auto world = YamlConfig::load(world_yaml);
+  const double plan_res = world["map"].require<double>("resolution_m");
+  const auto plan_origin = world["map"].node()["origin_m"].as<std::vector<double>>();
+  const fs::path image = fs::path(world_yaml).parent_path() / world["map"].require<std::string>("image");
+  const Pgm plan = read_pgm(image.string());
+  if (map.pixels.empty() || plan.pixels.empty()) return 0.0;
+
+  const int r = int(std::ceil(tolerance_m / plan_res));
+  int occupied = 0, near_wall = 0;
+  for (int row = 0; row < map.height; ++row) {
+    for (int col = 0; col < map.width; ++col) {
+      if (map.at(col, row) != 0) continue;
+      ++occupied;
+      const double x = origin[0] + (col + 0.5) * map_res, y = origin[1] + (row + 0.5) * map_res;
+      const int pc = int(std::floor((x - plan_origin[0]) / plan_res));
+      const int pr = int(std::floor((y - plan_origin[1]) / plan_res));
+      bool hit = false;
+      for (int dr = -r; dr <= r && !hit; ++dr) {
+        for (int dc = -r; dc <= r && !hit; ++dc) {
+          const int c = pc + dc, rr = pr + dr;
+          hit = c >= 0 && rr >= 0 && c < plan.width && rr < plan.height && plan.at(c, rr) < 128;
+        }
+      }
+      near_wall += hit;
+    }
+  }
+  return occupied ? double(near_wall) / occupied : 0.0;
+}
+
+TEST(MissionIntegration, TwoRobotsOverDdsMatchGroundTruth) {
+  const std::string world = source_path("tests/worlds/two_robots.yaml");
+  const fs::path out = fs::path(::testing::TempDir()) / ("mission_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  const auto r = run_command(bin("cairn_mission") + " --world " + world + " --out " + out.string() +
+                             " --port 0 --timeout 400");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("Mission summary"), std::string::npos) << r.output;
+
+  for (const char* f : {"map.pgm", "map.yaml", "map.png", "objects.geojson", "objects.csv", "objects.bt",
+                        "graph.g2o", "summary.json"}) {
+    EXPECT_TRUE(fs::exists(out / "map" / f)) << f;
+  }
+  int ply = 0;
+  for (const auto& e : fs::directory_iterator(out / "map")) ply += e.path().extension() == ".ply";
+  EXPECT_GE(ply, 1);
+
+  const eval::MissionScore score = eval::evaluate_mission((out / "ground_truth").string(), (out / "map").string());
+  ASSERT_EQ(score.robots.size(), 2u);
+  for (const auto& robot : score.robots) {
+    ASSERT_TRUE(robot.global) << "robot " << robot.robot.value << " has no merged trajectory";
+    EXPECT_GE(robot.keyframes, 10);
+    EXPECT_LT(robot.global->ate_rmse_m, 0.20) << "robot " << robot.robot.value;
+    EXPECT_LT(robot.global->ate_max_m, 0.40) << "robot " << robot.robot.value;
+  }
+  EXPECT_GE(score.objects.ground_truth, 4);
+  EXPECT_GE(score.objects.recall(), 0.75) << eval::format_score(score);
+  EXPECT_GE(score.objects.precision(), 0.75) << eval::format_score(score);
+  EXPECT_LT(score.objects.mean_error_xy_m, 0.35) << eval::format_score(score);
+
+  // The merged map's walls are where the floor plan has them.
+  EXPECT_GT(wall_agreement(out / "map", world, 0.10), 0.90);
+}
+
+}  // namespace
+}  // namespace cairn::test

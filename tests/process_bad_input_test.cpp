@@ -1,0 +1,84 @@
+// Bad input at the process level: each binary exits non-zero with one clear line naming what is
+// wrong (file, key, argument), and leaves files already written alone.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "run_command.h"
+
+namespace cairn::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string temp_file(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(ProcessBadInput, SimulatorRejectsMissingAndMalformedWorlds) {
+  auto r = run_command(bin("cairn_sim") + " --world /nonexistent/world.yaml --out " + ::testing::TempDir());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("/nonexistent/world.yaml"), std::string::npos) << r.output;
+
+  const std::string bad = temp_file("bad_world.yaml", "name: x\nmap: {image: [unclosed\n");
+  r = run_command(bin("cairn_sim") + " --world " + bad + " --out " + ::testing::TempDir());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad_world.yaml"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("line"), std::string::npos) << r.output;
+}
+
+TEST(ProcessBadInput, MissionNamesTheMissingKey) {
+  std::string text;
+  std::ifstream in(source_path("tests/worlds/two_robots.yaml"));
+  ASSERT_TRUE(in) << "tests/worlds/two_robots.yaml missing";
+  text.assign(std::istreambuf_iterator<char>(in), {});
+  const auto pos = text.find("resolution_m");
+  ASSERT_NE(pos, std::string::npos);
+  text.replace(pos, 12, "resolutoin_m");
+  const fs::path dir = fs::path(::testing::TempDir()) / "mission_bad_key";
+  fs::create_directories(dir);
+  fs::copy_file(source_path("worlds/office.pgm"), dir / "office.pgm", fs::copy_options::overwrite_existing);
+  std::string world_text = text;
+  const auto img = world_text.find("../../worlds/office.pgm");
+  if (img != std::string::npos) world_text.replace(img, 23, "office.pgm");
+  const std::string world = (dir / "world.yaml").string();
+  std::ofstream(world) << world_text;
+  const auto r = run_command(bin("cairn_mission") + " --world " + world + " --out " + (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("resolution_m"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out" / "logs")) << "nothing should be started for a bad world";
+}
+
+TEST(ProcessBadInput, BaseRejectsMalformedStartPose) {
+  const auto r = run_command(bin("cairn_base") + " --out " + ::testing::TempDir() + "/base_bad --start 0,1,nan,0");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--start '0,1,nan,0'"), std::string::npos) << r.output;
+}
+
+TEST(ProcessBadInput, AgentRejectsBadConfigAndRobotId) {
+  const std::string cfg = temp_file("agent_bad.yaml", "keyframer: {max_interval_s: zero}\n");
+  auto r = run_command(bin("cairn_agent") + " --robot 0 --config " + cfg);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("keyframer.max_interval_s"), std::string::npos) << r.output;
+  r = run_command(bin("cairn_agent") + " --robot -4");
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("--robot"), std::string::npos) << r.output;
+}
+
+TEST(ProcessBadInput, EvalKeepsExistingFilesOnMalformedInput) {
+  const fs::path dir = fs::path(::testing::TempDir()) / "eval_bad_input";
+  fs::create_directories(dir);
+  std::ofstream(dir / "gt_objects.csv") << "id,class,x_m,y_m,z_m\n0,victim,1,2,3\n";
+  std::ofstream(dir / "objects.csv") << "id,class,x_m,y_m,z_m\n0,victim,1,2\n";
+  const auto before = fs::file_size(dir / "objects.csv");
+  const auto r = run_command(bin("cairn_eval") + " --ground-truth " + dir.string() + " --results " + dir.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("objects.csv:2"), std::string::npos) << r.output;
+  EXPECT_EQ(fs::file_size(dir / "objects.csv"), before);
+}
+
+}  // namespace
+}  // namespace cairn::test

@@ -1,0 +1,155 @@
+// cairn_mission: the end-to-end demo. Starts the simulator, one agent per robot and the base
+// station as separate processes on a fresh DDS domain, prints progress from the base station's
+// console API, then scores the merged map against ground truth and prints a summary.
+//   out/<world>/ground_truth  (simulator)   out/<world>/map  (base station exports)
+//   out/<world>/logs          (one log per process)   out/<world>/results.json, summary.txt
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+#include "common/errors.h"
+#include "sim/world.h"
+#include "tools/mission/child_process.h"
+#include "tools/mission/mission_report.h"
+
+namespace fs = std::filesystem;
+using cairn::mission::ChildProcess;
+
+namespace {
+
+volatile std::sig_atomic_t g_interrupted = 0;
+void on_signal(int) { g_interrupted = 1; }
+
+struct Options {
+  std::string world;
+  std::string out;
+  double speed = 0.0;
+  bool serve = false;
+  int port = 8080;
+  int domain = -1;
+  double timeout_s = 900;
+};
+
+std::string fmt_pose(int id, const cairn::SE2& p) {
+  return std::to_string(id) + "," + std::to_string(p.x()) + "," + std::to_string(p.y()) + "," + std::to_string(p.yaw());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Cairn simulated rescue mission, end to end"};
+  Options opt;
+  app.add_option("--world", opt.world, "world YAML")->required();
+  app.add_option("--out", opt.out, "output folder (default out/<world name>)");
+  app.add_option("--speed", opt.speed, "simulator speed, times real time (0 = as fast as possible)");
+  app.add_flag("--serve", opt.serve, "keep the console up after the mission (Ctrl-C to stop)");
+  app.add_option("--port", opt.port, "console port (0 = any free port)");
+  app.add_option("--domain", opt.domain, "DDS domain id (default: a fresh one)")->check(CLI::Range(0, 232));
+  app.add_option("--timeout", opt.timeout_s, "give up after this many seconds");
+  CLI11_PARSE(app, argc, argv);
+
+  cairn::sim::WorldFile wf;
+  try {
+    wf = cairn::sim::load_world_file(opt.world);
+  } catch (const cairn::InputError& e) {
+    std::cerr << "cairn_mission: " << e.what() << "\n";
+    return 2;
+  }
+  if (opt.out.empty()) opt.out = "out/" + wf.world.name;
+  if (opt.domain < 0) opt.domain = 1 + int((getpid() * 7919u + unsigned(time(nullptr))) % 200);
+  if (opt.port != 0 && !cairn::mission::port_is_free(opt.port)) opt.port = 0;
+  if (opt.port == 0) opt.port = cairn::mission::free_port();
+  const fs::path out(opt.out);
+  std::error_code ec;
+  fs::remove_all(out / "map", ec);
+  fs::remove_all(out / "ground_truth", ec);
+  fs::remove_all(out / "logs", ec);
+  fs::create_directories(out / "logs", ec);
+  if (ec) {
+    std::cerr << "cairn_mission: cannot create " << out << ": " << ec.message() << "\n";
+    return 2;
+  }
+  const fs::path bin = fs::canonical("/proc/self/exe").parent_path();
+  const int robots = int(wf.world.robots.size());
+
+  std::vector<std::string> base_cmd{(bin / "cairn_base").string(), "--domain", std::to_string(opt.domain), "--out",
+                                    (out / "map").string(), "--robots", std::to_string(robots), "--port",
+                                    std::to_string(opt.port)};
+  for (const auto& r : wf.world.robots) {
+    base_cmd.push_back("--start");
+    base_cmd.push_back(fmt_pose(r.id.value, r.T_world_start));
+  }
+  if (opt.serve) base_cmd.push_back("--serve");
+
+  std::cout << "Cairn mission '" << wf.world.name << "': " << robots << " robots, " << wf.world.objects.size()
+            << " objects of interest, DDS domain " << opt.domain << "\n"
+            << "console: http://127.0.0.1:" << opt.port << "/\n";
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  const auto wall_start = std::chrono::steady_clock::now();
+  std::vector<std::unique_ptr<ChildProcess>> procs;
+  procs.push_back(std::make_unique<ChildProcess>("base", base_cmd, (out / "logs/base.log").string()));
+  for (const auto& r : wf.world.robots) {
+    const std::string id = std::to_string(r.id.value);
+    procs.push_back(std::make_unique<ChildProcess>(
+        "agent" + id,
+        std::vector<std::string>{(bin / "cairn_agent").string(), "--robot", id, "--domain", std::to_string(opt.domain)},
+        (out / ("logs/agent" + id + ".log")).string()));
+  }
+  procs.push_back(std::make_unique<ChildProcess>(
+      "sim",
+      std::vector<std::string>{(bin / "cairn_sim").string(), "--world", opt.world, "--out",
+                               (out / "ground_truth").string(), "--domain", std::to_string(opt.domain), "--speed",
+                               std::to_string(opt.speed)},
+      (out / "logs/sim.log").string()));
+  for (const auto& p : procs) {
+    if (!p->started()) {
+      std::cerr << "cairn_mission: cannot start " << p->name() << "\n";
+      return 3;
+    }
+  }
+
+  cairn::mission::ProgressPoller progress(opt.port, robots);
+  const fs::path summary_file = out / "map" / "summary.json";
+  while (true) {
+    bool failed = false, workers_done = true;
+    for (const auto& p : procs) {
+      p->poll();
+      if (p->exited() && p->exit_code() != 0) {
+        std::cerr << "cairn_mission: " << p->name() << " failed (exit " << p->exit_code() << "); see "
+                  << p->log_path() << "\n";
+        failed = true;
+      }
+      if (p->name() != "base") workers_done = workers_done && p->exited();
+    }
+    const bool base_done = procs[0]->exited() || (opt.serve && fs::exists(summary_file));
+    if (failed || g_interrupted ||
+        std::chrono::steady_clock::now() - wall_start > std::chrono::duration<double>(opt.timeout_s)) {
+      if (!failed && !g_interrupted) std::cerr << "cairn_mission: timed out after " << opt.timeout_s << " s\n";
+      for (const auto& p : procs) p->terminate();
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+      return 1;
+    }
+    if (workers_done && base_done) break;
+    std::cout << progress.line(std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count())
+              << std::endl;
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+  }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+
+  int code = cairn::mission::report(out, wall_s, procs, std::cout);
+  if (opt.serve && code == 0) {
+    std::cout << "console still up at http://127.0.0.1:" << opt.port << "/ (Ctrl-C to stop)" << std::endl;
+    while (!g_interrupted && !procs[0]->poll()) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    procs[0]->terminate();
+    for (int i = 0; i < 50 && !procs[0]->poll(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return code;
+}

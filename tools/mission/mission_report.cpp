@@ -1,0 +1,142 @@
+#include "tools/mission/mission_report.h"
+
+// Eigen-using headers first: httplib pulls in <resolv.h>, whose `_res` macro breaks Eigen.
+#include "common/errors.h"
+#include "common/trajectory.h"
+#include "tools/eval/mission_eval.h"
+
+#include <httplib.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace cairn::mission {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+int bind_port(int port) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  if (fd < 0) return -1;
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  addr.sin_port = htons(uint16_t(port));
+  int result = -1;
+  if (bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) == 0) {
+    socklen_t len = sizeof(addr);
+    getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+    result = ntohs(addr.sin_port);
+  }
+  close(fd);
+  return result;
+}
+
+std::optional<json> get_json(httplib::Client& cli, const char* path) {
+  auto res = cli.Get(path);
+  if (!res || res->status != 200) return std::nullopt;
+  auto j = json::parse(res->body, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) return std::nullopt;
+  return j;
+}
+
+double simulated_time_s(const fs::path& gt_dir) {
+  double t = 0;
+  for (const auto& entry : fs::directory_iterator(gt_dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("gt_robot", 0) == 0 && name != "gt_robots.csv") {
+      const Trajectory tr = read_trajectory_csv(entry.path().string());
+      if (!tr.empty()) t = std::max(t, ns_to_sec(tr.back().stamp_ns));
+    }
+  }
+  return t;
+}
+
+}  // namespace
+
+bool port_is_free(int port) { return bind_port(port) == port; }
+int free_port() { return bind_port(0); }
+
+std::string ProgressPoller::line(double wall_s) const {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(1) << "[" << std::setw(6) << wall_s << " s] ";
+  httplib::Client cli("127.0.0.1", port_);
+  cli.set_connection_timeout(0, 300'000);
+  cli.set_read_timeout(1, 0);
+  const auto status = get_json(cli, "/api/status");
+  const auto robots = get_json(cli, "/api/robots");
+  if (!status || !robots) {
+    s << "waiting for the base station console";
+    return s.str();
+  }
+  s << "mission t=" << status->value("mission_time_s", 0.0) << " s | keyframes";
+  const json list = robots->is_array() ? *robots : robots->value("robots", json::array());
+  for (const auto& r : list) s << " r" << r.value("id", -1) << "=" << r.value("keyframes", 0);
+  s << " | objects " << status->value("objects", 0) << " | mapped " << status->value("mapped_area_m2", 0.0) << " m2";
+  return s.str();
+}
+
+int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr<ChildProcess>>& procs,
+           std::ostream& os) {
+  json results;
+  eval::MissionScore score;
+  json summary;
+  double sim_s = 0;
+  try {
+    score = eval::evaluate_mission((out / "ground_truth").string(), (out / "map").string());
+    sim_s = simulated_time_s(out / "ground_truth");
+    std::ifstream in(out / "map" / "summary.json");
+    if (!in) throw InputError((out / "map" / "summary.json").string() + ": cannot open file");
+    summary = json::parse(in, nullptr, false);
+    if (summary.is_discarded()) throw InputError((out / "map" / "summary.json").string() + ": malformed JSON");
+  } catch (const InputError& e) {
+    os << "cairn_mission: cannot score the mission: " << e.what() << "\n";
+    return 4;
+  }
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(2);
+  s << "\n=== Mission summary ===\n";
+  s << "simulated " << sim_s << " s in " << wall_s << " s wall (" << (wall_s > 0 ? sim_s / wall_s : 0)
+    << "x real time)\n";
+  s << "mapped area " << summary.value("mapped_area_m2", 0.0) << " m2, " << summary.value("objects", 0)
+    << " objects on the map\n";
+  results["simulated_s"] = sim_s;
+  results["wall_s"] = wall_s;
+  results["mapped_area_m2"] = summary.value("mapped_area_m2", 0.0);
+  results["robots"] = json::array();
+  for (const auto& r : summary.value("robots", json::array())) {
+    const json link = r.value("link", json::object());
+    const int kf = r.value("keyframes", 0);
+    const double kf_bytes = link.value("keyframe_bytes", 0.0), obj_bytes = link.value("object_bytes", 0.0);
+    const int obj_msgs = link.value("object_messages", 0);
+    s << "robot " << r.value("id", -1) << ": " << kf << " keyframes (" << (kf ? kf_bytes / kf : 0)
+      << " B each), " << obj_msgs << " object messages (" << (obj_msgs ? obj_bytes / obj_msgs : 0)
+      << " B each), " << (kf_bytes + obj_bytes) / 1024.0 << " KiB sent\n";
+    results["robots"].push_back({{"id", r.value("id", -1)}, {"keyframes", kf}, {"keyframe_bytes", kf_bytes},
+                                 {"object_messages", obj_msgs}, {"object_bytes", obj_bytes}});
+  }
+  s << "accuracy against ground truth:\n" << eval::format_score(score);
+  s << "peak memory:";
+  json memory = json::object();
+  for (const auto& p : procs) {
+    s << " " << p->name() << " " << p->peak_rss_kb() / 1024 << " MiB";
+    memory[p->name()] = p->peak_rss_kb();
+  }
+  s << "\nresults: " << fs::absolute(out).string() << " (map.png, map.pgm/.yaml, objects.geojson, *.ply, "
+    << "objects.bt, graph.g2o in map/; logs in logs/)\n";
+  results["peak_rss_kb"] = memory;
+  results["evaluation"] = eval::to_json(score);
+  std::ofstream(out / "results.json") << results.dump(2) << "\n";
+  std::ofstream(out / "summary.txt") << s.str();
+  os << s.str();
+  return 0;
+}
+
+}  // namespace cairn::mission

@@ -1,0 +1,33 @@
+#pragma once
+// The demo's terminal side: progress lines from the base station's console API, and the final
+// report (evaluation against ground truth + transport and process figures).
+#include <filesystem>
+#include <memory>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "tools/mission/child_process.h"
+
+namespace cairn::mission {
+
+bool port_is_free(int port);
+int free_port();
+
+/// Polls http://127.0.0.1:<port>/api/status and /api/robots for one progress line.
+class ProgressPoller {
+ public:
+  ProgressPoller(int port, int robots) : port_(port), robots_(robots) {}
+  std::string line(double wall_s) const;
+
+ private:
+  int port_;
+  int robots_;
+};
+
+/// Scores out/map against out/ground_truth, writes results.json and summary.txt into `out`,
+/// prints the summary. Returns 0, or non-zero when results are missing or malformed.
+int report(const std::filesystem::path& out, double wall_s, const std::vector<std::unique_ptr<ChildProcess>>& procs,
+           std::ostream& os);
+
+}  // namespace cairn::mission
