@@ -20,9 +20,9 @@ struct LaserScan {
 /// Why readings were dropped; reported so bad sensors are visible, never silently swallowed.
 struct ScanFilterStats {
   int valid = 0;
-  int nan_or_inf = 0;
-  int too_close = 0;  ///< zero or below range_min_m
-  int max_range = 0;  ///< at or beyond range_max_m (no return)
+  int nan_or_inf = 0;  ///< NaN or -inf: a broken reading
+  int too_close = 0;   ///< zero or below range_min_m
+  int max_range = 0;   ///< at or beyond range_max_m, or +inf: no return
   ScanFilterStats& operator+=(const ScanFilterStats& o) {
     valid += o.valid; nan_or_inf += o.nan_or_inf; too_close += o.too_close; max_range += o.max_range;
     return *this;

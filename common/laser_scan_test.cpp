@@ -13,7 +13,7 @@ TEST(LaserScan, FiltersAndCountsBadReadings) {
   s.angle_increment_rad = float(M_PI / 2);
   s.range_min_m = 0.1f;
   s.range_max_m = 10.f;
-  s.ranges_m = {1.f, std::nanf(""), INFINITY, 0.f, 10.f, 2.f};
+  s.ranges_m = {1.f, std::nanf(""), -INFINITY, 0.f, 10.f, 2.f, INFINITY};
   ScanFilterStats stats;
   const auto pts = scan_to_points(s, &stats);
   ASSERT_EQ(pts.size(), 2u);
@@ -23,7 +23,7 @@ TEST(LaserScan, FiltersAndCountsBadReadings) {
   EXPECT_EQ(stats.valid, 2);
   EXPECT_EQ(stats.nan_or_inf, 2);
   EXPECT_EQ(stats.too_close, 1);
-  EXPECT_EQ(stats.max_range, 1);
+  EXPECT_EQ(stats.max_range, 2);  // 10 m = range_max and +inf: no return
 }
 
 }  // namespace

@@ -77,7 +77,8 @@ TEST(LocalSlam, BadScansAreCountedNotFatal) {
   scan.ranges_m[1] = std::numeric_limits<float>::infinity();
   scan.ranges_m[3] = 0.f;
   const auto r = slam.add_scan(scan, std::nullopt);
-  EXPECT_EQ(r.filter_stats.nan_or_inf, 181);
+  EXPECT_EQ(r.filter_stats.nan_or_inf, 180);
+  EXPECT_EQ(r.filter_stats.max_range, 1);  // +inf = no return
   EXPECT_EQ(r.filter_stats.too_close, 1);
   LaserScan empty = scan;
   for (float& x : empty.ranges_m) x = std::numeric_limits<float>::quiet_NaN();

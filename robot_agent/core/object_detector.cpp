@@ -90,7 +90,7 @@ bool build_cloud(const RgbdFrame& f, std::vector<PixelPoint> pts, const ObjectDe
 
 std::vector<ObjectClassOptions> default_object_classes() {
   return {
-      {"victim", {HsvRange{0, 120, 70, 12, 255, 255}, HsvRange{170, 120, 70, 180, 255, 255}}, 150},
+      {"victim", {HsvRange{0, 120, 70, 16, 255, 255}, HsvRange{170, 120, 70, 180, 255, 255}}, 150},
       {"hazard", {HsvRange{20, 120, 70, 35, 255, 255}}, 150},
       {"exit", {HsvRange{45, 80, 50, 85, 255, 255}}, 150},
   };
