@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <memory>
+#include <set>
 #include <thread>
 
 #include "cairn_msgsPubSubTypes.h"
@@ -59,6 +61,37 @@ TEST(Endpoints, LargeRgbdFramesArriveIntactAndInOrder) {
     EXPECT_EQ(back->stamp_ns, i);
     EXPECT_EQ(back->depth[12345], f.depth[12345]);
   }
+}
+
+TEST(Endpoints, ManyObjectInstancesFromManyRobotsAllArrive) {
+  // Regression: Fast DDS's default of 10 instances per endpoint silently refused the 11th object.
+  std::string error;
+  auto participant = Participant::create({test_domain() + 1, "objects_test"}, &error);
+  ASSERT_TRUE(participant) << error;
+  using ObjW = Writer<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>;
+  using ObjR = Reader<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>;
+  ObjR reader(*participant, kObjectTopic, TopicKind::kObject);
+  std::vector<std::unique_ptr<ObjW>> writers;
+  for (int r = 0; r < 4; ++r) writers.push_back(std::make_unique<ObjW>(*participant, kObjectTopic, TopicKind::kObject));
+  for (auto& w : writers) ASSERT_TRUE(wait_matched(*w, reader, 10.0));
+  ObjectReport o;
+  o.class_name = "victim";
+  o.confidence = 0.5f;
+  o.anchor_seq = 0;
+  constexpr int kPerRobot = 12;
+  for (int r = 0; r < 4; ++r) {
+    for (int i = 0; i < kPerRobot; ++i) {
+      o.id = {RobotId(r), i};
+      ASSERT_TRUE(writers[r]->write(to_msg(o))) << "robot " << r << " object " << i;
+    }
+  }
+  std::set<std::pair<int, int>> got;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (got.size() < 4u * kPerRobot && std::chrono::steady_clock::now() < end) {
+    for (const auto& m : reader.take_all()) got.insert({m.robot_id(), m.object_seq()});
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(got.size(), 4u * kPerRobot);
 }
 
 }  // namespace

@@ -16,6 +16,10 @@ void reliable_common(DataWriterQos& q) {
   q.reliable_writer_qos().times.nackResponseDelay = {0, 5'000'000};
 }
 
+// Instance limits: Fast DDS defaults to 10 instances per endpoint, far too few for a team.
+constexpr int32_t kMaxRobots = 64;
+constexpr int32_t kMaxObjectsPerRobot = 1000;
+
 template <typename Q>
 void set_limits(Q& q, int32_t instances, int32_t samples_per_instance) {
   // Fast DDS requires max_samples >= max_instances * max_samples_per_instance.
@@ -54,6 +58,8 @@ DataWriterQos writer_qos(TopicKind kind, const QosOptions& options) {
       q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
       q.history().kind = KEEP_LAST_HISTORY_QOS;
       q.history().depth = 1;
+      // One instance per object: the default max_instances (10) would refuse the 11th object.
+      set_limits(q, kMaxObjectsPerRobot, 1);
       q.publish_mode().kind = ASYNCHRONOUS_PUBLISH_MODE;
       if (options.large_data_flow_controlled) q.publish_mode().flow_controller_name = kLargeDataFlowController;
       break;
@@ -68,6 +74,7 @@ DataWriterQos writer_qos(TopicKind kind, const QosOptions& options) {
       if (kind == TopicKind::kCorrection) q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
       q.history().kind = KEEP_LAST_HISTORY_QOS;
       q.history().depth = 1;
+      set_limits(q, kMaxRobots, 1);  // the base writes one instance per robot
       break;
   }
   return q;
@@ -82,20 +89,28 @@ DataReaderQos reader_qos(TopicKind kind) {
     case TopicKind::kSensor:
     case TopicKind::kKeyframe:
       q.history().kind = KEEP_ALL_HISTORY_QOS;
-      set_limits(q, 256, 100000);  // a deep reader history: nothing is dropped
+      set_limits(q, kMaxRobots, 100000);  // a deep reader history: nothing is dropped
       if (kind == TopicKind::kKeyframe) q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+      break;
+    case TopicKind::kObject:
+      // Keyed by (robot, object): every robot's every object is an instance; updates of one
+      // object queue until taken.
+      q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+      q.history().kind = KEEP_ALL_HISTORY_QOS;
+      set_limits(q, kMaxRobots * kMaxObjectsPerRobot, 8);
       break;
     case TopicKind::kClock:
     case TopicKind::kCorrection:
-    case TopicKind::kObject:
       q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
-      q.history().kind = kind == TopicKind::kObject ? KEEP_ALL_HISTORY_QOS : KEEP_LAST_HISTORY_QOS;
+      q.history().kind = KEEP_LAST_HISTORY_QOS;
       q.history().depth = 1;
+      set_limits(q, kMaxRobots, 1);
       break;
     case TopicKind::kStatus:
     case TopicKind::kAck:
       q.history().kind = KEEP_LAST_HISTORY_QOS;
       q.history().depth = 1;
+      set_limits(q, kMaxRobots, 1);
       break;
   }
   return q;
