@@ -1,6 +1,8 @@
 #pragma once
 // Options of the base station's MultiRobotMapper, with defaults that suit the simulator and
 // indoor rescue scenes.
+#include "base_station/core/loop_closer.h"
+#include "base_station/core/pcm.h"
 #include "base_station/core/pose_graph_2d.h"
 #include "common/occupancy_grid.h"
 
@@ -20,6 +22,17 @@ struct MapperOptions {
   /// keyframe by the difference of their local poses, with this uncertainty per missing step.
   double gap_sigma_xy_m_per_step = 0.05;
   double gap_sigma_yaw_rad_per_step = 0.02;
+
+  /// Automatic merging: place recognition + verification (loop_closer.h), PCM on each robot
+  /// pair's inter-robot closures before the pair is first linked (pcm.h).
+  bool detect_loops = true;
+  LoopCloserOptions loop_closer;
+  PcmOptions pcm;
+  /// Mutually consistent inter-robot closures needed to link two robots for the first time.
+  int min_link_clique = 3;
+  /// Max Ceres iterations of an incremental update (warm-started); a full re-solve with LAGO
+  /// initialisation (solve.max_iterations) runs when robots are first linked.
+  int incremental_max_iterations = 10;
 
   /// Reports of the same class whose global centroids are this close are one object.
   double merge_distance_m = 0.75;

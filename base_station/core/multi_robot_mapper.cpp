@@ -70,11 +70,13 @@ const char* to_string(AddStatus status) {
 }
 
 MultiRobotMapper::MultiRobotMapper(const MapperOptions& options)
-    : options_(options), graph_(options.graph), map_(options.grid) {}
+    : options_(options), loop_closer_(options.loop_closer), graph_(options.graph), map_(options.grid) {}
 
 void MultiRobotMapper::set_robot_start(RobotId robot, const SE2& T_global_local) {
   if (!robot.valid() || !finite(T_global_local)) return;
   starts_[robot] = T_global_local;
+  hints_[robot] = T_global_local;
+  rebuild_graph_ = true;
   // Earlier solutions of this robot were relative to another start: re-initialise from the new one.
   for (auto it = optimized_.begin(); it != optimized_.end();) {
     it = it->first.robot == robot ? optimized_.erase(it) : std::next(it);
@@ -88,9 +90,21 @@ AddResult MultiRobotMapper::add_keyframe(const Keyframe& kf) {
   if (!invalid.empty()) return {AddStatus::kRejected, to_string(kf.id) + ": " + invalid};
   if (keyframes_.count(kf.id)) return {AddStatus::kDuplicate, to_string(kf.id) + " already stored"};
   keyframes_.emplace(kf.id, kf);
+  detect_queue_.push_back(kf.id);
   ++version_;
+  if (graph_.has_node(kf.id)) rebuild_graph_ = true;
+  auto next = keyframes_.upper_bound(kf.id);
+  if (next != keyframes_.end() && next->first.robot == kf.id.robot && graph_.has_node(next->first)) {
+    rebuild_graph_ = true;  // arrived after its successor: the gap edge must go
+  }
+  if (!anchor_committed_ && hints_.empty() && (!anchor_ || kf.id.robot < *anchor_)) {
+    if (anchor_) starts_.erase(*anchor_);
+    anchor_ = kf.id.robot;
+    starts_[kf.id.robot] = SE2();
+  }
   if (!linked(kf.id.robot)) {
-    return {AddStatus::kPending, to_string(kf.id.robot) + " not linked (no start pose): kept, not placed"};
+    return {AddStatus::kPending, to_string(kf.id.robot) +
+                                     " not linked to the others yet (waiting for verified inter-robot loop closures): kept, not placed"};
   }
   ++poses_version_;
   AddResult result{AddStatus::kAccepted, {}};
@@ -122,6 +136,11 @@ void MultiRobotMapper::add_robot_chain(RobotId robot, OptimizeResult* result) {
   for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0});
        it != keyframes_.end() && it->first.robot == robot; ++it) {
     const Keyframe& kf = it->second;
+    if (graph_.has_node(kf.id)) {
+      prev = &kf;
+      prev_initial = *graph_.estimate(kf.id);
+      continue;
+    }
     PoseGraphEdge edge{prev ? prev->id : kf.id, kf.id, {}, {}, EdgeKind::kOdometry};
     if (prev) {
       const int steps = kf.id.seq - prev->id.seq;
@@ -143,7 +162,7 @@ void MultiRobotMapper::add_robot_chain(RobotId robot, OptimizeResult* result) {
     graph_.add_node(kf.id, initial);
     if (prev) {
       graph_.add_edge(edge);
-    } else {
+    } else if (hints_.count(robot) || robot == anchor_) {
       graph_.set_prior(PosePrior{kf.id, start_of(robot) * kf.T_local_base,
                                  diag_information(options_.start_prior_sigma_xy_m,
                                                   options_.start_prior_sigma_yaw_rad)});
@@ -151,28 +170,6 @@ void MultiRobotMapper::add_robot_chain(RobotId robot, OptimizeResult* result) {
     prev = &kf;
     prev_initial = initial;
   }
-}
-
-OptimizeResult MultiRobotMapper::optimize() {
-  OptimizeResult result;
-  graph_ = PoseGraph2d(options_.graph);
-  std::set<RobotId> robots_seen;
-  for (const auto& [id, kf] : keyframes_) robots_seen.insert(id.robot);
-  for (RobotId robot : robots_seen) {
-    if (linked(robot)) {
-      add_robot_chain(robot, &result);
-    } else {
-      ++result.unlinked_robots;
-    }
-  }
-  result.solve = graph_.solve(options_.solve);
-  result.nodes = int(graph_.num_nodes());
-  result.edges = int(graph_.edges().size());
-  result.priors = int(graph_.priors().size());
-  for (const auto& [id, pose] : graph_.estimates()) optimized_[id] = pose;
-  ++poses_version_;
-  ++version_;
-  return result;
 }
 
 std::optional<SE2> MultiRobotMapper::global_pose(KeyframeId id) const {
@@ -199,6 +196,7 @@ std::vector<RobotSummary> MultiRobotMapper::robots() const {
     RobotSummary& s = out[id];
     s.id = id;
     s.linked = linked(id);
+    s.anchor = anchor_ && *anchor_ == id;
     return s;
   };
   for (const auto& [id, start] : starts_) entry(id);
@@ -209,6 +207,11 @@ std::vector<RobotSummary> MultiRobotMapper::robots() const {
     s.last_seq = std::max(s.last_seq, id.seq);
   }
   for (const auto& [id, report] : reports_) ++entry(id.robot).objects;
+  for (const LoopClosure& c : loops_) {
+    if (c.a.robot == c.b.robot) continue;
+    ++entry(c.a.robot).inter_robot_closures;
+    ++entry(c.b.robot).inter_robot_closures;
+  }
   std::vector<RobotSummary> list;
   for (auto& [id, s] : out) {
     s.missing_keyframes = s.last_seq + 1 - s.keyframes;

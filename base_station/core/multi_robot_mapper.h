@@ -3,8 +3,13 @@
 // in each robot's local frame) and object reports, places linked robots in the global frame with a
 // Ceres SE2 pose graph (DESIGN.md "Base station" 1, 4, 5), and derives the global occupancy grid and
 // the merged objects in global coordinates.
-// A robot is "linked" once its start pose in the global frame is known (set_robot_start; automatic
-// cross-robot merging comes later). Unlinked robots' data is kept but not placed.
+// Robots start at unknown relative poses. The first robot seen (the lowest id before the first
+// optimize()) anchors the global frame; set_robot_start is an optional hint that links a robot
+// directly. Other robots get linked by verified inter-robot loop closures: Scan Context candidates,
+// scan-matching verification, then PCM (maximum clique) over each robot pair's closures before
+// the pair is first linked (a wrong merge is worse than a late one), and a Cauchy loss on every
+// loop edge afterwards. On a new link the graph is re-solved from a LAGO initialisation; other
+// updates are incremental and warm-started. Unlinked robots' data is kept but not placed.
 // Single-threaded and deterministic; queries rebuild cached results lazily, so even const methods
 // must not be called concurrently (the console works on snapshots, see console/snapshot.h).
 #include <map>
@@ -43,6 +48,11 @@ struct OptimizeResult {
   int priors = 0;
   int gap_edges = 0;          ///< chains bridged by local poses because a keyframe is missing
   int unlinked_robots = 0;
+  int loop_closures = 0;        ///< accepted loop edges in the graph (intra + inter-robot)
+  int inter_robot_closures = 0;
+  int pending_candidates = 0;   ///< verified inter-robot closures waiting for PCM
+  std::vector<RobotId> newly_linked;  ///< robots linked by this call
+  bool full_resolve = false;    ///< LAGO initialisation + full solve happened
 };
 
 struct RobotSummary {
@@ -55,6 +65,8 @@ struct RobotSummary {
   int missing_keyframes = 0;       ///< gaps in seq 0..last_seq
   /// Correction global <- robot local frame (identity when not linked); the "correction" topic.
   SE2 T_global_local;
+  bool anchor = false;             ///< this robot's frame is the global frame's reference
+  int inter_robot_closures = 0;    ///< accepted closures touching this robot and another
 };
 
 class MultiRobotMapper {
@@ -86,6 +98,9 @@ class MultiRobotMapper {
   /// The pose graph as last optimised (for export).
   const PoseGraph2d& graph() const { return graph_; }
   const MapperOptions& options() const { return options_; }
+  /// Accepted loop closures (intra- and inter-robot), a = older keyframe.
+  const std::vector<LoopClosure>& loop_closures() const { return loops_; }
+  const LoopCloserStats& loop_closer_stats() const { return loop_closer_.stats(); }
   /// Bumped whenever any global pose or object may have changed.
   uint64_t version() const { return version_; }
 
@@ -95,9 +110,28 @@ class MultiRobotMapper {
   SE2 correction(RobotId robot) const;
   void add_robot_chain(RobotId robot, OptimizeResult* result);
   std::vector<GlobalObject> compute_objects() const;
+  // Automatic linking (multi_robot_mapper_linking.cpp).
+  void choose_anchor();
+  void detect_new_loops(OptimizeResult* result);
+  void link_robot_pairs(OptimizeResult* result);
+  void place_new_robots();
+  RobotId component_of(RobotId robot) const;
+  void update_graph(OptimizeResult* result);
+  void add_loop_edges();
 
   MapperOptions options_;
-  std::map<RobotId, SE2> starts_;
+  std::map<RobotId, SE2> starts_;  ///< linked robots: initial T_global_local
+  std::map<RobotId, SE2> hints_;   ///< set_robot_start: pinned by a prior
+  std::optional<RobotId> anchor_;
+  bool anchor_committed_ = false;
+  LoopCloser loop_closer_;
+  std::vector<KeyframeId> detect_queue_;
+  std::vector<LoopClosure> loops_;
+  std::vector<bool> loop_in_graph_;
+  std::map<std::pair<RobotId, RobotId>, std::vector<LoopClosure>> inter_candidates_;
+  std::map<RobotId, RobotId> component_parent_;
+  bool rebuild_graph_ = true;
+  bool full_resolve_ = false;
   std::map<KeyframeId, Keyframe> keyframes_;
   std::map<ObjectId, ObjectReport> reports_;
   std::map<KeyframeId, SE2> optimized_;  ///< global poses from the last optimize()

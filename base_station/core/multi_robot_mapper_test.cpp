@@ -35,10 +35,18 @@ bool occupied_near(const OccupancyGrid& grid, const Eigen::Vector2d& p) {
   return false;
 }
 
+/// These tests exercise placement by start hints: automatic loop detection is off so their exact
+/// figures hold (merger_test.cpp covers automatic linking).
+MapperOptions hint_only_options() {
+  MapperOptions o;
+  o.detect_loops = false;
+  return o;
+}
+
 /// Two linked robots in the synthetic room, with objects: a victim seen by both, a hazard seen by
 /// robot 1 and a second victim (far from the first) seen by robot 0.
 MultiRobotMapper make_two_robot_mapper() {
-  MultiRobotMapper mapper;
+  MultiRobotMapper mapper(hint_only_options());
   mapper.set_robot_start(kR0, left_path()[0]);
   mapper.set_robot_start(kR1, right_path()[0]);
   for (const Keyframe& kf : make_keyframes(kR0, left_path(), room_walls())) EXPECT_TRUE(mapper.add_keyframe(kf).stored());
@@ -196,7 +204,7 @@ TEST(MultiRobotMapper, BadInputIsRejectedAndNothingIsLost) {
 }
 
 TEST(MultiRobotMapper, OutOfOrderKeyframesAreBridgedThenChained) {
-  MultiRobotMapper mapper;
+  MultiRobotMapper mapper(hint_only_options());
   mapper.set_robot_start(kR0, left_path()[0]);
   const std::vector<Keyframe> kfs = make_keyframes(kR0, left_path(), room_walls());
   for (int i : {0, 1, 3, 4, 5}) ASSERT_TRUE(mapper.add_keyframe(kfs[i]).stored());

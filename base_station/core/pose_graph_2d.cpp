@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 #include <cmath>
 #include <memory>
+#include <set>
 
 namespace cairn::base {
 namespace {
@@ -16,36 +17,39 @@ T normalize_angle_t(const T& a_rad) {
   return a_rad - two_pi * ceres::floor((a_rad + T(M_PI)) / two_pi);
 }
 
-/// Yaw lives on the circle: x + delta is wrapped, y - x is the shortest signed arc
-/// (Ceres 2.1 AutoDiffManifold, the example's AngleManifold).
-struct AngleManifold {
+/// A node (x, y, yaw): x, y Euclidean, yaw on the circle (x + delta wrapped, y - x the shortest
+/// signed arc), as Ceres 2.1 AutoDiffManifold.
+struct PoseManifold {
   template <typename T>
-  bool Plus(const T* x_rad, const T* delta_rad, T* x_plus_delta_rad) const {
-    *x_plus_delta_rad = normalize_angle_t(*x_rad + *delta_rad);
+  bool Plus(const T* x, const T* delta, T* x_plus_delta) const {
+    x_plus_delta[0] = x[0] + delta[0];
+    x_plus_delta[1] = x[1] + delta[1];
+    x_plus_delta[2] = normalize_angle_t(x[2] + delta[2]);
     return true;
   }
   template <typename T>
-  bool Minus(const T* y_rad, const T* x_rad, T* y_minus_x_rad) const {
-    *y_minus_x_rad = normalize_angle_t(*y_rad - *x_rad);
+  bool Minus(const T* y, const T* x, T* y_minus_x) const {
+    y_minus_x[0] = y[0] - x[0];
+    y_minus_x[1] = y[1] - x[1];
+    y_minus_x[2] = normalize_angle_t(y[2] - x[2]);
     return true;
   }
 };
 
-/// Relative-pose error of edge a -> b.
+/// Relative-pose error of edge a -> b (poses a, b = (x, y, yaw)).
 /// Residual (3): sqrt_info * [ R_a^T (p_b - p_a) - p_ab ;  wrap(yaw_b - yaw_a - yaw_ab) ].
 struct RelativePoseResidual {
   RelativePoseResidual(const SE2& T_a_b, const Eigen::Matrix3d& sqrt_information)
       : p_ab_(T_a_b.translation()), yaw_ab_rad_(T_a_b.yaw()), sqrt_information_(sqrt_information) {}
 
   template <typename T>
-  bool operator()(const T* xa, const T* ya, const T* yaw_a, const T* xb, const T* yb, const T* yaw_b,
-                  T* residual) const {
-    const T c = ceres::cos(*yaw_a), s = ceres::sin(*yaw_a);
-    const T dx = *xb - *xa, dy = *yb - *ya;
+  bool operator()(const T* a, const T* b, T* residual) const {
+    const T c = ceres::cos(a[2]), s = ceres::sin(a[2]);
+    const T dx = b[0] - a[0], dy = b[1] - a[1];
     Eigen::Matrix<T, 3, 1> e;
     e(0) = c * dx + s * dy - T(p_ab_.x());
     e(1) = -s * dx + c * dy - T(p_ab_.y());
-    e(2) = normalize_angle_t(*yaw_b - *yaw_a - T(yaw_ab_rad_));
+    e(2) = normalize_angle_t(b[2] - a[2] - T(yaw_ab_rad_));
     Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
     r = sqrt_information_.template cast<T>() * e;
     return true;
@@ -56,6 +60,29 @@ struct RelativePoseResidual {
   Eigen::Matrix3d sqrt_information_;
 };
 
+/// SE-Sync's per-edge objective (Rosen et al. 2019) for 2D, so that sum r^2 equals it:
+/// Residual (3): [ sqrt(tau) (R_a^T (p_b - p_a) - p_ab) ; sqrt(8 kappa) sin(wrap(yaw_b - yaw_a - yaw_ab) / 2) ]
+/// (||R_b - R_a R_ab||_F^2 = 4 (1 - cos e) = 8 sin^2(e / 2); the translation norm is rotation-invariant).
+struct SeSyncResidual {
+  SeSyncResidual(const SE2& T_a_b, const Eigen::Matrix3d& information)
+      : p_ab_(T_a_b.translation()), yaw_ab_rad_(T_a_b.yaw()),
+        sqrt_tau_(std::sqrt(2.0 / information.topLeftCorner<2, 2>().inverse().trace())),
+        sqrt_8kappa_(std::sqrt(8.0 * information(2, 2))) {}
+
+  template <typename T>
+  bool operator()(const T* a, const T* b, T* r) const {
+    const T c = ceres::cos(a[2]), s = ceres::sin(a[2]);
+    const T dx = b[0] - a[0], dy = b[1] - a[1];
+    r[0] = T(sqrt_tau_) * (c * dx + s * dy - T(p_ab_.x()));
+    r[1] = T(sqrt_tau_) * (-s * dx + c * dy - T(p_ab_.y()));
+    r[2] = T(sqrt_8kappa_) * ceres::sin(normalize_angle_t(b[2] - a[2] - T(yaw_ab_rad_)) / T(2.0));
+    return true;
+  }
+
+  Eigen::Vector2d p_ab_;
+  double yaw_ab_rad_, sqrt_tau_, sqrt_8kappa_;
+};
+
 /// Absolute prior on one node.
 /// Residual (3): sqrt_info * [ p - p_prior ; wrap(yaw - yaw_prior) ] (errors in the world frame).
 struct PriorResidual {
@@ -63,11 +90,11 @@ struct PriorResidual {
       : p_(T_world_node.translation()), yaw_rad_(T_world_node.yaw()), sqrt_information_(sqrt_information) {}
 
   template <typename T>
-  bool operator()(const T* x, const T* y, const T* yaw, T* residual) const {
+  bool operator()(const T* pose, T* residual) const {
     Eigen::Matrix<T, 3, 1> e;
-    e(0) = *x - T(p_.x());
-    e(1) = *y - T(p_.y());
-    e(2) = normalize_angle_t(*yaw - T(yaw_rad_));
+    e(0) = pose[0] - T(p_.x());
+    e(1) = pose[1] - T(p_.y());
+    e(2) = normalize_angle_t(pose[2] - T(yaw_rad_));
     Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
     r = sqrt_information_.template cast<T>() * e;
     return true;
@@ -109,19 +136,57 @@ const char* to_string(EdgeKind kind) {
   return "unknown";
 }
 
+
+/// The live Ceres problem and what of the graph it already holds.
+struct PoseGraph2d::Problem {
+  Problem() : problem(make_options()) {}
+  static ceres::Problem::Options make_options() {
+    ceres::Problem::Options o;
+    o.enable_fast_removal = true;
+    o.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    return o;
+  }
+  ceres::AutoDiffManifold<PoseManifold, 3, 3> manifold;
+  ceres::Problem problem;
+  size_t edges_added = 0;
+  std::set<KeyframeId> nodes_added;
+  std::vector<ceres::ResidualBlockId> prior_blocks;
+  bool priors_dirty = true;
+  std::optional<KeyframeId> gauge;  ///< node held constant when there is no prior
+};
+
 PoseGraph2d::PoseGraph2d(const PoseGraphOptions& options) : options_(options) {}
+PoseGraph2d::~PoseGraph2d() = default;
+PoseGraph2d::PoseGraph2d(PoseGraph2d&&) noexcept = default;
+PoseGraph2d& PoseGraph2d::operator=(PoseGraph2d&&) noexcept = default;
+PoseGraph2d::PoseGraph2d(const PoseGraph2d& o)
+    : options_(o.options_), nodes_(o.nodes_), edges_(o.edges_), priors_(o.priors_) {}
+PoseGraph2d& PoseGraph2d::operator=(const PoseGraph2d& o) {
+  if (this != &o) {
+    problem_.reset();
+    options_ = o.options_;
+    nodes_ = o.nodes_;
+    edges_ = o.edges_;
+    priors_ = o.priors_;
+  }
+  return *this;
+}
 
 bool PoseGraph2d::add_node(KeyframeId id, const SE2& T) {
   if (nodes_.count(id) || !finite(T)) return false;
-  nodes_[id] = NodeState{T.x(), T.y(), T.yaw()};
+  nodes_[id] = NodeState{{T.x(), T.y(), T.yaw()}};
   return true;
 }
 
 bool PoseGraph2d::set_estimate(KeyframeId id, const SE2& T) {
   auto it = nodes_.find(id);
   if (it == nodes_.end() || !finite(T)) return false;
-  it->second = NodeState{T.x(), T.y(), T.yaw()};
+  it->second = NodeState{{T.x(), T.y(), T.yaw()}};
   return true;
+}
+
+void PoseGraph2d::set_estimates(const std::map<KeyframeId, SE2>& estimates) {
+  for (const auto& [id, T] : estimates) set_estimate(id, T);
 }
 
 bool PoseGraph2d::add_edge(const PoseGraphEdge& edge) {
@@ -137,21 +202,64 @@ bool PoseGraph2d::set_prior(const PosePrior& prior) {
     return false;
   }
   priors_[prior.node] = prior;
+  if (problem_) problem_->priors_dirty = true;
   return true;
 }
 
-bool PoseGraph2d::remove_prior(KeyframeId id) { return priors_.erase(id) > 0; }
+bool PoseGraph2d::remove_prior(KeyframeId id) {
+  if (priors_.erase(id) == 0) return false;
+  if (problem_) problem_->priors_dirty = true;
+  return true;
+}
 
 std::optional<SE2> PoseGraph2d::estimate(KeyframeId id) const {
   auto it = nodes_.find(id);
   if (it == nodes_.end()) return std::nullopt;
-  return SE2(it->second.x_m, it->second.y_m, it->second.yaw_rad);
+  return SE2(it->second.pose[0], it->second.pose[1], it->second.pose[2]);
 }
 
 std::map<KeyframeId, SE2> PoseGraph2d::estimates() const {
   std::map<KeyframeId, SE2> out;
-  for (const auto& [id, n] : nodes_) out.emplace(id, SE2(n.x_m, n.y_m, n.yaw_rad));
+  for (const auto& [id, n] : nodes_) out.emplace_hint(out.end(), id, SE2(n.pose[0], n.pose[1], n.pose[2]));
   return out;
+}
+
+void PoseGraph2d::sync_problem() {
+  if (!problem_) problem_ = std::make_unique<Problem>();
+  Problem& p = *problem_;
+  for (auto& [id, n] : nodes_) {
+    if (p.nodes_added.insert(id).second) p.problem.AddParameterBlock(n.pose, 3, &p.manifold);
+  }
+  for (; p.edges_added < edges_.size(); ++p.edges_added) {
+    const PoseGraphEdge& e = edges_[p.edges_added];
+    ceres::CostFunction* cost = nullptr;
+    if (options_.residual == EdgeResidualType::kSeSync) {
+      cost = new ceres::AutoDiffCostFunction<SeSyncResidual, 3, 3, 3>(new SeSyncResidual(e.T_from_to, e.information));
+    } else {
+      cost = new ceres::AutoDiffCostFunction<RelativePoseResidual, 3, 3, 3>(
+          new RelativePoseResidual(e.T_from_to, *sqrt_information(e.information)));
+    }
+    const RobustLossOptions& loss = e.kind == EdgeKind::kLoop ? options_.loop_loss : options_.odometry_loss;
+    p.problem.AddResidualBlock(cost, make_loss(loss), nodes_.at(e.from).pose, nodes_.at(e.to).pose);
+  }
+  if (p.priors_dirty) {
+    for (ceres::ResidualBlockId id : p.prior_blocks) p.problem.RemoveResidualBlock(id);
+    p.prior_blocks.clear();
+    for (const auto& [id, prior] : priors_) {
+      auto* cost = new ceres::AutoDiffCostFunction<PriorResidual, 3, 3>(
+          new PriorResidual(prior.T_world_node, *sqrt_information(prior.information)));
+      p.prior_blocks.push_back(p.problem.AddResidualBlock(cost, make_loss(options_.prior_loss), nodes_.at(id).pose));
+    }
+    p.priors_dirty = false;
+  }
+  // Gauge: with no prior, hold the first node constant.
+  const std::optional<KeyframeId> gauge =
+      priors_.empty() ? std::optional<KeyframeId>(nodes_.begin()->first) : std::nullopt;
+  if (p.gauge != gauge) {
+    if (p.gauge && nodes_.count(*p.gauge)) p.problem.SetParameterBlockVariable(nodes_.at(*p.gauge).pose);
+    if (gauge) p.problem.SetParameterBlockConstant(nodes_.at(*gauge).pose);
+    p.gauge = gauge;
+  }
 }
 
 PoseGraphSolveResult PoseGraph2d::solve(const PoseGraphSolveOptions& options) {
@@ -161,34 +269,16 @@ PoseGraphSolveResult PoseGraph2d::solve(const PoseGraphSolveOptions& options) {
     result.reason = "empty graph";
     return result;
   }
-  ceres::Problem problem;
-  for (const PoseGraphEdge& e : edges_) {
-    NodeState& a = nodes_.at(e.from);
-    NodeState& b = nodes_.at(e.to);
-    auto* cost = new ceres::AutoDiffCostFunction<RelativePoseResidual, 3, 1, 1, 1, 1, 1, 1>(
-        new RelativePoseResidual(e.T_from_to, *sqrt_information(e.information)));
-    const RobustLossOptions& loss = e.kind == EdgeKind::kLoop ? options_.loop_loss : options_.odometry_loss;
-    problem.AddResidualBlock(cost, make_loss(loss), &a.x_m, &a.y_m, &a.yaw_rad, &b.x_m, &b.y_m, &b.yaw_rad);
-  }
-  for (const auto& [id, p] : priors_) {
-    NodeState& n = nodes_.at(id);
-    auto* cost = new ceres::AutoDiffCostFunction<PriorResidual, 3, 1, 1, 1>(
-        new PriorResidual(p.T_world_node, *sqrt_information(p.information)));
-    problem.AddResidualBlock(cost, make_loss(options_.prior_loss), &n.x_m, &n.y_m, &n.yaw_rad);
-  }
-  // Isolated nodes (no residual) are left out of the problem; add them so the gauge logic and
-  // manifolds see a consistent set.
-  for (auto& [id, n] : nodes_) {
-    problem.AddParameterBlock(&n.x_m, 1);
-    problem.AddParameterBlock(&n.y_m, 1);
-    problem.AddParameterBlock(&n.yaw_rad, 1);
-    problem.SetManifold(&n.yaw_rad, new ceres::AutoDiffManifold<AngleManifold, 1, 1>);
-  }
-  if (priors_.empty()) {
-    NodeState& first = nodes_.begin()->second;
-    problem.SetParameterBlockConstant(&first.x_m);
-    problem.SetParameterBlockConstant(&first.y_m);
-    problem.SetParameterBlockConstant(&first.yaw_rad);
+  sync_problem();
+  ceres::Problem& problem = problem_->problem;
+  std::vector<double*> held;
+  if (!options.active_nodes.empty()) {
+    std::set<KeyframeId> active(options.active_nodes.begin(), options.active_nodes.end());
+    for (auto& [id, n] : nodes_) {
+      if (active.count(id) || problem.IsParameterBlockConstant(n.pose)) continue;
+      problem.SetParameterBlockConstant(n.pose);
+      held.push_back(n.pose);
+    }
   }
   ceres::Solver::Options so;
   so.max_num_iterations = options.max_iterations;
@@ -201,7 +291,8 @@ PoseGraphSolveResult PoseGraph2d::solve(const PoseGraphSolveOptions& options) {
   so.minimizer_progress_to_stdout = false;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
-  for (auto& [id, n] : nodes_) n.yaw_rad = normalize_angle(n.yaw_rad);
+  for (double* block : held) problem.SetParameterBlockVariable(block);
+  for (auto& [id, n] : nodes_) n.pose[2] = normalize_angle(n.pose[2]);
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.initial_cost = summary.initial_cost;
   result.final_cost = summary.final_cost;

@@ -3,10 +3,13 @@
 // parameter block per node, yaw on an angle manifold, relative-pose residuals weighted by the
 // square root of the information matrix, optional robust loss per edge kind, and absolute priors
 // that pin a node (e.g. each robot's first keyframe) in the global frame.
-// Incremental: nodes and edges can be added between solves; each solve starts from the current
-// estimates (warm start). No Ceres headers here.
+// Incremental: the Ceres problem stays alive between solves; new nodes, edges and priors are added
+// as residual blocks and each solve starts from the current estimates (warm start), so an update
+// costs a bounded number of iterations. One 3-vector (x, y, yaw) parameter block per node with
+// yaw wrapped by a manifold. No Ceres headers here.
 #include <Eigen/Core>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -42,7 +45,13 @@ struct RobustLossOptions {
   double scale = 1.0;  ///< in units of the whitened residual (sigmas)
 };
 
+/// kRelativePose: Ceres' pose_graph_2d error, weighted by the full information matrix.
+/// kSeSync: SE-Sync's objective per edge (kappa ||R_j - R_i R_ij||_F^2 + tau ||t_j - t_i - R_i t_ij||^2),
+/// to polish a solution for comparison with certified optima.
+enum class EdgeResidualType { kRelativePose, kSeSync };
+
 struct PoseGraphOptions {
+  EdgeResidualType residual = EdgeResidualType::kRelativePose;
   RobustLossOptions odometry_loss{RobustLossType::kNone, 1.0};
   RobustLossOptions loop_loss{RobustLossType::kCauchy, 1.0};
   RobustLossOptions prior_loss{RobustLossType::kNone, 1.0};
@@ -53,6 +62,8 @@ struct PoseGraphSolveOptions {
   double function_tolerance = 1e-10;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-10;
+  /// Only these nodes move (others held constant) when non-empty: a bounded local update.
+  std::vector<KeyframeId> active_nodes;
 };
 
 struct PoseGraphSolveResult {
@@ -66,6 +77,12 @@ struct PoseGraphSolveResult {
 class PoseGraph2d {
  public:
   explicit PoseGraph2d(const PoseGraphOptions& options = {});
+  ~PoseGraph2d();
+  /// Copies carry the graph and estimates; the copy builds its own Ceres problem on first solve.
+  PoseGraph2d(const PoseGraph2d& other);
+  PoseGraph2d& operator=(const PoseGraph2d& other);
+  PoseGraph2d(PoseGraph2d&&) noexcept;
+  PoseGraph2d& operator=(PoseGraph2d&&) noexcept;
 
   /// Adds a node at an initial estimate. False (graph unchanged) if it exists or is not finite.
   bool add_node(KeyframeId id, const SE2& T_world_node);
@@ -85,6 +102,8 @@ class PoseGraph2d {
   const std::vector<PoseGraphEdge>& edges() const { return edges_; }
   const std::map<KeyframeId, PosePrior>& priors() const { return priors_; }
   size_t num_nodes() const { return nodes_.size(); }
+  /// Replaces every estimate (e.g. by a LAGO initialisation); unknown ids are ignored.
+  void set_estimates(const std::map<KeyframeId, SE2>& estimates);
 
   /// Solves from the current estimates and stores the result. With no prior the gauge is fixed
   /// by holding the first node constant. An empty graph "converges" trivially.
@@ -92,9 +111,13 @@ class PoseGraph2d {
 
  private:
   struct NodeState {
-    double x_m = 0, y_m = 0, yaw_rad = 0;
+    double pose[3] = {0, 0, 0};  ///< x_m, y_m, yaw_rad: one Ceres parameter block
   };
+  struct Problem;  ///< the live Ceres problem (pose_graph_2d.cpp)
+  void sync_problem();
+
   PoseGraphOptions options_;
+  std::unique_ptr<Problem> problem_;
   std::map<KeyframeId, NodeState> nodes_;  ///< std::map: stable addresses for Ceres blocks
   std::vector<PoseGraphEdge> edges_;
   std::map<KeyframeId, PosePrior> priors_;

@@ -1,0 +1,59 @@
+#pragma once
+// Place recognition and verification for the merger (DESIGN.md "Base station" 2): each keyframe's
+// Scan Context (sent by the agent, or computed here from its scan and its robot's previous
+// keyframes when absent) goes into a database; a query is compared by ring key (linear search, no
+// pose prior) with every keyframe of other robots and with older keyframes of its own robot, the
+// best few by full Scan Context distance are verified by scan matching against a local map of the
+// candidate's neighbouring keyframes (loop_verifier.h). Output: verified closures with covariance.
+#include <map>
+#include <vector>
+
+#include "base_station/core/loop_verifier.h"
+#include "base_station/core/pcm.h"
+#include "common/keyframe.h"
+#include "common/scan_context.h"
+
+namespace cairn::base {
+
+struct LoopCloserOptions {
+  ScanContextOptions scan_context;
+  /// Keyframes merged into a computed descriptor: this one and its predecessors (narrow lasers).
+  int descriptor_keyframes = 3;
+  int ring_key_candidates = 6;          ///< best ring-key matches given the full distance
+  double max_descriptor_distance = 0.35;
+  int max_verifications = 2;            ///< per query, best descriptor distances first
+  int min_intra_seq_gap = 15;           ///< own-robot candidates at least this many keyframes back
+  int local_map_half_keyframes = 4;     ///< candidate's local map: seq - n .. seq + n
+  LoopVerifierOptions verifier{0.05, 0.08, 6, 4.0, 0.4};
+};
+
+struct LoopCloserStats {
+  int queries = 0;
+  int descriptor_matches = 0;
+  int verifications = 0;
+  int accepted = 0;
+};
+
+class LoopCloser {
+ public:
+  explicit LoopCloser(const LoopCloserOptions& options = {});
+
+  /// Adds `kf` (already stored in `keyframes`) to the database and returns the verified closures
+  /// with keyframes already in the database: a = the older candidate, b = kf.
+  std::vector<LoopClosure> add_and_detect(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes);
+  const LoopCloserStats& stats() const { return stats_; }
+  const std::vector<float>* descriptor(KeyframeId id) const;
+
+ private:
+  struct Entry {
+    std::vector<float> descriptor, ring_key;
+  };
+  std::vector<float> descriptor_of(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes) const;
+  std::vector<Eigen::Vector2f> local_map(KeyframeId center, const std::map<KeyframeId, Keyframe>& keyframes) const;
+
+  LoopCloserOptions options_;
+  std::map<KeyframeId, Entry> database_;
+  LoopCloserStats stats_;
+};
+
+}  // namespace cairn::base

@@ -1,0 +1,176 @@
+// MultiRobotMapper: automatic linking of robots with unknown relative starts, and the incremental
+// pose-graph update (see multi_robot_mapper.h).
+#include <Eigen/Cholesky>
+#include <deque>
+#include <set>
+
+#include "base_station/core/lago_initializer.h"
+#include "base_station/core/multi_robot_mapper.h"
+
+namespace cairn::base {
+namespace {
+
+Eigen::Matrix3d information_or_identity(const Covariance3& covariance) {
+  Eigen::LLT<Eigen::Matrix3d> llt(0.5 * (covariance + covariance.transpose()));
+  if (llt.info() != Eigen::Success) return Eigen::Matrix3d::Identity();
+  return llt.solve(Eigen::Matrix3d::Identity());
+}
+
+}  // namespace
+
+void MultiRobotMapper::choose_anchor() {
+  if (anchor_committed_ || keyframes_.empty()) return;
+  if (!hints_.empty()) {
+    anchor_ = hints_.begin()->first;
+  } else {
+    anchor_ = keyframes_.begin()->first.robot;  // lowest id seen
+    starts_[*anchor_] = SE2();
+  }
+  anchor_committed_ = true;
+}
+
+RobotId MultiRobotMapper::component_of(RobotId robot) const {
+  // Hinted robots and the anchor share the anchor's component.
+  if (anchor_ && (hints_.count(robot) || robot == *anchor_)) robot = *anchor_;
+  auto it = component_parent_.find(robot);
+  while (it != component_parent_.end() && it->second != robot) {
+    robot = it->second;
+    it = component_parent_.find(robot);
+  }
+  return robot;
+}
+
+void MultiRobotMapper::detect_new_loops(OptimizeResult* result) {
+  for (KeyframeId id : detect_queue_) {
+    for (const LoopClosure& c : loop_closer_.add_and_detect(keyframes_.at(id), keyframes_)) {
+      if (c.a.robot == c.b.robot || component_of(c.a.robot) == component_of(c.b.robot)) {
+        loops_.push_back(c);  // intra-robot, or a pair already linked: the robust loss guards it
+      } else {
+        const auto key = std::minmax(c.a.robot, c.b.robot);
+        // Orient every candidate of a pair the same way (a = lower robot id) for PCM.
+        LoopClosure o = c;
+        if (c.a.robot != key.first) {
+          o = LoopClosure{c.b, c.a, c.T_a_b.inverse(), c.covariance, c.score};
+          Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+          R.topLeftCorner<2, 2>() = o.T_a_b.rotation();
+          o.covariance = R * c.covariance * R.transpose();
+        }
+        inter_candidates_[{key.first, key.second}].push_back(o);
+      }
+    }
+  }
+  detect_queue_.clear();
+  for (const auto& [pair, list] : inter_candidates_) result->pending_candidates += int(list.size());
+}
+
+void MultiRobotMapper::link_robot_pairs(OptimizeResult* result) {
+  const LocalPoseFn local_pose = [this](KeyframeId id) { return keyframes_.at(id).T_local_base; };
+  for (auto it = inter_candidates_.begin(); it != inter_candidates_.end();) {
+    const auto [ra, rb] = it->first;
+    if (component_of(ra) == component_of(rb)) {  // linked through a third robot meanwhile
+      for (const LoopClosure& c : it->second) loops_.push_back(c);
+      it = inter_candidates_.erase(it);
+      continue;
+    }
+    const std::vector<size_t> clique = pcm_max_clique(it->second, local_pose, options_.pcm);
+    if (int(clique.size()) < options_.min_link_clique) {
+      ++it;
+      continue;
+    }
+    for (size_t i : clique) loops_.push_back(it->second[i]);
+    const RobotId ca = component_of(ra), cb = component_of(rb);
+    // The anchor's component keeps its root.
+    if (anchor_ && component_of(*anchor_) == cb) {
+      component_parent_[ca] = cb;
+    } else {
+      component_parent_[cb] = ca;
+    }
+    result->newly_linked.push_back(linked(ra) ? rb : ra);
+    full_resolve_ = true;
+    it = inter_candidates_.erase(it);
+  }
+}
+
+void MultiRobotMapper::place_new_robots() {
+  if (!anchor_) return;
+  // Breadth-first over accepted inter-robot closures from the linked robots.
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    for (const LoopClosure& c : loops_) {
+      if (c.a.robot == c.b.robot || linked(c.a.robot) == linked(c.b.robot)) continue;
+      if (component_of(c.a.robot) != component_of(*anchor_) || component_of(c.b.robot) != component_of(*anchor_)) continue;
+      const Keyframe& ka = keyframes_.at(c.a);
+      const Keyframe& kb = keyframes_.at(c.b);
+      if (linked(c.a.robot)) {
+        starts_[c.b.robot] = correction(c.a.robot) * ka.T_local_base * c.T_a_b * kb.T_local_base.inverse();
+      } else {
+        starts_[c.a.robot] = correction(c.b.robot) * kb.T_local_base * c.T_a_b.inverse() * ka.T_local_base.inverse();
+      }
+      changed = true;
+      ++poses_version_;
+    }
+  }
+}
+
+void MultiRobotMapper::add_loop_edges() {
+  loop_in_graph_.resize(loops_.size(), false);
+  for (size_t i = 0; i < loops_.size(); ++i) {
+    const LoopClosure& c = loops_[i];
+    if (loop_in_graph_[i] || !graph_.has_node(c.a) || !graph_.has_node(c.b)) continue;
+    loop_in_graph_[i] = graph_.add_edge(
+        PoseGraphEdge{c.a, c.b, c.T_a_b, information_or_identity(c.covariance), EdgeKind::kLoop});
+  }
+}
+
+void MultiRobotMapper::update_graph(OptimizeResult* result) {
+  if (rebuild_graph_) {
+    graph_ = PoseGraph2d(options_.graph);
+    loop_in_graph_.assign(loops_.size(), false);
+    rebuild_graph_ = false;
+  }
+  std::set<RobotId> robots_seen;
+  for (const auto& [id, kf] : keyframes_) robots_seen.insert(id.robot);
+  for (RobotId robot : robots_seen) {
+    if (linked(robot)) {
+      add_robot_chain(robot, result);
+    } else {
+      ++result->unlinked_robots;
+    }
+  }
+  add_loop_edges();
+  PoseGraphSolveOptions solve = options_.solve;
+  if (full_resolve_) {
+    if (const auto init = lago_initialize(graph_)) graph_.set_estimates(*init);
+    result->full_resolve = true;
+    full_resolve_ = false;
+  } else {
+    solve.max_iterations = std::min(solve.max_iterations, options_.incremental_max_iterations);
+  }
+  result->solve = graph_.solve(solve);
+}
+
+OptimizeResult MultiRobotMapper::optimize() {
+  OptimizeResult result;
+  choose_anchor();
+  if (options_.detect_loops) {
+    detect_new_loops(&result);
+    link_robot_pairs(&result);
+  }
+  place_new_robots();
+  update_graph(&result);
+  result.nodes = int(graph_.num_nodes());
+  result.edges = int(graph_.edges().size());
+  result.priors = int(graph_.priors().size());
+  for (size_t i = 0; i < loops_.size(); ++i) {
+    if (!loop_in_graph_[i]) continue;
+    ++result.loop_closures;
+    result.inter_robot_closures += loops_[i].a.robot != loops_[i].b.robot;
+  }
+  for (const auto& [id, pose] : graph_.estimates()) optimized_[id] = pose;
+  ++poses_version_;
+  ++version_;
+  return result;
+}
+
+}  // namespace cairn::base

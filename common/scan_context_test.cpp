@@ -1,0 +1,52 @@
+#include "common/scan_context.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <random>
+
+namespace cairn {
+namespace {
+
+/// Points of an L-shaped room corner seen from the origin, rotated by yaw (as seen by a sensor
+/// rotated by -yaw... i.e. a sensor with yaw `sensor_yaw` sees world points rotated by -sensor_yaw).
+std::vector<Eigen::Vector2f> scene(double sensor_yaw, std::mt19937* rng) {
+  std::vector<Eigen::Vector2f> world;
+  for (double t = -6; t <= 6; t += 0.05) {
+    world.emplace_back(float(t), 4.f);
+    world.emplace_back(-3.f, float(t));
+    if (t > 0) world.emplace_back(float(t), -2.f - 0.3f * float(t));
+  }
+  std::normal_distribution<float> n(0.f, 0.01f);
+  const Eigen::Rotation2Df R(float(-sensor_yaw));
+  std::vector<Eigen::Vector2f> out;
+  for (const auto& p : world) out.push_back(R * p + Eigen::Vector2f(n(*rng), n(*rng)));
+  return out;
+}
+
+TEST(ScanContext, RotationInvariantWithYawEstimate) {
+  std::mt19937 rng(1);
+  const std::vector<float> a = compute_scan_context(scene(0.0, &rng));
+  const std::vector<float> b = compute_scan_context(scene(1.2, &rng));
+  const ScanContextMatch m = scan_context_distance(a, b);
+  ASSERT_TRUE(m.valid);
+  EXPECT_LT(m.distance, 0.15);
+  EXPECT_NEAR(m.yaw_rad, 1.2, 2 * 2 * M_PI / 60);
+  const auto ka = scan_context_ring_key(a), kb = scan_context_ring_key(b);
+  for (size_t r = 0; r < ka.size(); ++r) EXPECT_NEAR(ka[r], kb[r], 0.15);
+}
+
+TEST(ScanContext, DifferentPlacesAreFar) {
+  std::mt19937 rng(2);
+  std::vector<Eigen::Vector2f> corridor;
+  for (double t = -15; t <= 15; t += 0.05) {
+    corridor.emplace_back(float(t), 1.0f);
+    corridor.emplace_back(float(t), -1.0f);
+  }
+  const ScanContextMatch m = scan_context_distance(compute_scan_context(scene(0, &rng)), compute_scan_context(corridor));
+  EXPECT_GT(m.distance, 0.3);
+  EXPECT_TRUE(compute_scan_context(std::vector<Eigen::Vector2f>{}).empty());
+}
+
+}  // namespace
+}  // namespace cairn
