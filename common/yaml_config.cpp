@@ -33,6 +33,20 @@ void YamlConfig::fail(const std::string& key, const std::string& what) const {
   throw InputError(file_ + ": key '" + key_name(key) + "' " + what);
 }
 
+void YamlConfig::allow_only(std::initializer_list<const char*> allowed) const {
+  if (!node_.IsMap()) return;
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.as<std::string>();
+    bool known = false;
+    std::string list;
+    for (const char* a : allowed) {
+      known = known || key == a;
+      list += (list.empty() ? "" : ", ") + std::string(a);
+    }
+    if (!known) fail(key, "is not a known key (expected one of: " + list + ")");
+  }
+}
+
 YamlConfig YamlConfig::operator[](const std::string& key) const {
   if (!has(key)) fail(key, "is missing");
   return YamlConfig(node_[key], file_, key_name(key));

@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -44,6 +45,9 @@ class YamlConfig {
   /// This node's own value (for sequence elements).
   template <typename T>
   T as() const { return convert<T>(node_, ""); }
+
+  /// Throws for any key of this map not in `allowed`: a typo must never silently become a default.
+  void allow_only(std::initializer_list<const char*> allowed) const;
 
   [[noreturn]] void fail(const std::string& key, const std::string& what) const;
   std::string key_name(const std::string& key) const;

@@ -45,8 +45,10 @@ int positive_int(const YamlConfig& cfg, const std::string& key, int default_valu
 void load_sensors(const YamlConfig& root, SimOptions& sim) {
   if (!root.has("sensors")) return;
   const YamlConfig s = root["sensors"];
+  s.allow_only({"odometry", "laser", "camera"});
   if (s.has("odometry")) {
     const YamlConfig o = s["odometry"];
+    o.allow_only({"rate_hz", "trans_noise_per_m", "rot_noise_rad_per_m", "rot_noise_per_rad"});
     OdometryOptions& od = sim.odometry;
     od.rate_hz = positive(o, "rate_hz", od.rate_hz);
     od.trans_noise_per_m = non_negative(o, "trans_noise_per_m", od.trans_noise_per_m);
@@ -55,6 +57,7 @@ void load_sensors(const YamlConfig& root, SimOptions& sim) {
   }
   if (s.has("laser")) {
     const YamlConfig l = s["laser"];
+    l.allow_only({"rate_hz", "beams", "fov_deg", "max_range_m", "min_range_m", "noise_sd_m"});
     LaserOptions& lo = sim.laser;
     lo.rate_hz = positive(l, "rate_hz", lo.rate_hz);
     lo.beams = positive_int(l, "beams", lo.beams);
@@ -66,6 +69,8 @@ void load_sensors(const YamlConfig& root, SimOptions& sim) {
   }
   if (s.has("camera")) {
     const YamlConfig c = s["camera"];
+    c.allow_only({"rate_hz", "width", "height", "hfov_deg", "max_depth_m", "height_m", "pitch_deg",
+                  "forward_offset_m", "depth_noise_sd_m", "rgb_noise_sd", "render_range_m"});
     CameraOptions& co = sim.camera;
     co.rate_hz = positive(c, "rate_hz", co.rate_hz);
     co.width = positive_int(c, "width", co.width);
@@ -87,6 +92,7 @@ void load_sensors(const YamlConfig& root, SimOptions& sim) {
 void load_sim(const YamlConfig& root, SimOptions& sim) {
   if (root.has("sim")) {
     const YamlConfig s = root["sim"];
+    s.allow_only({"seed", "dt_s", "duration_s", "settle_time_s"});
     const long long seed = s.get<long long>("seed", (long long)sim.seed);
     if (seed < 0) s.fail("seed", "must be >= 0");
     sim.seed = uint64_t(seed);
@@ -99,6 +105,7 @@ void load_sim(const YamlConfig& root, SimOptions& sim) {
 
 RobotSpec load_robot(const YamlConfig& r, const FloorPlan& plan, const WorldLoadOptions& options) {
   RobotSpec spec;
+  r.allow_only({"id", "start", "max_speed_mps", "max_turn_radps", "waypoints"});
   const int id = r.require<int>("id");
   if (id < 0) r.fail("id", "must be >= 0");
   spec.id = RobotId(id);
@@ -134,6 +141,7 @@ ObjectShape parse_shape(const YamlConfig& o) {
 
 WorldObject load_object(const YamlConfig& o, const WorldLoadOptions& options) {
   WorldObject obj;
+  o.allow_only({"id", "class", "shape", "color", "size_m", "pose"});
   obj.id = o.require<int>("id");
   obj.object_class = o.require<std::string>("class");
   const auto& classes = options.object_classes;
@@ -184,10 +192,12 @@ FloorPlan load_floor_plan_image(const std::string& image_path, double resolution
 
 WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& options) {
   const YamlConfig root = YamlConfig::load(yaml_path);
+  root.allow_only({"name", "map", "sim", "sensors", "robots", "objects"});
   WorldFile out;
   World& world = out.world;
   world.name = root.get<std::string>("name", std::filesystem::path(yaml_path).stem().string());
   const YamlConfig map = root["map"];
+  map.allow_only({"image", "resolution_m", "origin_m", "wall_height_m"});
   const std::string image = map.require<std::string>("image");
   const double resolution_m = positive(map, "resolution_m", 0.05);
   const auto origin = map.has("origin_m") ? require_numbers(map, "origin_m", 2)

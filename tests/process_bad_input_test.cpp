@@ -30,7 +30,7 @@ TEST(ProcessBadInput, SimulatorRejectsMissingAndMalformedWorlds) {
   EXPECT_NE(r.output.find("line"), std::string::npos) << r.output;
 }
 
-TEST(ProcessBadInput, MissionNamesTheMissingKey) {
+TEST(ProcessBadInput, MissionNamesTheMisspelledKey) {
   std::string text;
   std::ifstream in(source_path("tests/worlds/two_robots.yaml"));
   ASSERT_TRUE(in) << "tests/worlds/two_robots.yaml missing";
@@ -39,6 +39,7 @@ TEST(ProcessBadInput, MissionNamesTheMissingKey) {
   ASSERT_NE(pos, std::string::npos);
   text.replace(pos, 12, "resolutoin_m");
   const fs::path dir = fs::path(::testing::TempDir()) / "mission_bad_key";
+  fs::remove_all(dir);
   fs::create_directories(dir);
   fs::copy_file(source_path("worlds/office.pgm"), dir / "office.pgm", fs::copy_options::overwrite_existing);
   std::string world_text = text;
@@ -48,7 +49,7 @@ TEST(ProcessBadInput, MissionNamesTheMissingKey) {
   std::ofstream(world) << world_text;
   const auto r = run_command(bin("cairn_mission") + " --world " + world + " --out " + (dir / "out").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("resolution_m"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("key 'map.resolutoin_m' is not a known key"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "out" / "logs")) << "nothing should be started for a bad world";
 }
 

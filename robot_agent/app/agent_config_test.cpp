@@ -36,6 +36,7 @@ TEST(AgentConfig, BadValuesNameTheKey) {
   }
   EXPECT_THROW(load_agent_options(write_file("agent_type.yaml", "odometry: {use: maybe}\n")), InputError);
   EXPECT_THROW(load_agent_options("/nonexistent/agent.yaml"), InputError);
+  EXPECT_THROW(load_agent_options(write_file("agent_typo.yaml", "keyframer: {min_distance: 1}\n")), InputError);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // pipeline (robot_agent/core), and publishes keyframes, objects and status to the base station.
 #include <CLI/CLI.hpp>
 
+#include "common/carmen_log.h"
 #include "common/errors.h"
 #include "common/logging.h"
 #include "robot_agent/app/agent_config.h"
@@ -10,11 +11,14 @@
 int main(int argc, char** argv) {
   CLI::App app{"Cairn robot agent"};
   int robot = -1;
-  std::string config_path, log_level = "info";
+  std::string config_path, log_path, log_level = "info";
   cairn::agent::AgentNodeOptions node;
+  cairn::agent::SensorInput input;
   app.add_option("--robot", robot, "robot id")->required()->check(CLI::Range(0, 1000));
   app.add_option("--domain", node.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--config", config_path, "agent YAML (keyframer, odometry, objects)");
+  app.add_option("--log", log_path, "replay a CARMEN log (.clf/.log, plain or .gz) instead of the sensor topics");
+  app.add_option("--log-speed", input.log_options.speed, "log replay speed, times real time (0 = as fast as possible)");
   app.add_option("--object-rate-limit", node.large_data_bytes_per_sec, "bytes/s for object clouds (0 = no limit)");
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
@@ -22,14 +26,27 @@ int main(int argc, char** argv) {
   auto log = cairn::make_logger("agent", cairn::RobotId(robot));
 
   cairn::agent::AgentOptions options;
+  cairn::CarmenLog carmen;
   try {
     if (!config_path.empty()) options = cairn::agent::load_agent_options(config_path);
+    if (!log_path.empty()) {
+      carmen = cairn::read_carmen_log(log_path);
+      input.log = &carmen;
+      if (cairn::is_corrected_log_name(log_path)) {
+        // Corrected logs hold the SLAM result, not wheel odometry: do not feed it as odometry.
+        log->warn("{} is a corrected log: no raw odometry, matching with constant-velocity prediction", log_path);
+        input.log_options.odometry_from_log = false;
+        options.use_odometry = false;
+      }
+      log->info("{}: {} laser records, {} odometry records, {} unknown records skipped", log_path,
+                carmen.stats.laser_records, carmen.stats.odometry_records, carmen.stats.unknown_records);
+    }
   } catch (const cairn::InputError& e) {
     log->error("{}", e.what());
     return 2;
   }
   std::string error;
-  auto agent = cairn::agent::AgentNode::create(cairn::RobotId(robot), options, node, &error);
+  auto agent = cairn::agent::AgentNode::create(cairn::RobotId(robot), options, node, input, &error);
   if (!agent) {
     log->error("{}", error);
     return 3;

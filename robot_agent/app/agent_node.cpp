@@ -13,8 +13,16 @@ AgentNode::AgentNode(RobotId robot, const AgentOptions& core_options, const Agen
     : robot_(robot), options_(options), pipeline_(robot, core_options), log_(make_logger("agent", robot)) {}
 
 std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& core_options,
-                                             const AgentNodeOptions& options, std::string* error) {
+                                             const AgentNodeOptions& options, const SensorInput& input,
+                                             std::string* error) {
   std::unique_ptr<AgentNode> n(new AgentNode(robot, core_options, options));
+  if (input.log) {
+    if (input.log->scans.empty()) {
+      *error = "the log holds no laser scans";
+      return nullptr;
+    }
+    n->log_source_ = std::make_unique<LogSource>(*input.log, input.log_options);
+  }
   dds::ParticipantOptions po;
   po.domain_id = options.domain_id;
   po.name = "cairn_agent_" + std::to_string(robot.value);
@@ -51,6 +59,11 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
 bool AgentNode::poll_inputs() {
   bool any = false;
   std::string error;
+  if (log_source_) {
+    const double elapsed_s = std::chrono::duration<double>(Clock::now() - start_).count();
+    any = log_source_->feed(elapsed_s, &pipeline_) > 0;
+    input_finished_ = log_source_->finished();
+  }
   auto reject = [&](const char* topic) {
     ++bad_samples_;
     CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "dropped a bad {} sample: {}", topic, error);
@@ -67,7 +80,9 @@ bool AgentNode::poll_inputs() {
     any = true;
     if (auto f = dds::from_msg(m, &error)) pipeline_.add_rgbd(*f); else reject("rgbd");
   }
-  for (const auto& c : clock_in_->take_all()) input_finished_ = input_finished_ || c.finished();
+  for (const auto& c : clock_in_->take_all()) {
+    if (!log_source_) input_finished_ = input_finished_ || c.finished();
+  }
   for (const auto& a : ack_in_->take_all()) {
     if (a.robot_id() != robot_.value) continue;
     acked_keyframe_seq_ = std::max(acked_keyframe_seq_, a.keyframe_seq());
@@ -120,7 +135,9 @@ bool AgentNode::base_has_everything() {
 }
 
 int AgentNode::run() {
-  log_->info("waiting for sensor data");
+  start_ = Clock::now();
+  if (log_source_) log_->info("replaying {} laser records from the log", log_source_->size());
+  else log_->info("waiting for sensor data");
   auto next_status = Clock::now();
   bool flushed = false;
   Clock::time_point flush_time;

@@ -2,6 +2,7 @@
 // The robot agent's DDS side around its core: sensor readers in, AgentPipeline, keyframe/object/
 // status writers out; acks and corrections from the base station in. Single-threaded: run() polls.
 // Data flow: sensor topics -> dds::from_msg -> AgentPipeline -> dds::to_msg -> keyframe/object.
+#include <chrono>
 #include <memory>
 #include <set>
 #include <string>
@@ -9,6 +10,7 @@
 #include "cairn_msgsPubSubTypes.h"
 #include "common/logging.h"
 #include "dds/endpoints.h"
+#include "robot_agent/app/log_source.h"
 #include "robot_agent/core/agent_pipeline.h"
 
 namespace cairn::agent {
@@ -20,10 +22,18 @@ struct AgentNodeOptions {
   uint32_t large_data_bytes_per_sec = 0;  ///< flow controller for objects; 0 = unlimited
 };
 
+/// Where the sensor readings come from: the robot's DDS sensor topics (simulator or driver), or a
+/// recorded CARMEN log replayed in-process.
+struct SensorInput {
+  const CarmenLog* log = nullptr;  ///< nullptr = DDS sensor topics
+  LogSourceOptions log_options;
+};
+
 class AgentNode {
  public:
   static std::unique_ptr<AgentNode> create(RobotId robot, const AgentOptions& core_options,
-                                           const AgentNodeOptions& options, std::string* error);
+                                           const AgentNodeOptions& options, const SensorInput& input,
+                                           std::string* error);
   /// Runs until the mission clock says the input ended and the base acknowledged everything.
   /// Returns the process exit code.
   int run();
@@ -54,6 +64,8 @@ class AgentNode {
   std::unique_ptr<W<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>> object_out_;
   std::unique_ptr<W<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>> status_out_;
 
+  std::unique_ptr<LogSource> log_source_;  ///< set when replaying a log instead of DDS input
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   bool input_finished_ = false;
   int32_t last_keyframe_seq_ = -1;
   int32_t acked_keyframe_seq_ = -1;
