@@ -2,8 +2,9 @@
 // All options of the robot agent's algorithm core, one struct per component, with defaults.
 #include "robot_agent/core/keyframer.h"
 #include "robot_agent/core/local_slam.h"
-#include "robot_agent/core/object_detector.h"
-#include "robot_agent/core/object_tracker.h"
+#include "robot_agent/core/objects/object_detector.h"
+#include "robot_agent/core/objects/object_tracker.h"
+#include "robot_agent/core/objects/optical_flow.h"
 
 namespace cairn::agent {
 
@@ -12,6 +13,7 @@ struct AgentOptions {
   KeyframerOptions keyframer;
   ObjectDetectorOptions detector;
   ObjectTrackerOptions tracker;
+  OpticalFlowOptions optical_flow;  ///< collision risk from monocular flow (Eqs. 1-8)
   /// false: odometry is ignored and the pose is predicted with a constant-velocity model.
   bool use_odometry = true;
   /// A scan waits for odometry with stamp >= its own; beyond this many waiting scans the oldest is

@@ -11,7 +11,8 @@ AgentPipeline::AgentPipeline(RobotId robot, const AgentOptions& options)
       local_slam_(options.local_slam),
       keyframer_(robot, options.keyframer),
       detector_(options.detector),
-      tracker_(robot, options.tracker) {}
+      tracker_(robot, options.tracker),
+      optical_flow_(options.optical_flow) {}
 
 void AgentPipeline::add_odometry(const OdometryReading& odometry) {
   ++stats_.odometry_received;
@@ -111,6 +112,12 @@ void AgentPipeline::process_rgbd(AgentOutputs* out) {
   std::vector<ObjectReport> reports =
       tracker_.update(frame.stamp_ns, detections, pose_at(frame.stamp_ns), anchor_at(frame.stamp_ns));
   stats_.object_reports += int(reports.size());
+  // Collision risk from optical flow; speed and yaw rate from the tracked poses over 0.2 s.
+  const StampNs back_ns = 200'000'000;
+  const SE2 d = pose_at(frame.stamp_ns - back_ns).inverse() * pose_at(frame.stamp_ns);
+  const CollisionEstimate c = optical_flow_.update(frame, d.translation().norm() / 0.2, d.yaw() / 0.2);
+  stats_.collision_risk = c.collision_risk;
+  stats_.collision_estimates += c.converged;
   for (ObjectReport& r : reports) out->objects.push_back(std::move(r));
 }
 
@@ -141,6 +148,8 @@ AgentStats AgentPipeline::stats() const {
   s.object_tracks = int(tracker_.num_tracks());
   s.object_tracks_confirmed = int(tracker_.num_confirmed());
   s.submaps_finished = int(local_slam_.submaps().finished().size());
+  s.loop_closures = local_slam_.loop_closure().stats().loop_closures;
+  s.pose_graph_optimizations = local_slam_.loop_closure().stats().optimizations;
   return s;
 }
 

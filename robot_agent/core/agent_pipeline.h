@@ -16,8 +16,8 @@
 #include "robot_agent/core/agent_options.h"
 #include "robot_agent/core/keyframer.h"
 #include "robot_agent/core/local_slam.h"
-#include "robot_agent/core/object_detector.h"
-#include "robot_agent/core/object_tracker.h"
+#include "robot_agent/core/objects/object_detector.h"
+#include "robot_agent/core/objects/object_tracker.h"
 
 namespace cairn::agent {
 
@@ -46,6 +46,10 @@ struct AgentStats {
   int object_tracks = 0;
   int object_tracks_confirmed = 0;
   int submaps_finished = 0;
+  int loop_closures = 0;           ///< intra-robot loop-closure constraints found by the local SLAM
+  int pose_graph_optimizations = 0;
+  float collision_risk = 0.f;      ///< latest optical-flow estimate (0..1), for the status message
+  int collision_estimates = 0;     ///< RGB frames that gave a valid flow estimate
 };
 
 class AgentPipeline {
@@ -82,6 +86,7 @@ class AgentPipeline {
   Keyframer keyframer_;
   ObjectDetector detector_;
   ObjectTracker tracker_;
+  OpticalFlowCollision optical_flow_;
 
   std::deque<OdometryReading> odometry_;
   std::deque<LaserScan> scans_;

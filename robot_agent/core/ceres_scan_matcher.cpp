@@ -14,21 +14,22 @@ namespace {
 class CostGridAdapter {
  public:
   enum { DATA_DIMENSION = 1 };
-  explicit CostGridAdapter(const ProbabilityGrid& grid) : grid_(grid) {}
+  CostGridAdapter(const ProbabilityGrid& grid, bool field) : grid_(grid), field_(field) {}
   void GetValue(int row, int col, double* f) const {
-    *f = 1.0 - double(grid_.at(col, row, grid_.fill_probability()));
+    *f = 1.0 - double(field_ ? grid_.field_at(col, row) : grid_.at(col, row, grid_.fill_probability()));
   }
 
  private:
   const ProbabilityGrid& grid_;
+  const bool field_;
 };
 
-// Residual_i = scale * (1 - P(R(yaw) p_i + t)), P bicubic-interpolated (Cartographer's
-// OccupiedSpaceCostFunction2D).
+// Residual_i = scale * (1 - P(R(yaw) p_i + t)), P the bicubic-interpolated probability grid
+// (Cartographer's OccupiedSpaceCostFunction2D) or likelihood field.
 class OccupiedSpaceCost {
  public:
-  OccupiedSpaceCost(double scale, const std::vector<Eigen::Vector2f>& points, const ProbabilityGrid& grid)
-      : scale_(scale), points_(points), grid_(grid), adapter_(grid), interpolator_(adapter_) {}
+  OccupiedSpaceCost(double scale, const std::vector<Eigen::Vector2f>& points, const ProbabilityGrid& grid, bool field)
+      : scale_(scale), points_(points), grid_(grid), adapter_(grid, field), interpolator_(adapter_) {}
 
   template <typename T>
   bool operator()(const T* const pose, T* residual) const {
@@ -107,7 +108,7 @@ CeresScanMatcher::CeresScanMatcher(const CeresScanMatcherOptions& options) : opt
 
 double interpolated_score(const SE2& T, const std::vector<Eigen::Vector2f>& points, const ProbabilityGrid& grid) {
   if (points.empty()) return 0.0;
-  OccupiedSpaceCost cost(1.0, points, grid);
+  OccupiedSpaceCost cost(1.0, points, grid, false);
   std::vector<double> residuals(points.size());
   const double pose[3] = {T.x(), T.y(), T.yaw()};
   cost(pose, residuals.data());
@@ -128,7 +129,7 @@ CeresMatch CeresScanMatcher::match(const SE2& initial, const std::vector<Eigen::
   ceres::Problem problem;
   const double scale = options_.occupied_space_weight / std::sqrt(double(points.size()));
   auto* occ = new ceres::AutoDiffCostFunction<OccupiedSpaceCost, ceres::DYNAMIC, 3>(
-      new OccupiedSpaceCost(scale, points, grid), int(points.size()));
+      new OccupiedSpaceCost(scale, points, grid, options_.use_likelihood_field), int(points.size()));
   const ceres::ResidualBlockId occ_block = problem.AddResidualBlock(occ, nullptr, pose);
   problem.AddResidualBlock(new ceres::AutoDiffCostFunction<TranslationDeltaCost, 2, 3>(
                                new TranslationDeltaCost{options_.translation_weight, pose[0], pose[1]}),

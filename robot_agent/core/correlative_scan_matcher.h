@@ -1,8 +1,11 @@
 #pragma once
 // Real-time correlative scan matching (Olson, "Real-Time Correlative Scan Matching", ICRA 2009;
 // Cartographer's RealTimeCorrelativeScanMatcher2D): an exhaustive search over a window of
-// translations and rotations around a predicted pose, scoring each candidate by the mean of a
-// smoothed likelihood grid at the transformed scan points. Its result seeds the Ceres refinement.
+// translations and rotations around a predicted pose, scoring each candidate by the mean of the
+// grid's likelihood field (probability_grid.h) at the transformed scan points. The scan is rotated and discretised once per angle
+// (precomputed rotated scans); each point then adds its row of grid values to a score array over the
+// whole translation window, reading only the cropped part of the grid. Its result seeds the Ceres
+// refinement.
 #include <Eigen/Core>
 #include <vector>
 
@@ -12,10 +15,10 @@
 namespace cairn::agent {
 
 struct CorrelativeScanMatcherOptions {
-  double linear_window_m = 0.3;               ///< search +- this in x and y
-  double angular_window_rad = 20.0 * M_PI / 180.0;  ///< search +- this in yaw
+  double linear_window_m = 0.1;               ///< search +- this in x and y
+  double angular_window_rad = 5.0 * M_PI / 180.0;  ///< search +- this in yaw
   /// The angular step keeps the farthest point (capped at this range) within one cell per step.
-  double max_range_for_step_m = 15.0;
+  double max_range_for_step_m = 8.0;
   /// Candidate score is multiplied by exp(-(w_t*|dt|)^2 - (w_r*|dyaw|)^2) (Cartographer's
   /// translation/rotation_delta_cost_weight), preferring the prediction among equal scores.
   double translation_delta_cost_weight = 0.1;
@@ -24,7 +27,7 @@ struct CorrelativeScanMatcherOptions {
 
 struct CorrelativeMatch {
   SE2 pose;
-  double score = 0.0;   ///< mean likelihood at the points of the best candidate, 0..1
+  double score = 0.0;   ///< mean likelihood field at the points of the best candidate, 0..1
   int candidates = 0;   ///< candidates evaluated
 };
 
@@ -32,10 +35,15 @@ class CorrelativeScanMatcher {
  public:
   explicit CorrelativeScanMatcher(const CorrelativeScanMatcherOptions& options = {});
 
-  /// `points_base` are scan points in the robot base frame; `likelihood` is the smoothed grid in the
-  /// map frame. Returns the best candidate (score 0 when there are no points).
+  /// `points_base` are scan points in the robot base frame; `likelihood` is the probability grid (or
+  /// a smoothed copy) in the map frame. Returns the best candidate (score 0 when there are no points).
   CorrelativeMatch match(const SE2& initial_T_map_base, const std::vector<Eigen::Vector2f>& points_base,
-                         const ProbabilityGrid& likelihood) const;
+                         const ProbabilityGrid& likelihood) const {
+    return match(initial_T_map_base, points_base, likelihood, options_.linear_window_m, options_.angular_window_rad);
+  }
+  /// The same with an explicit search window (e.g. grown with the odometry's uncertainty).
+  CorrelativeMatch match(const SE2& initial_T_map_base, const std::vector<Eigen::Vector2f>& points_base,
+                         const ProbabilityGrid& likelihood, double linear_window_m, double angular_window_rad) const;
 
   /// Angular step (rad) so that a point at `range_m` moves by about one cell of `resolution_m`.
   static double angular_step_rad(double range_m, double resolution_m);

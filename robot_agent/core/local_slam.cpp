@@ -29,7 +29,7 @@ std::vector<Eigen::Vector2f> voxel_filter_2d(const std::vector<Eigen::Vector2f>&
 }
 
 LocalSlam::LocalSlam(const LocalSlamOptions& options)
-    : options_(options), matcher_(options.matcher), submaps_(options.submaps) {}
+    : options_(options), matcher_(options.matcher), submaps_(options.submaps), loop_closure_(options.loop_closure) {}
 
 SE2 LocalSlam::predict(StampNs stamp_ns, const std::optional<SE2>& T_odom_base) const {
   if (!initialized_) return SE2();
@@ -51,12 +51,19 @@ bool LocalSlam::motion_filtered(StampNs stamp_ns, const SE2& pose) const {
   return d.translation().norm() < o.max_distance_m && std::abs(d.yaw()) < o.max_angle_rad;
 }
 
-const MatchingGrids& LocalSlam::matching_grids() {
-  if (grids_version_ != submaps_.matching_version()) {
-    grids_ = build_matching_grids(submaps_.matching_submap().grid, options_.matcher);
-    grids_version_ = submaps_.matching_version();
+void LocalSlam::record_scan(StampNs stamp_ns, const SE2& T_local_base) {
+  const int node = loop_closure_.num_nodes() - 1;
+  const SE2 rel = node < 0 ? T_local_base : loop_closure_.local_node_pose(node).between(T_local_base);
+  scan_records_.push_back({stamp_ns, node, rel});
+}
+
+Trajectory LocalSlam::optimized_trajectory() const {
+  Trajectory out;
+  out.reserve(scan_records_.size());
+  for (const ScanRecord& r : scan_records_) {
+    out.push_back({r.stamp_ns, r.node < 0 ? r.T_node_scan : loop_closure_.node_pose(r.node) * r.T_node_scan});
   }
-  return grids_;
+  return out;
 }
 
 void LocalSlam::record_tracked(StampNs stamp_ns, const SE2& pose, const std::optional<SE2>& T_odom_base) {
@@ -77,9 +84,13 @@ LocalSlamResult LocalSlam::add_scan(const LaserScan& scan, const std::optional<S
   const std::vector<Eigen::Vector2f> points = scan_to_points(scan, &out.filter_stats);
   const SE2 predicted = predict(scan.stamp_ns, T_odom_base);
   out.pose = predicted;
+  out.T_map_base = loop_closure_.T_global_local() * predicted;
   if (int(points.size()) < options_.min_valid_points) {
     out.status = LocalSlamResult::Status::kTooFewPoints;
-    if (initialized_) record_tracked(scan.stamp_ns, predicted, T_odom_base);
+    if (initialized_) {
+      record_tracked(scan.stamp_ns, predicted, T_odom_base);
+      record_scan(scan.stamp_ns, predicted);
+    }
     return out;
   }
   const bool has_odometry = T_odom_base && odom_;
@@ -88,16 +99,25 @@ LocalSlamResult LocalSlam::add_scan(const LaserScan& scan, const std::optional<S
   if (has_odometry && motion_filtered(scan.stamp_ns, predicted)) {
     out.status = LocalSlamResult::Status::kMotionFiltered;
     record_tracked(scan.stamp_ns, predicted, T_odom_base);
+    record_scan(scan.stamp_ns, predicted);
     return out;
   }
   if (submaps_.empty()) {
     out.status = LocalSlamResult::Status::kFirstScan;
     out.covariance = Covariance3::Identity() * 1e-6;
   } else {
-    out.match = matcher_.match(predicted, voxel_filter_2d(points, options_.match_voxel_m), matching_grids());
+    const SE2 motion = matched_last_ ? matched_last_->second.between(predicted) : SE2();
+    const double dist_m = motion.translation().norm();
+    const double extra_linear_m = std::min(options_.window_max_extra_linear_m, options_.window_linear_per_m * dist_m);
+    const double extra_angular_rad =
+        std::min(options_.window_max_extra_angular_rad,
+                 options_.window_angular_per_m_rad * dist_m + options_.window_angular_per_rad * std::abs(motion.yaw()));
+    out.match = matcher_.match(predicted, voxel_filter_2d(points, options_.match_voxel_m),
+                               submaps_.matching_submap().grid, extra_linear_m, extra_angular_rad);
     if (!out.match.converged) {
       out.status = LocalSlamResult::Status::kMatchFailed;
       record_tracked(scan.stamp_ns, predicted, T_odom_base);
+      record_scan(scan.stamp_ns, predicted);
       return out;
     }
     out.status = LocalSlamResult::Status::kMatched;
@@ -107,12 +127,16 @@ LocalSlamResult LocalSlam::add_scan(const LaserScan& scan, const std::optional<S
   record_tracked(scan.stamp_ns, out.pose, T_odom_base);
   record_matched(scan.stamp_ns, out.pose);
   if (has_odometry || !motion_filtered(scan.stamp_ns, out.pose)) {
-    submaps_.insert(out.pose, points);
+    const SubmapInsertion insertion = submaps_.insert(out.pose, points);
+    loop_closure_.add_node(out.pose, points, insertion, submaps_);
     out.inserted = true;
     has_inserted_ = true;
     inserted_stamp_ns_ = scan.stamp_ns;
     inserted_pose_ = out.pose;
   }
+  record_scan(scan.stamp_ns, out.pose);
+  out.T_map_base = out.inserted ? loop_closure_.node_pose(loop_closure_.num_nodes() - 1)
+                                : loop_closure_.T_global_local() * out.pose;
   return out;
 }
 

@@ -1,7 +1,9 @@
 #pragma once
-// Local 2D SLAM of one robot (Cartographer's LocalTrajectoryBuilder2D, Hess et al. 2016): predict
-// the pose from odometry (or constant velocity), skip near-duplicate scans with a motion filter,
-// match the scan against the active submap (scan_matcher.h), insert it into the submaps.
+// Local 2D SLAM of one robot (Cartographer's LocalTrajectoryBuilder2D + PoseGraph2D, Hess et al.
+// 2016): predict the pose from odometry (or constant velocity), skip near-duplicate scans with a
+// motion filter, match the scan against the active submap (scan_matcher.h: real-time correlative
+// search + Ceres), insert it into the submaps, and close loops against older submaps
+// (loop_closure.h) so the robot's own map stays consistent over long runs.
 #include <Eigen/Core>
 #include <optional>
 #include <vector>
@@ -9,6 +11,8 @@
 #include "common/laser_scan.h"
 #include "common/se2.h"
 #include "common/time.h"
+#include "common/trajectory.h"
+#include "robot_agent/core/loop_closure.h"
 #include "robot_agent/core/scan_matcher.h"
 #include "robot_agent/core/submap.h"
 
@@ -25,8 +29,16 @@ struct LocalSlamOptions {
   SubmapOptions submaps;
   ScanMatcherOptions matcher;
   MotionFilterOptions motion_filter;
+  LoopClosureOptions loop_closure;
   int min_valid_points = 20;     ///< fewer valid beams: the scan is skipped
-  double match_voxel_m = 0.05;   ///< points used for matching are thinned to one per cell (0 = all)
+  /// The correlative window grows with the predicted motion since the last matched scan (odometry
+  /// error grows with distance): + this many metres per metre and radians per metre / per radian.
+  double window_linear_per_m = 0.3;
+  double window_angular_per_m_rad = 9.0 * M_PI / 180.0;
+  double window_angular_per_rad = 0.1;
+  double window_max_extra_linear_m = 0.5;
+  double window_max_extra_angular_rad = 20.0 * M_PI / 180.0;
+  double match_voxel_m = 0.08;   ///< points used for matching are thinned to one per cell (0 = all)
 };
 
 struct LocalSlamResult {
@@ -34,6 +46,7 @@ struct LocalSlamResult {
   Status status = Status::kTooFewPoints;
   StampNs stamp_ns = 0;
   SE2 pose;                       ///< T_local_base (matched, or predicted when not matched)
+  SE2 T_map_base;                 ///< the same pose after loop closure (optimised frame), at this time
   Covariance3 covariance = Covariance3::Identity();
   ScanMatchResult match;          ///< valid for kMatched / kMatchFailed
   bool inserted = false;          ///< went into the submaps
@@ -52,19 +65,30 @@ class LocalSlam {
   /// Latest tracked pose (matched or predicted).
   const SE2& pose() const { return pose_; }
   const ActiveSubmaps& submaps() const { return submaps_; }
+  const LoopClosure& loop_closure() const { return loop_closure_; }
+  /// End of input: final pose-graph optimisation.
+  void finish() { loop_closure_.finish(); }
+  /// Every processed scan's pose in the optimised frame (scans between nodes ride on the latest node
+  /// before them), with the current optimisation state.
+  Trajectory optimized_trajectory() const;
 
  private:
   SE2 predict(StampNs stamp_ns, const std::optional<SE2>& T_odom_base) const;
   bool motion_filtered(StampNs stamp_ns, const SE2& pose) const;
-  const MatchingGrids& matching_grids();
+  void record_scan(StampNs stamp_ns, const SE2& T_local_base);
   void record_tracked(StampNs stamp_ns, const SE2& pose, const std::optional<SE2>& T_odom_base);
   void record_matched(StampNs stamp_ns, const SE2& pose);
 
   LocalSlamOptions options_;
   ScanMatcher matcher_;
   ActiveSubmaps submaps_;
-  MatchingGrids grids_;
-  int64_t grids_version_ = -1;
+  LoopClosure loop_closure_;
+  struct ScanRecord {
+    StampNs stamp_ns;
+    int node;              ///< latest node at or before the scan (-1: before the first node)
+    SE2 T_node_scan;       ///< or T_local_scan when node < 0
+  };
+  std::vector<ScanRecord> scan_records_;
 
   bool initialized_ = false;
   StampNs stamp_ns_ = 0;               ///< of the latest tracked pose

@@ -4,6 +4,27 @@
 #include <cmath>
 
 namespace cairn::agent {
+namespace {
+
+std::vector<float> make_value_table() {
+  std::vector<float> table(kMaxValue + 1, kMinProbability);
+  for (int v = 1; v <= kMaxValue; ++v) {
+    table[v] = kMinProbability + (kMaxProbability - kMinProbability) * float(v - 1) / float(kMaxValue - 1);
+  }
+  return table;
+}
+
+}  // namespace
+
+const float* const kValueToProbability = []() {
+  static const std::vector<float> table = make_value_table();
+  return table.data();
+}();
+
+uint16_t probability_to_value(float p) {
+  p = std::clamp(p, kMinProbability, kMaxProbability);
+  return uint16_t(1 + std::lround((p - kMinProbability) / (kMaxProbability - kMinProbability) * (kMaxValue - 1)));
+}
 
 ProbabilityGrid::ProbabilityGrid(const Eigen::Vector2d& origin_m, double resolution_m, int width,
                                  int height, float fill_probability)
@@ -12,18 +33,50 @@ ProbabilityGrid::ProbabilityGrid(const Eigen::Vector2d& origin_m, double resolut
       width_(std::max(0, width)),
       height_(std::max(0, height)),
       fill_probability_(fill_probability),
-      cells_(size_t(width_) * size_t(height_), fill_probability) {}
+      values_(size_t(width_) * size_t(height_), kUnknownValue),
+      field_(values_.size(), 0) {}
+
+void ProbabilityGrid::splat_hit(int col, int row, double sigma_cells) {
+  const int radius = std::max(1, int(std::ceil(2.0 * sigma_cells)));
+  if (sigma_cells != kernel_sigma_cells_) {  // the kernel is computed once per sigma
+    kernel_sigma_cells_ = sigma_cells;
+    kernel_.clear();
+    for (int dy = -radius; dy <= radius; ++dy) {
+      for (int dx = -radius; dx <= radius; ++dx) {
+        kernel_.push_back(uint8_t(std::lround(255.0 * std::exp(-0.5 * (dx * dx + dy * dy) / (sigma_cells * sigma_cells)))));
+      }
+    }
+  }
+  const bool inside = col - radius >= 0 && row - radius >= 0 && col + radius < width_ && row + radius < height_;
+  const uint8_t* k = kernel_.data();
+  for (int dy = -radius; dy <= radius; ++dy) {
+    for (int dx = -radius; dx <= radius; ++dx, ++k) {
+      if (!inside && !contains(col + dx, row + dy)) continue;
+      uint8_t& f = field_[size_t(row + dy) * width_ + col + dx];
+      f = std::max(f, *k);
+    }
+  }
+}
+
+void ProbabilityGrid::rebuild_field(double sigma_cells) {
+  std::fill(field_.begin(), field_.end(), 0);
+  for (int r = 0; r < height_; ++r) {
+    for (int c = 0; c < width_; ++c) {
+      const uint16_t v = values_[size_t(r) * width_ + c];
+      if (v != kUnknownValue && value_to_probability(v) > 0.5f) splat_hit(c, r, sigma_cells);
+    }
+  }
+}
 
 ProbabilityGrid ProbabilityGrid::from_occupancy(const OccupancyGrid& grid, float unknown_probability) {
-  ProbabilityGrid out(grid.origin_m(), grid.resolution_m(), grid.width(), grid.height(),
-                      unknown_probability);
+  ProbabilityGrid out(grid.origin_m(), grid.resolution_m(), grid.width(), grid.height(), unknown_probability);
   for (int r = 0; r < grid.height(); ++r) {
     for (int c = 0; c < grid.width(); ++c) {
       const float l = grid.log_odds(c, r);
-      if (l == 0.f) continue;
-      out.mutable_at(c, r) = 1.f - 1.f / (1.f + std::exp(l));
+      if (l != 0.f) out.set_probability(c, r, 1.f - 1.f / (1.f + std::exp(l)));
     }
   }
+  out.rebuild_field();
   return out;
 }
 
@@ -32,8 +85,56 @@ Eigen::Vector2i ProbabilityGrid::cell_of(const Eigen::Vector2d& p_m) const {
   return {int(std::floor(c.x())), int(std::floor(c.y()))};
 }
 
+void ProbabilityGrid::grow_to_include(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m) {
+  const Eigen::Vector2i lo = cell_of(min_m), hi = cell_of(max_m);
+  if (width_ > 0 && lo.x() >= 0 && lo.y() >= 0 && hi.x() < width_ && hi.y() < height_) return;
+  // New extent: the union, padded so repeated growth is amortised (at least doubles).
+  const int x0 = std::min(0, lo.x()), y0 = std::min(0, lo.y());
+  const int x1 = std::max(width_ - 1, hi.x()), y1 = std::max(height_ - 1, hi.y());
+  const int need_w = x1 - x0 + 1, need_h = y1 - y0 + 1;
+  const int new_w = std::max(need_w, 2 * width_), new_h = std::max(need_h, 2 * height_);
+  const int pad_x = (new_w - need_w) / 2, pad_y = (new_h - need_h) / 2;
+  const int shift_x = -x0 + pad_x, shift_y = -y0 + pad_y;  // old cell (c, r) -> (c + shift_x, r + shift_y)
+  std::vector<uint16_t> cells(size_t(new_w) * size_t(new_h), kUnknownValue);
+  std::vector<uint8_t> field(cells.size(), 0);
+  for (int r = 0; r < height_; ++r) {
+    std::copy_n(&values_[size_t(r) * width_], width_, &cells[size_t(r + shift_y) * new_w + shift_x]);
+    std::copy_n(&field_[size_t(r) * width_], width_, &field[size_t(r + shift_y) * new_w + shift_x]);
+  }
+  values_.swap(cells);
+  field_.swap(field);
+  origin_m_ -= resolution_m_ * Eigen::Vector2d(shift_x, shift_y);
+  width_ = new_w;
+  height_ = new_h;
+}
+
+void ProbabilityGrid::crop_to_known(int margin_cells) {
+  int x0 = width_, y0 = height_, x1 = -1, y1 = -1;
+  for (int r = 0; r < height_; ++r) {
+    for (int c = 0; c < width_; ++c) {
+      if (values_[size_t(r) * width_ + c] == kUnknownValue) continue;
+      x0 = std::min(x0, c); x1 = std::max(x1, c); y0 = std::min(y0, r); y1 = std::max(y1, r);
+    }
+  }
+  if (x1 < 0) return;
+  x0 = std::max(0, x0 - margin_cells); y0 = std::max(0, y0 - margin_cells);
+  x1 = std::min(width_ - 1, x1 + margin_cells); y1 = std::min(height_ - 1, y1 + margin_cells);
+  const int w = x1 - x0 + 1, h = y1 - y0 + 1;
+  std::vector<uint16_t> cells(size_t(w) * size_t(h));
+  std::vector<uint8_t> field(cells.size());
+  for (int r = 0; r < h; ++r) {
+    std::copy_n(&values_[size_t(r + y0) * width_ + x0], w, &cells[size_t(r) * w]);
+    std::copy_n(&field_[size_t(r + y0) * width_ + x0], w, &field[size_t(r) * w]);
+  }
+  values_.swap(cells);
+  field_.swap(field);
+  origin_m_ += resolution_m_ * Eigen::Vector2d(x0, y0);
+  width_ = w;
+  height_ = h;
+}
+
 ProbabilityGrid ProbabilityGrid::blurred(double sigma_cells) const {
-  if (sigma_cells <= 0.0 || cells_.empty()) return *this;
+  if (sigma_cells <= 0.0 || values_.empty()) return *this;
   const int radius = std::max(1, int(std::ceil(2.0 * sigma_cells)));
   std::vector<float> kernel(2 * radius + 1);
   float sum = 0.f;
@@ -42,22 +143,26 @@ ProbabilityGrid ProbabilityGrid::blurred(double sigma_cells) const {
     sum += kernel[k + radius];
   }
   for (float& k : kernel) k /= sum;
-  // Separable convolution; outside cells count as the fill probability.
-  ProbabilityGrid tmp = *this, out = *this;
+  std::vector<float> tmp(values_.size());
   for (int r = 0; r < height_; ++r) {
     for (int c = 0; c < width_; ++c) {
       float acc = 0.f;
       for (int k = -radius; k <= radius; ++k) acc += kernel[k + radius] * at(c + k, r, fill_probability_);
-      tmp.mutable_at(c, r) = acc;
+      tmp[size_t(r) * width_ + c] = acc;
     }
   }
+  ProbabilityGrid out = *this;
   for (int r = 0; r < height_; ++r) {
     for (int c = 0; c < width_; ++c) {
       float acc = 0.f;
-      for (int k = -radius; k <= radius; ++k) acc += kernel[k + radius] * tmp.at(c, r + k, fill_probability_);
-      out.mutable_at(c, r) = acc;
+      for (int k = -radius; k <= radius; ++k) {
+        const int rr = r + k;
+        acc += kernel[k + radius] * (rr >= 0 && rr < height_ ? tmp[size_t(rr) * width_ + c] : fill_probability_);
+      }
+      out.set_probability(c, r, acc);
     }
   }
+  out.rebuild_field();
   return out;
 }
 

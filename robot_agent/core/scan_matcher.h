@@ -1,7 +1,7 @@
 #pragma once
 // Scan-to-submap matching as Cartographer's local SLAM does it: a real-time correlative search
-// (Olson 2009) around the predicted pose on a Gaussian-smoothed likelihood grid, then a Ceres
-// refinement on the bicubic-interpolated probability grid (see ceres_scan_matcher.h).
+// (Olson 2009) around the predicted pose on the probability grid (optionally a Gaussian-smoothed
+// copy), then a Ceres refinement on the bicubic-interpolated probability grid (ceres_scan_matcher.h).
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -19,15 +19,17 @@ struct ScanMatcherOptions {
   CeresScanMatcherOptions ceres;
   bool use_correlative = true;       ///< false: Ceres only, starting at the prediction
   float unknown_probability = 0.1f;  ///< probability given to unexplored cells
-  double blur_sigma_cells = 1.0;     ///< smoothing of the correlative likelihood grid
+  /// Smoothing of the correlative likelihood grid in build_matching_grids (0: search the probability
+  /// grid itself; the local SLAM never blurs, so no grid is rebuilt per scan).
+  double blur_sigma_cells = 0.0;
   /// A match whose final interpolated score is below this is reported as not converged.
-  double min_score = 0.25;
+  double min_score = 0.12;
 };
 
 /// The two grids the matcher needs, built once per submap change.
 struct MatchingGrids {
   ProbabilityGrid probability;  ///< for the Ceres refinement
-  ProbabilityGrid likelihood;   ///< smoothed, for the correlative search
+  ProbabilityGrid likelihood;   ///< smoothed, for the correlative search (empty: use probability)
 };
 MatchingGrids build_matching_grids(const OccupancyGrid& grid, const ScanMatcherOptions& options);
 
@@ -35,6 +37,7 @@ struct ScanMatchResult {
   SE2 pose;                 ///< T_map_base
   double score = 0.0;       ///< mean interpolated probability at the points, 0..1
   double correlative_score = 0.0;
+  int correlative_candidates = 0;
   bool converged = false;
   Covariance3 covariance = Covariance3::Identity();
   std::string reason;       ///< why not converged; empty otherwise
@@ -46,6 +49,10 @@ class ScanMatcher {
 
   ScanMatchResult match(const SE2& predicted_T_map_base, const std::vector<Eigen::Vector2f>& points_base,
                         const MatchingGrids& grids) const;
+  /// Searches and refines on one grid (the live submap grid, no copies).
+  /// `extra_*` widen the correlative window beyond the options' (uncertain predictions).
+  ScanMatchResult match(const SE2& predicted_T_map_base, const std::vector<Eigen::Vector2f>& points_base,
+                        const ProbabilityGrid& grid, double extra_linear_m = 0.0, double extra_angular_rad = 0.0) const;
   const ScanMatcherOptions& options() const { return options_; }
 
  private:

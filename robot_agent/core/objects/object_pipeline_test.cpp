@@ -3,8 +3,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "robot_agent/core/object_detector.h"
-#include "robot_agent/core/object_tracker.h"
+#include "robot_agent/core/objects/object_detector.h"
+#include "robot_agent/core/objects/object_tracker.h"
 #include "robot_agent/core/test_util.h"
 
 namespace cairn::agent {
@@ -91,6 +91,50 @@ TEST(ObjectTracker, KeepsOneIdAndPublishesAfterThreeFrames) {
   EXPECT_LE(r.cloud.size(), 3000u);
   EXPECT_FALSE(r.thumbnail_jpeg.empty());
   for (const ObjectReport& rep : all) EXPECT_TRUE(rep.id.seq == 0 || rep.id.seq == 1);
+}
+
+}  // namespace
+}  // namespace cairn::agent
+
+namespace cairn::agent {
+namespace {
+
+TEST(ObjectDetector, MissingDepthFallsBackToGroundHomography) {
+  RgbdFrame f = synthetic_frame();
+  std::fill(f.depth.begin(), f.depth.end(), 0);
+  const DetectionFrame r = ObjectDetector().analyse(f);
+  EXPECT_TRUE(r.converged);
+  EXPECT_NE(r.reason.find("homography"), std::string::npos);
+  for (const Detection& d : r.detections) {
+    EXPECT_FALSE(d.has_depth);
+    EXPECT_TRUE(d.cloud_base.empty());
+    EXPECT_TRUE(d.centroid_base.allFinite());
+  }
+}
+
+TEST(ObjectDetector, EmptyFrameGivesAReason) {
+  const DetectionFrame r = ObjectDetector().analyse(RgbdFrame{});
+  EXPECT_FALSE(r.converged);
+  EXPECT_FALSE(r.reason.empty());
+}
+
+TEST(ObjectTracker, SurvivesEmptyCloudsAndNonFiniteDetections) {
+  ObjectTracker tracker(RobotId(1));
+  Detection d;
+  d.class_name = "victim";
+  d.centroid_base = Eigen::Vector3d(2, 0, 0.3);
+  d.camera_base = Eigen::Vector3d(0.1, 0, 0.5);
+  Detection bad = d;
+  bad.centroid_base.x() = std::numeric_limits<double>::quiet_NaN();
+  std::vector<ObjectReport> all;
+  for (int i = 0; i < 5; ++i) {
+    const auto r = tracker.update(1000 + i, {d, bad}, SE2(), Anchor{0, SE2()});
+    all.insert(all.end(), r.begin(), r.end());
+  }
+  EXPECT_EQ(tracker.num_tracks(), 1u);
+  ASSERT_FALSE(all.empty());
+  EXPECT_TRUE(all.front().cloud.empty());
+  EXPECT_LT((all.front().T_anchor_object.translation() - d.centroid_base).norm(), 1e-6);
 }
 
 }  // namespace

@@ -1,0 +1,142 @@
+#include "robot_agent/core/fast_correlative_scan_matcher.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "robot_agent/core/correlative_scan_matcher.h"
+
+namespace cairn::agent {
+namespace {
+
+}  // namespace
+
+PrecomputationGrid PrecomputationGrid::from_grid(const ProbabilityGrid& grid) {
+  PrecomputationGrid g;
+  g.width_ = grid.width();
+  g.height_ = grid.height();
+  g.cells_.resize(size_t(g.width_) * g.height_);
+  g.cells_ = grid.field();
+  return g;
+}
+
+PrecomputationGrid PrecomputationGrid::from_previous(const PrecomputationGrid& prev) {
+  // max over a 2b block = max of the four b-blocks at (0,0), (b,0), (0,b), (b,b).
+  PrecomputationGrid g;
+  const int half = prev.block_;
+  g.block_ = 2 * half;
+  g.offset_ = g.block_ - 1;
+  g.width_ = prev.width_ - prev.offset_ + g.offset_;
+  g.height_ = prev.height_ - prev.offset_ + g.offset_;
+  g.cells_.resize(size_t(g.width_) * g.height_);
+  // Separable: horizontal max of the two b-blocks, then vertical max of that.
+  std::vector<uint8_t> horizontal(size_t(g.width_) * prev.height_);
+  for (int pr = 0; pr < prev.height_; ++pr) {
+    const int row = pr - prev.offset_;
+    for (int c = 0; c < g.width_; ++c) {
+      const int col = c - g.offset_;
+      horizontal[size_t(pr) * g.width_ + c] = std::max(prev.at(col, row), prev.at(col + half, row));
+    }
+  }
+  auto h_at = [&](int c, int row) -> uint8_t {
+    const int pr = row + prev.offset_;
+    return (pr >= 0 && pr < prev.height_) ? horizontal[size_t(pr) * g.width_ + c] : 0;
+  };
+  for (int r = 0; r < g.height_; ++r) {
+    const int row = r - g.offset_;
+    for (int c = 0; c < g.width_; ++c) g.cells_[size_t(r) * g.width_ + c] = std::max(h_at(c, row), h_at(c, row + half));
+  }
+  return g;
+}
+
+FastCorrelativeScanMatcher::FastCorrelativeScanMatcher(const ProbabilityGrid& grid,
+                                                       const FastCorrelativeScanMatcherOptions& options)
+    : options_(options), origin_m_(grid.origin_m()), resolution_m_(grid.resolution_m()) {
+  levels_.push_back(PrecomputationGrid::from_grid(grid));
+  for (int h = 1; h < std::max(1, options_.branch_and_bound_depth); ++h) {
+    levels_.push_back(PrecomputationGrid::from_previous(levels_.back()));
+  }
+}
+
+size_t FastCorrelativeScanMatcher::memory_bytes() const {
+  size_t n = 0;
+  for (const auto& l : levels_) n += l.bytes();
+  return n;
+}
+
+int FastCorrelativeScanMatcher::score(const std::vector<Eigen::Vector2i>& cells, int level, int dx, int dy) const {
+  return levels_[size_t(level)].sum(cells, dx, dy);
+}
+
+std::optional<FastCorrelativeScanMatcher::Candidate> FastCorrelativeScanMatcher::search(
+    const std::vector<std::vector<Eigen::Vector2i>>& scans, std::vector<Candidate> candidates, int level,
+    int max_offset, int min_score, int* budget) const {
+  *budget -= int(candidates.size());
+  if (*budget < 0) return std::nullopt;
+  for (Candidate& c : candidates) c.score = score(scans[c.angle], level, c.dx, c.dy);
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  std::optional<Candidate> best;
+  for (const Candidate& c : candidates) {
+    if (c.score < min_score) break;  // sorted: no remaining bound can beat the best
+    if (level == 0) {
+      best = c;
+      min_score = c.score + 1;
+      continue;
+    }
+    const int half = 1 << (level - 1);
+    std::vector<Candidate> children;
+    for (int oy : {0, half}) {
+      for (int ox : {0, half}) {
+        if (c.dx + ox > max_offset || c.dy + oy > max_offset) continue;
+        children.push_back({c.angle, c.dx + ox, c.dy + oy, 0});
+      }
+    }
+    if (*budget < 0) return std::nullopt;
+    if (auto found = search(scans, std::move(children), level - 1, max_offset, min_score, budget)) {
+      best = found;
+      min_score = found->score + 1;
+    }
+  }
+  return best;
+}
+
+std::optional<FastMatch> FastCorrelativeScanMatcher::match(const SE2& initial, const std::vector<Eigen::Vector2f>& points,
+                                                           double linear_window_m, double angular_window_rad,
+                                                           double min_score) const {
+  if (points.empty()) return std::nullopt;
+  double range_m = 0.0;
+  for (const auto& p : points) range_m = std::max(range_m, double(p.norm()));
+  const double step = CorrelativeScanMatcher::angular_step_rad(std::min(range_m, options_.max_range_for_step_m), resolution_m_);
+  const int num_angles = int(std::ceil(angular_window_rad / step));
+  std::vector<std::vector<Eigen::Vector2i>> scans(2 * num_angles + 1);
+  for (int a = -num_angles; a <= num_angles; ++a) {
+    const Eigen::Matrix2d R = Eigen::Rotation2Dd(initial.yaw() + a * step).toRotationMatrix();
+    auto& cells = scans[a + num_angles];
+    cells.reserve(points.size());
+    for (const auto& p : points) {
+      const Eigen::Vector2d q = (R * p.cast<double>() + initial.translation() - origin_m_) / resolution_m_;
+      cells.emplace_back(int(std::floor(q.x())), int(std::floor(q.y())));
+    }
+  }
+  const int n = int(std::ceil(linear_window_m / resolution_m_));
+  // Start at the coarsest level whose block still fits the window: coarser blocks only loosen bounds.
+  int top = 0;
+  while (top + 1 < int(levels_.size()) && (1 << top) < 2 * n + 1) ++top;
+  const int step_cells = 1 << top;
+  std::vector<Candidate> candidates;
+  for (int a = 0; a < int(scans.size()); ++a) {
+    for (int dy = -n; dy <= n; dy += step_cells) {
+      for (int dx = -n; dx <= n; dx += step_cells) candidates.push_back({a, dx, dy, 0});
+    }
+  }
+  const int min_sum = int(std::ceil(std::max(0.0, min_score) * 255.0 * double(points.size())));
+  int budget = options_.max_scored_candidates;
+  const auto best = search(scans, std::move(candidates), top, n, min_sum, &budget);
+  if (!best || budget < 0) return std::nullopt;
+  FastMatch out;
+  out.pose = SE2(initial.translation() + resolution_m_ * Eigen::Vector2d(best->dx, best->dy),
+                 initial.yaw() + (best->angle - num_angles) * step);
+  out.score = best->score / (255.0 * double(points.size()));
+  return out;
+}
+
+}  // namespace cairn::agent

@@ -1,0 +1,91 @@
+#pragma once
+// Branch-and-bound scan matching against a finished submap (Cartographer's
+// FastCorrelativeScanMatcher2D; Hess et al., "Real-Time Loop Closure in 2D LIDAR SLAM", ICRA 2016,
+// Sec. V): a stack of precomputation grids over the submap's likelihood field (probability_grid.h),
+// level h holding for each cell the maximum field value
+// over the 2^h x 2^h block starting there, bounds the score of every translation in such a block.
+// Candidates are explored depth-first, best first, and a subtree is pruned as soon as its bound
+// falls below the best score found, so a window of several metres and tens of degrees is searched
+// exactly (at the grid resolution) in milliseconds.
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "common/se2.h"
+#include "robot_agent/core/probability_grid.h"
+
+namespace cairn::agent {
+
+struct FastCorrelativeScanMatcherOptions {
+  int branch_and_bound_depth = 7;  ///< the coarsest level covers 2^(depth-1) cells
+  double max_range_for_step_m = 15.0;
+  /// Work cap: a search scoring more candidates than this gives up (returns no match), so an
+  /// ambiguous place (loose bounds, nothing prunes) cannot stall the robot.
+  int max_scored_candidates = 40000;
+};
+
+/// Level h of the stack: max over the 2^h x 2^h block with lower-left cell (col, row) of the
+/// likelihood field (0..255).
+class PrecomputationGrid {
+ public:
+  PrecomputationGrid() = default;
+  /// From the grid itself (width 1) or from the previous level (block width = 2 * previous).
+  static PrecomputationGrid from_grid(const ProbabilityGrid& grid);
+  static PrecomputationGrid from_previous(const PrecomputationGrid& previous);
+  uint8_t at(int col, int row) const {
+    const int c = col + offset_, r = row + offset_;
+    return (c >= 0 && r >= 0 && c < width_ && r < height_) ? cells_[size_t(r) * width_ + c] : 0;
+  }
+  int block_cells() const { return block_; }
+  /// Sum of at(c + (dx, dy)) over `cells`.
+  int sum(const std::vector<Eigen::Vector2i>& cells, int dx, int dy) const {
+    int total = 0;
+    const int ox = dx + offset_, oy = dy + offset_;
+    for (const auto& c : cells) {
+      const unsigned col = unsigned(c.x() + ox), row = unsigned(c.y() + oy);
+      if (col < unsigned(width_) && row < unsigned(height_)) total += cells_[size_t(row) * width_ + col];
+    }
+    return total;
+  }
+  size_t bytes() const { return cells_.size(); }
+
+ private:
+  int block_ = 1;
+  int offset_ = 0;  ///< covers cols/rows from -offset_ so blocks straddling the lower edge are kept
+  int width_ = 0, height_ = 0;
+  std::vector<uint8_t> cells_;
+};
+
+struct FastMatch {
+  SE2 pose;        ///< T_grid_base
+  double score = 0.0;  ///< mean likelihood field at the points, 0..1
+};
+
+class FastCorrelativeScanMatcher {
+ public:
+  FastCorrelativeScanMatcher(const ProbabilityGrid& grid, const FastCorrelativeScanMatcherOptions& options = {});
+
+  /// Best pose within +-linear_window_m / +-angular_window_rad of `initial_T_grid_base` whose score
+  /// is at least `min_score`; nullopt when none reaches it.
+  std::optional<FastMatch> match(const SE2& initial_T_grid_base, const std::vector<Eigen::Vector2f>& points_base,
+                                 double linear_window_m, double angular_window_rad, double min_score) const;
+  size_t memory_bytes() const;
+
+ private:
+  struct Candidate {
+    int angle = 0, dx = 0, dy = 0;
+    int score = 0;
+  };
+  int score(const std::vector<Eigen::Vector2i>& cells, int level, int dx, int dy) const;
+  std::optional<Candidate> search(const std::vector<std::vector<Eigen::Vector2i>>& scans,
+                                  std::vector<Candidate> candidates, int level, int max_offset, int min_score,
+                                  int* budget) const;
+
+  FastCorrelativeScanMatcherOptions options_;
+  Eigen::Vector2d origin_m_;
+  double resolution_m_;
+  std::vector<PrecomputationGrid> levels_;
+};
+
+}  // namespace cairn::agent

@@ -1,0 +1,123 @@
+#include "robot_agent/core/loop_closure.h"
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+#include <random>
+
+#include "robot_agent/core/local_slam.h"
+#include "robot_agent/core/test_util.h"
+
+namespace cairn::agent {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+ProbabilityGrid room_grid(const std::vector<testing::Segment>& room) {
+  ProbabilityGrid grid(Eigen::Vector2d(-1, -1), 0.05, 40, 40);
+  RangeDataInserter inserter;
+  for (const SE2& p : {SE2(0, 0, 0), SE2(1.5, 0.5, 0.4), SE2(-1.5, -1.0, -0.7), SE2(1.0, -2.0, 2.0)}) {
+    for (int k = 0; k < 5; ++k) inserter.insert(p, scan_to_points(testing::ray_cast(room, p, 0)), &grid);
+  }
+  return grid;
+}
+
+TEST(RangeDataInserter, HitsRaiseAndMissesLowerProbability) {
+  ProbabilityGrid grid(Eigen::Vector2d(-5, -5), 0.05, 200, 200);
+  RangeDataInserter inserter;
+  const std::vector<Eigen::Vector2f> points = {{2.0f, 0.0f}};
+  for (int i = 0; i < 10; ++i) inserter.insert(SE2(), points, &grid);
+  const Eigen::Vector2i hit = grid.cell_of({2.01, 0.01}), free = grid.cell_of({1.0, 0.01});
+  EXPECT_GT(grid.at(hit.x(), hit.y(), 0.f), 0.7f);
+  EXPECT_LT(grid.at(free.x(), free.y(), 1.f), 0.45f);
+  EXPECT_FALSE(grid.known(grid.cell_of({0.0, 1.0}).x(), grid.cell_of({0.0, 1.0}).y()));
+  inserter.insert(SE2(0, 0, 0), {{20.0f, 0.0f}}, &grid);  // grows to fit
+  EXPECT_TRUE(grid.contains(grid.cell_of({20.0, 0.0}).x(), grid.cell_of({20.0, 0.0}).y()));
+  EXPECT_GT(grid.at(grid.cell_of({2.01, 0.01}).x(), grid.cell_of({2.01, 0.01}).y(), 0.f), 0.6f);
+}
+
+TEST(FastCorrelativeScanMatcher, FindsALargeOffsetAndCeresRefinesIt) {
+  const auto room = testing::make_room();
+  const ProbabilityGrid grid = room_grid(room);
+  const FastCorrelativeScanMatcher fast(grid);
+  const CeresScanMatcher ceres;
+  for (const SE2& truth : {SE2(0.3, 0.2, 0.1), SE2(-1.0, -0.5, -1.2)}) {
+    const auto points = voxel_filter_2d(scan_to_points(testing::ray_cast(room, truth, 0)), 0.08);
+    const auto found = fast.match(truth * SE2(1.2, -0.9, 15 * kDeg), points, 2.5, 25 * kDeg, 0.5);
+    ASSERT_TRUE(found);
+    EXPECT_LT((found->pose.translation() - truth.translation()).norm(), 0.08);
+    const CeresMatch refined = ceres.match(found->pose, points, grid);
+    ASSERT_TRUE(refined.converged);
+    EXPECT_LT((refined.pose.translation() - truth.translation()).norm(), 0.01);
+    EXPECT_LT(std::abs(normalize_angle(refined.pose.yaw() - truth.yaw())), 0.5 * kDeg);
+    // A score threshold nothing reaches: no match.
+    EXPECT_FALSE(fast.match(truth, points, 0.5, 5 * kDeg, 0.95));
+  }
+}
+
+TEST(PoseGraph2D, LoopConstraintPullsADriftedChainBack) {
+  PoseGraph2D graph;
+  graph.add_submap(SE2());
+  SE2 local;
+  for (int i = 0; i < 40; ++i) {
+    // A square of 10 steps per side in the local frame, with a yaw bias of 0.25 deg per step.
+    const SE2 step = (i % 10 == 9) ? SE2(0.5, 0, M_PI / 2 + 0.25 * kDeg) : SE2(0.5, 0, 0.25 * kDeg);
+    if (i > 0) local = local * step;
+    const int n = graph.add_node(local, local);
+    if (n == 0) graph.add_constraint({0, 0, SE2(), PoseGraphConstraint::Kind::kIntraSubmap, 1.0});
+  }
+  // The last node is truly back at the start, rotated by 4 x 90 deg - 0.5 m along x before it.
+  graph.add_constraint({0, 39, SE2(-0.5, 0, 0), PoseGraphConstraint::Kind::kLoopClosure, 0.9});
+  const double before = (graph.node_pose(39).translation() - Eigen::Vector2d(-0.5, 0)).norm();
+  ASSERT_TRUE(graph.optimize());
+  const double after = (graph.node_pose(39).translation() - Eigen::Vector2d(-0.5, 0)).norm();
+  EXPECT_GT(before, 0.5);
+  EXPECT_LT(after, 0.05);
+}
+
+// Local SLAM made to trust drifting odometry (huge Ceres regularisers, no correlative search), two
+// laps of a square: without loop closure the end drifts; with it the second lap snaps onto the first.
+double two_laps_end_error_m(bool loop_closure) {
+  const auto room = testing::make_room();
+  std::vector<SE2> truth;
+  SE2 pose(-2.0, -2.0, 0.0);
+  truth.push_back(pose);
+  for (int lap = 0; lap < 2; ++lap) {
+    for (int side = 0; side < 4; ++side) {
+      for (int i = 0; i < 20; ++i) truth.push_back(pose = pose * SE2(0.2, 0.0, 0.0));
+      for (int i = 0; i < 3; ++i) truth.push_back(pose = pose * SE2(0.0, 0.0, 30 * kDeg));
+    }
+  }
+  LocalSlamOptions o;
+  o.matcher.use_correlative = false;
+  o.matcher.ceres.translation_weight = o.matcher.ceres.rotation_weight = 1e4;
+  o.submaps.scans_per_submap = 10;
+  o.loop_closure.enabled = loop_closure;
+  o.loop_closure.search_every_n_nodes = 4;
+  o.loop_closure.optimize_every_n_nodes = 10;
+  LocalSlam slam(o);
+  SE2 odom = truth.front();
+  for (size_t i = 0; i < truth.size(); ++i) {
+    if (i > 0) {
+      const SE2 d = truth[i - 1].between(truth[i]);
+      odom = odom * SE2(1.02 * d.x(), d.y(), d.yaw() + 2.0 * kDeg * d.translation().norm());
+    }
+    slam.add_scan(testing::ray_cast(room, truth[i], StampNs(i) * kNsPerSec / 5, 360, 0.005, unsigned(i)),
+                  truth.front().inverse() * odom);
+  }
+  slam.finish();
+  const SE2 end = truth.front() * slam.optimized_trajectory().back().pose;
+  return (end.translation() - truth.back().translation()).norm();
+}
+
+TEST(LoopClosure, ClosesASyntheticLoop) {
+  const double open = two_laps_end_error_m(false);
+  const double closed = two_laps_end_error_m(true);
+  EXPECT_GT(open, 0.3);
+  EXPECT_LT(closed, 0.15);
+  EXPECT_LT(closed, 0.3 * open);
+  std::cout << "end error: open loop " << open << " m, closed " << closed << " m\n";
+}
+
+}  // namespace
+}  // namespace cairn::agent

@@ -1,0 +1,131 @@
+#include "robot_agent/core/objects/objects_sim_eval.h"
+
+#include <chrono>
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "robot_agent/core/agent_pipeline.h"
+#include "sim/simulator.h"
+#include "sim/world.h"
+
+namespace cairn::agent {
+namespace {
+
+struct Placed {
+  std::string class_name;
+  Eigen::Vector3d p;
+  int weight;
+};
+
+std::vector<Placed> merge_reports(std::vector<Placed> in, double merge_m) {
+  std::vector<Placed> out;
+  for (const Placed& r : in) {
+    bool merged = false;
+    for (Placed& o : out) {
+      if (o.class_name != r.class_name || (o.p - r.p).head<2>().norm() > merge_m) continue;
+      o.p = (o.p * o.weight + r.p * r.weight) / double(o.weight + r.weight);
+      o.weight += r.weight;
+      merged = true;
+      break;
+    }
+    if (!merged) out.push_back(r);
+  }
+  return out;
+}
+
+ClassScore score(const std::string& cls, const std::vector<sim::WorldObject>& truth, const std::vector<Placed>& found,
+                 double match_m) {
+  ClassScore s;
+  s.class_name = cls;
+  std::vector<bool> used(found.size(), false);
+  for (const Placed& f : found) s.detected += (cls == "all" || f.class_name == cls);
+  for (const sim::WorldObject& t : truth) {
+    if (cls != "all" && t.object_class != cls) continue;
+    ++s.ground_truth;
+    int best = -1;
+    double best_d = match_m;
+    for (size_t i = 0; i < found.size(); ++i) {
+      if (used[i] || found[i].class_name != t.object_class) continue;
+      const double d = (found[i].p - t.center_m).head<2>().norm();
+      if (d <= best_d) best_d = d, best = int(i);
+    }
+    if (best < 0) continue;
+    used[size_t(best)] = true;
+    ++s.matched;
+    s.mean_error_xy_m += best_d;
+    s.max_error_xy_m = std::max(s.max_error_xy_m, best_d);
+    s.mean_error_xyz_m += (found[size_t(best)].p - t.center_m).norm();
+  }
+  if (s.matched) s.mean_error_xy_m /= s.matched, s.mean_error_xyz_m /= s.matched;
+  return s;
+}
+
+}  // namespace
+
+std::string SimEvalResult::summary() const {
+  std::ostringstream o;
+  o.precision(3);
+  for (const ClassScore& c : classes) {
+    o << c.class_name << ": " << c.matched << "/" << c.ground_truth << " found, " << c.detected << " reported, recall "
+      << c.recall() << " precision " << c.precision() << ", error " << c.mean_error_xy_m << " m xy mean ("
+      << c.max_error_xy_m << " max, " << c.mean_error_xyz_m << " xyz)\n";
+  }
+  o << frames << " RGB-D frames, " << reports << " reports, " << wall_ms_per_frame << " ms per frame\n";
+  return o.str();
+}
+
+SimEvalResult evaluate_objects_in_world(const std::string& world_yaml, const SimEvalOptions& options) {
+  const sim::WorldFile wf = sim::load_world_file(world_yaml);
+  sim::SimOptions so = wf.sim;
+  if (options.max_sim_s > 0) so.duration_s = std::min(so.duration_s, options.max_sim_s);
+  sim::Simulator sim(wf.world, so);
+  std::map<int, std::unique_ptr<AgentPipeline>> agents;
+  std::map<int, std::map<int32_t, SE2>> anchors;
+  std::map<ObjectId, ObjectReport> latest;
+  for (RobotId id : sim.robot_ids()) agents.emplace(id.value, std::make_unique<AgentPipeline>(id, options.agent));
+  SimEvalResult result;
+  double wall_ms = 0.0;
+  auto consume = [&](int robot, AgentOutputs out) {
+    for (const Keyframe& k : out.keyframes) anchors[robot][k.id.seq] = k.T_local_base;
+    for (ObjectReport& r : out.objects) latest[r.id] = std::move(r);
+  };
+  while (!sim.done()) {
+    const sim::SimStep step = sim.step();
+    for (const auto& o : step.odometry) agents.at(o.robot.value)->add_odometry(o.reading);
+    for (const auto& s : step.scans) agents.at(s.robot.value)->add_scan(s.reading);
+    for (const auto& f : step.frames) agents.at(f.robot.value)->add_rgbd(f.reading), ++result.frames;
+    for (auto& [robot, agent] : agents) {
+      const auto t0 = std::chrono::steady_clock::now();
+      AgentOutputs out = agent->process(false);
+      wall_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      consume(robot, std::move(out));
+    }
+  }
+  for (auto& [robot, agent] : agents) consume(robot, agent->process(true));
+  std::vector<Placed> placed;
+  for (const auto& [id, r] : latest) {
+    const auto a = anchors[id.robot.value].find(r.anchor_seq);
+    if (a == anchors[id.robot.value].end()) continue;
+    const Eigen::Isometry3d T = sim.T_world_start(id.robot).to_isometry3() * a->second.to_isometry3() * r.T_anchor_object;
+    placed.push_back({r.class_name, T.translation(), std::max(1, r.observations)});
+    std::ostringstream line;
+    line.precision(3);
+    line << to_string(id) << " " << r.class_name << " at " << T.translation().transpose() << " obs " << r.observations
+         << " conf " << r.confidence;
+    result.placed.push_back(line.str());
+  }
+  result.reports = int(latest.size());
+  const std::vector<Placed> merged = merge_reports(placed, options.merge_distance_m);
+  std::vector<std::string> classes;
+  for (const sim::WorldObject& o : wf.world.objects)
+    if (std::find(classes.begin(), classes.end(), o.object_class) == classes.end()) classes.push_back(o.object_class);
+  std::sort(classes.begin(), classes.end());
+  classes.push_back("all");
+  for (const std::string& c : classes) result.classes.push_back(score(c, wf.world.objects, merged, options.match_distance_m));
+  result.wall_ms_per_frame = result.frames ? wall_ms / result.frames : 0.0;
+  return result;
+}
+
+}  // namespace cairn::agent

@@ -1,0 +1,40 @@
+#pragma once
+// Core-level evaluation of the object pipeline in a simulated world, without DDS: the sim core
+// renders every robot's sensors, one AgentPipeline per robot consumes them, the latest report of
+// each object is placed in the world through its anchor keyframe and the robot's true start pose
+// (T_world_object = T_world_start * T_local_anchor * T_anchor_object, Eqs. 20-21), reports of the
+// same class closer than merge_distance_m are merged (as the base does), and the result is scored
+// against the world's objects like tools/eval: same class within match_distance_m (xy).
+#include <string>
+#include <vector>
+
+#include "robot_agent/core/agent_options.h"
+
+namespace cairn::agent {
+
+struct ClassScore {
+  std::string class_name;  ///< "all" for the total
+  int ground_truth = 0, detected = 0, matched = 0;
+  double mean_error_xy_m = 0.0, max_error_xy_m = 0.0, mean_error_xyz_m = 0.0;
+  double recall() const { return ground_truth ? double(matched) / ground_truth : 0.0; }
+  double precision() const { return detected ? double(matched) / detected : 0.0; }
+};
+
+struct SimEvalOptions {
+  double match_distance_m = 1.0;
+  double merge_distance_m = 0.8;
+  double max_sim_s = -1.0;  ///< < 0: the world's duration
+  AgentOptions agent;
+};
+
+struct SimEvalResult {
+  std::vector<ClassScore> classes;  ///< per class, then "all" last
+  int frames = 0, reports = 0;
+  double wall_ms_per_frame = 0.0;   ///< detection + tracking + SLAM, whole AgentPipeline::process
+  std::vector<std::string> placed;  ///< one line per report placed in the world (for diagnosis)
+  std::string summary() const;
+};
+
+SimEvalResult evaluate_objects_in_world(const std::string& world_yaml, const SimEvalOptions& options = {});
+
+}  // namespace cairn::agent

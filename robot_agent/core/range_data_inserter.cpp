@@ -1,0 +1,83 @@
+#include "robot_agent/core/range_data_inserter.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cairn::agent {
+
+std::vector<uint16_t> compute_update_table(float probability) {
+  const double odds = probability / (1.0 - probability);
+  std::vector<uint16_t> table(kMaxValue + 1);
+  table[kUnknownValue] = uint16_t(probability_to_value(probability) + kUpdateMarker);
+  for (int v = 1; v <= kMaxValue; ++v) {
+    const double p = value_to_probability(uint16_t(v));
+    const double o = odds * p / (1.0 - p);
+    table[v] = uint16_t(probability_to_value(float(o / (1.0 + o))) + kUpdateMarker);
+  }
+  return table;
+}
+
+RangeDataInserter::RangeDataInserter(const RangeDataInserterOptions& options)
+    : options_(options),
+      hit_table_(compute_update_table(options.hit_probability)),
+      miss_table_(compute_update_table(options.miss_probability)) {}
+
+void RangeDataInserter::apply(size_t index, const std::vector<uint16_t>& table, std::vector<uint16_t>* cells,
+                              std::vector<size_t>* touched) const {
+  uint16_t& v = (*cells)[index];
+  if (v >= kUpdateMarker) return;  // already updated by this scan
+  v = table[v];
+  touched->push_back(index);
+}
+
+void RangeDataInserter::insert(const SE2& T, const std::vector<Eigen::Vector2f>& points,
+                               ProbabilityGrid* grid) const {
+  if (points.empty()) return;
+  const Eigen::Vector2d origin = T.translation();
+  std::vector<Eigen::Vector2d> ends;
+  std::vector<bool> hit;
+  ends.reserve(points.size());
+  Eigen::Vector2d lo = origin, hi = origin;
+  for (const auto& p : points) {
+    const double r = p.norm();
+    const bool cut = r > options_.max_ray_length_m;
+    const Eigen::Vector2d q = cut ? Eigen::Vector2d(p.cast<double>() * (options_.max_ray_length_m / r))
+                                  : Eigen::Vector2d(p.cast<double>());
+    ends.push_back(T * q);
+    hit.push_back(!cut);
+    lo = lo.cwiseMin(ends.back());
+    hi = hi.cwiseMax(ends.back());
+  }
+  const double pad = 2 * grid->resolution_m();
+  grid->grow_to_include(lo - Eigen::Vector2d(pad, pad), hi + Eigen::Vector2d(pad, pad));
+  std::vector<uint16_t>& cells = grid->mutable_values();
+  const int w = grid->width();
+  std::vector<size_t>& touched = touched_;
+  touched.clear();
+  for (size_t i = 0; i < ends.size(); ++i) {
+    if (!hit[i]) continue;
+    const Eigen::Vector2i c = grid->cell_of(ends[i]);
+    apply(size_t(c.y()) * w + c.x(), hit_table_, &cells, &touched);
+    grid->splat_hit(c.x(), c.y(), options_.field_sigma_cells);
+  }
+  if (options_.insert_free_space) {
+    const Eigen::Vector2i o = grid->cell_of(origin);
+    for (const Eigen::Vector2d& e : ends) {
+      // Bresenham from the sensor cell to (excluding) the endpoint cell.
+      const Eigen::Vector2i c = grid->cell_of(e);
+      int x = o.x(), y = o.y();
+      const int dx = std::abs(c.x() - x), dy = -std::abs(c.y() - y);
+      const int sx = x < c.x() ? 1 : -1, sy = y < c.y() ? 1 : -1;
+      int err = dx + dy;
+      while (x != c.x() || y != c.y()) {
+        apply(size_t(y) * w + x, miss_table_, &cells, &touched);
+        const int e2 = 2 * err;
+        if (e2 >= dy) { err += dy; x += sx; }
+        if (e2 <= dx) { err += dx; y += sy; }
+      }
+    }
+  }
+  for (size_t index : touched) cells[index] -= kUpdateMarker;
+}
+
+}  // namespace cairn::agent

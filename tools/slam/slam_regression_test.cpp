@@ -1,0 +1,58 @@
+// Real-data regression of the robot agent's 2D SLAM (local SLAM + loop closure) as cairn_slam runs
+// it: raw MIT CSAIL against the GMapping-corrected reference (scans matched by ranges), and the
+// ACES corrected log with seeded odometry noise (10 % of distance, 3 deg per metre) against its own
+// poses. The target is an ATE of 0.05 m; the bounds below are the regression guard at the
+// accuracy measured when this was written (MIT 0.076 m, ACES 0.167 m, see the README of tools/slam)
+// with a margin, so a change that loses accuracy fails loudly.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "tools/slam/slam_eval.h"
+#include "tools/slam/slam_runner.h"
+
+namespace cairn::slam {
+namespace {
+
+const std::string kData = std::string(CAIRN_SHARED_DATA_DIR) + "/carmen/";
+
+double ate_m(const Trajectory& estimate, const Trajectory& reference) {
+  const auto e = trajectory_error(sample_at(estimate, reference, kNsPerSec), reference);
+  EXPECT_TRUE(e.has_value());
+  return e ? e->ate_rmse_m : 1e9;
+}
+
+TEST(SlamRegression, MitCsailRawAgainstCorrectedReference) {
+  const std::string raw_path = kData + "mit-csail/mit-csail.clf", ref_path = kData + "mit-csail/csail.corrected.log";
+  if (!std::ifstream(raw_path)) GTEST_SKIP() << "data absent: " << raw_path;
+  if (!std::ifstream(ref_path)) GTEST_SKIP() << "data absent: " << ref_path;
+  const CarmenLog raw = read_carmen_log(raw_path), corrected = read_carmen_log(ref_path);
+  int unmatched = -1;
+  const Trajectory reference = reference_from_corrected(corrected, &raw, &unmatched);
+  EXPECT_EQ(unmatched, 0);
+  EXPECT_EQ(reference.size(), corrected.scans.size());
+  const SlamRunResult r = run_slam(raw, false, SlamRunOptions{});
+  EXPECT_EQ(r.stats.scans, 1988);
+  EXPECT_GT(r.stats.loop_closures, 100);
+  const double slam = ate_m(r.trajectory, reference), odometry = ate_m(r.odometry, reference);
+  RecordProperty("ate_m", std::to_string(slam));
+  std::cout << "MIT CSAIL raw: ATE " << slam << " m (odometry " << odometry << " m)\n";
+  EXPECT_GT(odometry, 1.0);
+  EXPECT_LT(slam, 0.10);
+}
+
+TEST(SlamRegression, AcesCorrectedWithNoisyOdometry) {
+  const std::string path = kData + "aces/aces-corrected.log.gz";
+  if (!std::ifstream(path)) GTEST_SKIP() << "data absent: " << path;
+  const CarmenLog log = read_carmen_log(path);
+  const SlamRunResult r = run_slam(log, true, SlamRunOptions{});
+  const Trajectory reference = reference_from_corrected(log);
+  const double slam = ate_m(r.trajectory, reference), odometry = ate_m(r.odometry, reference);
+  RecordProperty("ate_m", std::to_string(slam));
+  std::cout << "ACES + noise: ATE " << slam << " m (odometry " << odometry << " m)\n";
+  EXPECT_GT(odometry, 1.0);
+  EXPECT_LT(slam, 0.25);
+}
+
+}  // namespace
+}  // namespace cairn::slam

@@ -1,0 +1,84 @@
+#include "tools/slam/slam_runner.h"
+
+#include <sys/resource.h>
+
+#include <chrono>
+#include <unordered_map>
+
+namespace cairn::slam {
+
+double process_cpu_s() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+double peak_rss_mb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
+
+namespace {
+
+std::vector<SE2> odometry_of(const CarmenLog& log, bool corrected, const OdometryNoiseOptions& noise) {
+  std::vector<SE2> poses;
+  poses.reserve(log.scans.size());
+  // Raw logs: the FLASER pose fields are the wheel odometry. Corrected logs: noise the reference.
+  for (const CarmenScan& s : log.scans) poses.push_back(s.T_world_laser);
+  return corrected ? add_odometry_noise(poses, noise) : poses;
+}
+
+void count(const agent::LocalSlamResult& r, SlamRunStats* s) {
+  using S = agent::LocalSlamResult::Status;
+  switch (r.status) {
+    case S::kFirstScan:
+    case S::kMatched: ++s->matched; break;
+    case S::kMotionFiltered: ++s->motion_filtered; break;
+    case S::kMatchFailed: ++s->match_failed; break;
+    case S::kTooFewPoints: ++s->too_few_points; break;
+  }
+  s->beams += r.filter_stats;
+}
+
+}  // namespace
+
+SlamRunResult run_slam(const CarmenLog& log, bool corrected, const SlamRunOptions& options) {
+  SlamRunResult out;
+  const std::vector<SE2> odometry = odometry_of(log, corrected, options.noise);
+  const auto wall0 = std::chrono::steady_clock::now();
+  const double cpu0 = process_cpu_s();
+  agent::LocalSlam slam(options.slam);
+  for (size_t i = 0; i < log.scans.size(); ++i) {
+    const CarmenScan& s = log.scans[i];
+    const std::optional<SE2> odom = options.use_odometry ? std::optional<SE2>(odometry[i]) : std::nullopt;
+    count(slam.add_scan(s.scan, odom), &out.stats);
+    ++out.stats.scans;
+  }
+  slam.finish();
+  out.trajectory = slam.optimized_trajectory();
+  out.stats.slam_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  out.stats.slam_cpu_s = process_cpu_s() - cpu0;
+  for (size_t i = 0; i < log.scans.size(); ++i) out.odometry.push_back({log.scans[i].stamp_ns, odometry[i]});
+  if (!log.scans.empty()) out.stats.log_duration_s = ns_to_sec(log.scans.back().stamp_ns - log.scans.front().stamp_ns);
+  const agent::LoopClosure& lc = slam.loop_closure();
+  out.stats.nodes = lc.num_nodes();
+  out.stats.submaps = lc.graph().num_submaps();
+  out.stats.loop_closures = lc.stats().loop_closures;
+  out.stats.loop_searches = lc.stats().searches;
+  out.stats.optimizations = lc.stats().optimizations;
+  return out;
+}
+
+OccupancyGrid render_map(const CarmenLog& log, const Trajectory& trajectory, const OccupancyGridOptions& options) {
+  std::unordered_map<StampNs, SE2> by_stamp;
+  for (const auto& p : trajectory) by_stamp[p.stamp_ns] = p.pose;
+  OccupancyGrid grid(options);
+  for (const CarmenScan& s : log.scans) {
+    const auto it = by_stamp.find(s.stamp_ns);
+    if (it != by_stamp.end()) grid.insert_scan(it->second, scan_to_points(s.scan));
+  }
+  return grid;
+}
+
+}  // namespace cairn::slam

@@ -1,0 +1,51 @@
+#pragma once
+// Offline 2D SLAM over a CARMEN log (tools/slam): feeds every scan, with its odometry, through the
+// robot agent's LocalSlam (the same core the agent runs), as fast as it can, and renders the final
+// map from the optimised poses. Corrected logs (no raw odometry) get seeded synthetic odometry
+// noise (common/odometry_noise.h) so they stand in for raw logs.
+#include <optional>
+#include <string>
+
+#include "common/carmen_log.h"
+#include "common/occupancy_grid.h"
+#include "common/odometry_noise.h"
+#include "common/trajectory.h"
+#include "robot_agent/core/local_slam.h"
+
+namespace cairn::slam {
+
+struct SlamRunOptions {
+  agent::LocalSlamOptions slam;
+  /// Odometry for corrected logs: noise added to the corrected trajectory.
+  OdometryNoiseOptions noise;
+  bool use_odometry = true;
+  OccupancyGridOptions map;  ///< the rendered map
+};
+
+struct SlamRunStats {
+  int scans = 0, matched = 0, motion_filtered = 0, match_failed = 0, too_few_points = 0;
+  int nodes = 0, submaps = 0, loop_closures = 0, loop_searches = 0, optimizations = 0;
+  ScanFilterStats beams;
+  double log_duration_s = 0;
+  double slam_wall_s = 0, slam_cpu_s = 0;
+  double scans_per_s() const { return slam_wall_s > 0 ? scans / slam_wall_s : 0; }
+  double real_time_factor() const { return slam_wall_s > 0 ? log_duration_s / slam_wall_s : 0; }
+};
+
+struct SlamRunResult {
+  Trajectory trajectory;       ///< every scan, optimised frame
+  Trajectory odometry;         ///< the odometry fed in (noisy for corrected logs)
+  SlamRunStats stats;
+};
+
+/// Runs the SLAM over a log. `corrected`: the log's poses are a reference, not odometry.
+SlamRunResult run_slam(const CarmenLog& log, bool corrected, const SlamRunOptions& options);
+
+/// Occupancy map of all scans placed at `trajectory` (matched by stamp).
+OccupancyGrid render_map(const CarmenLog& log, const Trajectory& trajectory, const OccupancyGridOptions& options);
+
+/// Process CPU time (user + system) and peak resident memory.
+double process_cpu_s();
+double peak_rss_mb();
+
+}  // namespace cairn::slam
