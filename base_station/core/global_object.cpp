@@ -1,10 +1,196 @@
 #include "base_station/core/global_object.h"
 
+#include <algorithm>
 #include <cmath>
-#include <map>
-#include <tuple>
+#include <numeric>
+
+#include "common/registration/rgb_icp.h"
 
 namespace cairn::base {
+namespace {
+
+ColoredCloud placed_cloud(const PlacedObjectReport& p) {
+  ColoredCloud out;
+  out.reserve(p.report->cloud.size());
+  for (const ColoredPoint& q : p.report->cloud) {
+    const Eigen::Vector3d g = p.T_global_object * Eigen::Vector3d(q.x, q.y, q.z);
+    if (g.allFinite()) out.push_back(ColoredPoint{float(g.x()), float(g.y()), float(g.z()), q.r, q.g, q.b});
+  }
+  return out;
+}
+
+Eigen::AlignedBox3d bounds(const ColoredCloud& c) {
+  Eigen::AlignedBox3d box;
+  for (const ColoredPoint& p : c) box.extend(Eigen::Vector3d(p.x, p.y, p.z));
+  return box;
+}
+
+double weight(const ObjectReport& r) { return std::max(1, r.observations); }
+
+/// RGB-ICP of `source` onto `target` (both global), seeded with the identity.
+registration::RgbIcpResult align(const ColoredCloud& source, const ColoredCloud& target, const ObjectMergeOptions& o) {
+  registration::RgbIcpOptions icp;
+  icp.use_features = false;
+  icp.voxel_m = o.icp_voxel_m;
+  icp.max_correspondence_m = o.icp_max_correspondence_m;
+  icp.max_iterations = o.icp_max_iterations;
+  icp.delta_translation_m = 1e-4;
+  icp.delta_rotation_rad = 1e-4;
+  icp.min_points = o.min_cloud_points;
+  icp.min_eigen_ratio = o.icp_min_eigen_ratio;
+  return registration::rgb_icp(source, target, Eigen::Isometry3d::Identity(), icp);
+}
+
+int find_root(std::vector<int>& parent, int i) {
+  while (parent[size_t(i)] != i) i = parent[size_t(i)] = parent[size_t(parent[size_t(i)])];
+  return i;
+}
+
+GlobalObject fuse(const std::vector<PlacedObjectReport>& placed, const std::vector<int>& members,
+                  const std::string& reason, const ObjectMergeOptions& o);
+
+}  // namespace
+
+MergeCheck check_same_object(const PlacedObjectReport& a, const PlacedObjectReport& b, const ObjectMergeOptions& o) {
+  MergeCheck c;
+  if (a.report->class_name != b.report->class_name) return c.reason = "different class", c;
+  const double d = (a.T_global_object.translation() - b.T_global_object.translation()).norm();
+  const double extent = std::max(a.report->size_m.maxCoeff(), b.report->size_m.maxCoeff());
+  const double gate = std::min(o.max_gate_m, std::max(o.min_gate_m, o.size_factor * extent));
+  const ColoredCloud ca = placed_cloud(a), cb = placed_cloud(b);
+  const bool clouds = int(ca.size()) >= o.min_cloud_points && int(cb.size()) >= o.min_cloud_points;
+  bool boxes = false;
+  if (clouds) {
+    const Eigen::AlignedBox3d ba = bounds(ca), bb = bounds(cb);
+    boxes = ba.exteriorDistance(bb) <= o.bbox_margin_m;
+  }
+  c.candidate = d <= gate || (boxes && d <= o.max_gate_m);
+  if (!c.candidate) return c.reason = "no overlap: centroids " + std::to_string(d) + " m apart", c;
+  if (!clouds) {
+    c.accepted = true;
+    return c.reason = "accepted by centroid gate: a cloud has too few points to verify", c;
+  }
+  const bool a_smaller = ca.size() < cb.size();  // register the smaller cloud onto the larger
+  const registration::RgbIcpResult r = a_smaller ? align(ca, cb, o) : align(cb, ca, o);
+  c.fitness = r.score;
+  c.rmse_m = r.rmse_m;
+  c.T_a_b = a_smaller ? r.T_target_source.inverse() : r.T_target_source;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // of the registered (source) cloud
+  for (const ColoredPoint& p : a_smaller ? ca : cb) centroid += Eigen::Vector3d(p.x, p.y, p.z);
+  centroid /= double(a_smaller ? ca.size() : cb.size());
+  const double dt = (r.T_target_source * centroid - centroid).norm();  // how far the object moves
+  const double dr = Eigen::AngleAxisd(r.T_target_source.linear()).angle();
+  if (r.score < o.min_fitness) return c.reason = "ICP fitness " + std::to_string(r.score) + " too low (" + r.reason + ")", c;
+  if (r.rmse_m > o.max_rmse_m) return c.reason = "ICP RMSE " + std::to_string(r.rmse_m) + " m too high", c;
+  if (dt > o.max_correction_m || dr > o.max_correction_rad)
+    return c.reason = "ICP correction too large (" + std::to_string(dt) + " m, " + std::to_string(dr) + " rad)", c;
+  c.accepted = true;
+  c.reason = "ICP fitness " + std::to_string(r.score) + ", RMSE " + std::to_string(r.rmse_m) + " m" +
+             (r.degenerate ? " (weakly constrained directions held at the placement)" : "");
+  return c;
+}
+
+std::vector<GlobalObject> merge_object_reports(const std::vector<PlacedObjectReport>& placed,
+                                               const ObjectMergeOptions& options) {
+  std::vector<int> parent(placed.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<std::string> reasons(placed.size());
+  for (size_t i = 0; i < placed.size(); ++i) {
+    for (size_t j = i + 1; j < placed.size(); ++j) {
+      if (placed[i].report->class_name != placed[j].report->class_name) continue;
+      const int a = find_root(parent, int(i)), b = find_root(parent, int(j));
+      if (a == b) continue;
+      const MergeCheck c = check_same_object(placed[i], placed[j], options);
+      if (!c.accepted) continue;
+      parent[size_t(std::max(a, b))] = std::min(a, b);  // smallest index (= smallest ObjectId) is the root
+      reasons[size_t(std::min(a, b))] += (reasons[size_t(std::min(a, b))].empty() ? "" : "; ") +
+                                         to_string(placed[i].report->id) + "+" + to_string(placed[j].report->id) +
+                                         ": " + c.reason;
+    }
+  }
+  std::vector<std::vector<int>> groups(placed.size());
+  for (size_t i = 0; i < placed.size(); ++i) groups[size_t(find_root(parent, int(i)))].push_back(int(i));
+  std::vector<GlobalObject> out;
+  for (size_t g = 0; g < groups.size(); ++g)
+    if (!groups[g].empty()) out.push_back(fuse(placed, groups[g], reasons[g], options));
+  std::sort(out.begin(), out.end(), [](const GlobalObject& a, const GlobalObject& b) { return a.id < b.id; });
+  return out;
+}
+
+namespace {
+
+/// Union of the members' clouds, each aligned onto the most observed member's cloud by RGB-ICP
+/// (kept unaligned when the check fails), then shifted so that the reference's placement error is
+/// averaged like the positions: the cloud sits at the observation-weighted mean.
+ColoredCloud fused_cloud(const std::vector<PlacedObjectReport>& placed, const std::vector<int>& members, int ref,
+                         const Eigen::Vector3d& mean_m, const ObjectMergeOptions& o) {
+  const ColoredCloud ref_cloud = placed_cloud(placed[size_t(ref)]);
+  ColoredCloud all = ref_cloud;
+  Eigen::Vector3d mean_in_ref = Eigen::Vector3d::Zero();
+  double wsum = 0.0;
+  for (int i : members) {
+    const double w = weight(*placed[size_t(i)].report);
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    if (i != ref) {
+      const MergeCheck c = check_same_object(placed[size_t(ref)], placed[size_t(i)], o);
+      if (c.accepted && c.fitness > 0.0) T = c.T_a_b;
+      for (const ColoredPoint& p : placed_cloud(placed[size_t(i)])) {
+        const Eigen::Vector3d q = T * Eigen::Vector3d(p.x, p.y, p.z);
+        all.push_back(ColoredPoint{float(q.x()), float(q.y()), float(q.z()), p.r, p.g, p.b});
+      }
+    }
+    mean_in_ref += w * (T * placed[size_t(i)].T_global_object.translation());
+    wsum += w;
+  }
+  const Eigen::Vector3d shift = mean_m - mean_in_ref / wsum;
+  for (ColoredPoint& p : all) p.x += float(shift.x()), p.y += float(shift.y()), p.z += float(shift.z());
+  return voxel_downsample(all, o.object_voxel_m);
+}
+
+GlobalObject fuse(const std::vector<PlacedObjectReport>& placed, const std::vector<int>& members,
+                  const std::string& reason, const ObjectMergeOptions& o) {
+  GlobalObject g;
+  const ObjectReport& first = *placed[size_t(members.front())].report;
+  g.id = first.id;
+  g.class_name = first.class_name;
+  g.merge_reason = reason;
+  double weight_sum = 0.0;
+  const ObjectReport* best = &first;
+  int ref = members.front();
+  for (int i : members) {
+    const ObjectReport& r = *placed[size_t(i)].report;
+    g.position_m += weight(r) * placed[size_t(i)].T_global_object.translation();
+    weight_sum += weight(r);
+    g.confidence = std::max(g.confidence, r.confidence);
+    g.size_m = g.size_m.cwiseMax(r.size_m);
+    g.observations += r.observations;
+    g.last_stamp_ns = std::max(g.last_stamp_ns, r.stamp_ns);
+    g.reports.push_back(r.id);
+    g.robots.push_back(r.id.robot);
+    if (r.confidence > best->confidence || (r.confidence == best->confidence && r.stamp_ns > best->stamp_ns)) best = &r;
+    if (weight(r) > weight(*placed[size_t(ref)].report)) ref = i;
+  }
+  g.position_m /= weight_sum;
+  // Covariance of the weighted mean (reports' position covariances rotated to the global frame)
+  // plus the weighted scatter of the reports around it.
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (int i : members) {
+    const ObjectReport& r = *placed[size_t(i)].report;
+    const Eigen::Matrix3d R = placed[size_t(i)].T_global_object.linear();
+    const double w = weight(r) / weight_sum;
+    const Eigen::Vector3d d = placed[size_t(i)].T_global_object.translation() - g.position_m;
+    cov += w * w * (R * r.covariance.topLeftCorner<3, 3>() * R.transpose()) + w * d * d.transpose();
+  }
+  g.covariance = cov;
+  std::sort(g.reports.begin(), g.reports.end());
+  std::sort(g.robots.begin(), g.robots.end());
+  g.robots.erase(std::unique(g.robots.begin(), g.robots.end()), g.robots.end());
+  g.thumbnail_jpeg = best->thumbnail_jpeg;
+  g.cloud_global = fused_cloud(placed, members, ref, g.position_m, o);
+  return g;
+}
+
+}  // namespace
 
 std::string object_key(ObjectId id) {
   return std::to_string(id.robot.value) + "-" + std::to_string(id.seq);
@@ -12,30 +198,7 @@ std::string object_key(ObjectId id) {
 
 ColoredCloud voxel_downsample(const ColoredCloud& cloud, double voxel_m) {
   if (voxel_m <= 0.0) return cloud;
-  struct Acc {
-    double x = 0, y = 0, z = 0, r = 0, g = 0, b = 0;
-    int n = 0;
-  };
-  std::map<std::tuple<int64_t, int64_t, int64_t>, Acc> voxels;
-  for (const ColoredPoint& p : cloud) {
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
-    const auto key = std::make_tuple(int64_t(std::floor(p.x / voxel_m)), int64_t(std::floor(p.y / voxel_m)),
-                                     int64_t(std::floor(p.z / voxel_m)));
-    Acc& a = voxels[key];
-    a.x += p.x; a.y += p.y; a.z += p.z;
-    a.r += p.r; a.g += p.g; a.b += p.b;
-    ++a.n;
-  }
-  ColoredCloud out;
-  out.reserve(voxels.size());
-  for (const auto& [key, a] : voxels) {
-    ColoredPoint p;
-    p.x = float(a.x / a.n); p.y = float(a.y / a.n); p.z = float(a.z / a.n);
-    p.r = uint8_t(std::lround(a.r / a.n)); p.g = uint8_t(std::lround(a.g / a.n));
-    p.b = uint8_t(std::lround(a.b / a.n));
-    out.push_back(p);
-  }
-  return out;
+  return registration::voxel_grid(cloud, voxel_m);
 }
 
 }  // namespace cairn::base

@@ -1,11 +1,18 @@
 #pragma once
-// An object of interest in the global frame, possibly merged from reports of several robots.
-#include <Eigen/Core>
+// An object of interest in the global frame, possibly merged from reports of several robots, and
+// the base station's duplicate merging: candidate pairs of the same class whose clouds overlap
+// (bounding boxes intersect, or centroids closer than a class-size-aware gate), verified by RGB-ICP
+// (seed paper Algorithm 3, common/registration) between the two clouds in the global frame and
+// accepted when fitness, RMSE and the size of the correction pass; accepted pairs are joined
+// (union-find). A merged object's cloud is the union of its reports' clouds after alignment onto the
+// most observed report, voxel-downsampled; its position is the observation-weighted mean.
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "common/ids.h"
+#include "common/object_report.h"
 #include "common/point_cloud.h"
 #include "common/time.h"
 
@@ -22,9 +29,55 @@ struct GlobalObject {
   StampNs last_stamp_ns = 0;
   std::vector<ObjectId> reports;        ///< sorted
   std::vector<RobotId> robots;          ///< sorted, unique
-  ColoredCloud cloud_global;            ///< union of the reports' clouds, voxel-downsampled
+  ColoredCloud cloud_global;            ///< union of the reports' aligned clouds, voxel-downsampled
   std::vector<uint8_t> thumbnail_jpeg;  ///< of the most confident report (may be empty)
+  std::string merge_reason;             ///< how the reports were joined (empty for a single report)
 };
+
+struct ObjectMergeOptions {
+  /// Candidate gate on centroid distance: max(min_gate_m, size_factor * largest extent of the two
+  /// reports), never above max_gate_m (MapperOptions::merge_distance_m).
+  double min_gate_m = 0.3;
+  double size_factor = 2.0;
+  double max_gate_m = 0.75;
+  double bbox_margin_m = 0.02;           ///< bounding boxes closer than this also make a candidate
+  /// RGB-ICP verification in the global frame (prior: the placements; no features, the placement is
+  /// good to a few decimetres and features on symmetric objects are ambiguous).
+  double icp_voxel_m = 0.03;
+  double icp_max_correspondence_m = 0.06;
+  int icp_max_iterations = 30;
+  /// Weakly constrained directions (a partial cylinder turning about its axis) are held fixed:
+  /// partial views from different sides must not slide around the object.
+  double icp_min_eigen_ratio = 1e-2;
+  double min_fitness = 0.3;              ///< fraction of the smaller cloud within the gate after ICP
+  double max_rmse_m = 0.04;
+  double max_correction_m = 0.3;         ///< larger ICP corrections mean another object
+  double max_correction_rad = 0.5;
+  int min_cloud_points = 10;             ///< below this a report is merged by centroid gate alone
+  double object_voxel_m = 0.02;          ///< voxel of the merged clouds
+};
+
+/// A report placed in the global frame through its anchor keyframe.
+struct PlacedObjectReport {
+  const ObjectReport* report = nullptr;
+  Eigen::Isometry3d T_global_object = Eigen::Isometry3d::Identity();
+};
+
+/// Outcome of verifying one candidate pair.
+struct MergeCheck {
+  bool candidate = false;  ///< same class and overlapping (box or gate)
+  bool accepted = false;
+  double fitness = 0.0, rmse_m = 0.0;
+  Eigen::Isometry3d T_a_b = Eigen::Isometry3d::Identity();  ///< correction: b's cloud onto a's (global)
+  std::string reason;
+};
+
+/// Verifies whether two placed reports are one object (see the file comment).
+MergeCheck check_same_object(const PlacedObjectReport& a, const PlacedObjectReport& b, const ObjectMergeOptions& o);
+
+/// Merges placed reports into objects, sorted by id.
+std::vector<GlobalObject> merge_object_reports(const std::vector<PlacedObjectReport>& placed,
+                                               const ObjectMergeOptions& options);
 
 /// "<robot>-<seq>", safe in URLs and file names (e.g. "1-3").
 std::string object_key(ObjectId id);

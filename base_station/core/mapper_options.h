@@ -1,7 +1,9 @@
 #pragma once
 // Options of the base station's MultiRobotMapper, with defaults that suit the simulator and
 // indoor rescue scenes.
+#include "base_station/core/global_object.h"
 #include "base_station/core/loop_closer.h"
+#include "base_station/core/map_consistency.h"
 #include "base_station/core/pcm.h"
 #include "base_station/core/pose_graph_2d.h"
 #include "common/occupancy_grid.h"
@@ -30,14 +32,27 @@ struct MapperOptions {
   PcmOptions pcm;
   /// Mutually consistent inter-robot closures needed to link two robots for the first time.
   int min_link_clique = 3;
+  /// A linking clique's closures must come from distinct places: the keyframes they join span at
+  /// least this (largest pairwise distance) on both robots' trajectories.
+  double min_link_spread_m = 2.0;
+  /// Map-level check of every link hypothesis (map_consistency.h) over all keyframes seen so far;
+  /// a refuted clique's closures are dropped. Also applied to an inter-robot closure into an
+  /// already linked pair when it disagrees with the current estimate by more than the gate below.
+  bool check_map_consistency = true;
+  MapConsistencyOptions map_check;
+  double linked_closure_gate_m = 0.3;
+  double linked_closure_gate_rad = 0.1;
   /// Max Ceres iterations of an incremental update (warm-started); a full re-solve with LAGO
   /// initialisation (solve.max_iterations) runs when robots are first linked.
   int incremental_max_iterations = 10;
 
-  /// Reports of the same class whose global centroids are this close are one object.
+  /// Upper bound of the duplicate-merge candidate gate on centroid distance (same class).
   double merge_distance_m = 0.75;
   /// Voxel size of the merged object clouds (global frame).
   double object_voxel_m = 0.02;
+  /// Duplicate merging: overlap candidates verified by RGB-ICP (global_object.h); its max_gate_m and
+  /// object_voxel_m are taken from the two fields above.
+  ObjectMergeOptions object_merge;
 };
 
 }  // namespace cairn::base

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "base_station/core/global_object.h"
+#include "base_station/core/map_consistency.h"
 #include "base_station/core/mapper_options.h"
 #include "base_station/core/pose_graph_2d.h"
 #include "common/keyframe.h"
@@ -41,6 +42,30 @@ struct AddResult {
   bool stored() const { return status == AddStatus::kAccepted || status == AddStatus::kPending; }
 };
 
+/// One decision on a link hypothesis (a PCM clique between two robots, or a closure that would move
+/// a linked pair), for the app's log: "robot 1 linked to robot 0 via 4 closures" or the reason.
+struct LinkEvent {
+  RobotId robot;            ///< the robot being linked (or whose closure was judged)
+  RobotId other;
+  int closures = 0;         ///< closures of the hypothesis
+  bool accepted = false;
+  bool inconclusive = false;  ///< too little overlap to judge: candidates kept, judged again later
+  double contradiction_ratio = 0.0;  ///< map check (0 when not run)
+  std::string reason;       ///< why rejected / deferred, or "linked"
+};
+
+/// Counters of link decisions since construction.
+struct LinkStats {
+  int hypotheses = 0;              ///< cliques of at least min_link_clique judged
+  int linked = 0;
+  int rejected_map_contradiction = 0;  ///< cliques refuted by the map check (closures dropped)
+  int deferred_spread = 0;         ///< cliques whose closures cover too little of a trajectory
+  int deferred_inconclusive = 0;   ///< cliques whose maps overlap too little to be checked
+  int linked_pair_closures = 0;    ///< inter-robot closures into already linked pairs
+  int linked_pair_checked = 0;     ///< of those, disagreeing with the estimate: map-checked
+  int linked_pair_rejected = 0;    ///< of those, refuted and dropped
+};
+
 struct OptimizeResult {
   PoseGraphSolveResult solve;
   int nodes = 0;
@@ -53,6 +78,7 @@ struct OptimizeResult {
   int pending_candidates = 0;   ///< verified inter-robot closures waiting for PCM
   std::vector<RobotId> newly_linked;  ///< robots linked by this call
   bool full_resolve = false;    ///< LAGO initialisation + full solve happened
+  std::vector<LinkEvent> link_events;  ///< link decisions of this call (deduplicated per pair)
 };
 
 struct RobotSummary {
@@ -101,6 +127,7 @@ class MultiRobotMapper {
   /// Accepted loop closures (intra- and inter-robot), a = older keyframe.
   const std::vector<LoopClosure>& loop_closures() const { return loops_; }
   const LoopCloserStats& loop_closer_stats() const { return loop_closer_.stats(); }
+  const LinkStats& link_stats() const { return link_stats_; }
   /// Bumped whenever any global pose or object may have changed.
   uint64_t version() const { return version_; }
 
@@ -114,10 +141,25 @@ class MultiRobotMapper {
   void choose_anchor();
   void detect_new_loops(OptimizeResult* result);
   void link_robot_pairs(OptimizeResult* result);
+  /// PCM clique -> spread -> map check for one unlinked pair; true when the pair got linked.
+  bool try_link_pair(RobotId ra, RobotId rb, std::vector<LoopClosure>* candidates, OptimizeResult* result);
   void place_new_robots();
   RobotId component_of(RobotId robot) const;
   void update_graph(OptimizeResult* result);
   void add_loop_edges();
+  // Link hypothesis checks (multi_robot_mapper_checks.cpp).
+  /// Why the clique `closures` (a = ra, b = rb) covers too little of a trajectory; empty if not.
+  std::string spread_deficit(const std::vector<LoopClosure>& closures) const;
+  /// Map check of the clique as a link of rb to ra (accepted, or the reason).
+  LinkEvent judge_link(RobotId ra, RobotId rb, const std::vector<LoopClosure>& closures) const;
+  /// Whether an inter-robot closure between two robots of one component may join the graph.
+  bool accept_linked_pair_closure(const LoopClosure& c, OptimizeResult* result);
+  /// Judges the held closures whose robots are now placed.
+  void release_held_closures(OptimizeResult* result);
+  /// Every linked robot's keyframes (but `exclude`'s) at T_frame_global * global pose.
+  PlacedScans linked_scans(const SE2& T_frame_global, RobotId exclude) const;
+  /// One robot's keyframes at T_frame_local * local pose.
+  PlacedScans robot_scans(RobotId robot, const SE2& T_frame_local) const;
 
   MapperOptions options_;
   std::map<RobotId, SE2> starts_;  ///< linked robots: initial T_global_local
@@ -130,6 +172,10 @@ class MultiRobotMapper {
   std::vector<bool> loop_in_graph_;
   std::map<std::pair<RobotId, RobotId>, std::vector<LoopClosure>> inter_candidates_;
   std::map<RobotId, RobotId> component_parent_;
+  LinkStats link_stats_;
+  /// Inter-robot closures between robots of one component not yet placed: judged once placed.
+  std::vector<LoopClosure> held_closures_;
+  std::map<std::pair<RobotId, RobotId>, std::string> last_verdict_;  ///< dedupes link events
   bool rebuild_graph_ = true;
   bool full_resolve_ = false;
   std::map<KeyframeId, Keyframe> keyframes_;

@@ -44,7 +44,9 @@ void MultiRobotMapper::detect_new_loops(OptimizeResult* result) {
   for (KeyframeId id : detect_queue_) {
     for (const LoopClosure& c : loop_closer_.add_and_detect(keyframes_.at(id), keyframes_)) {
       if (c.a.robot == c.b.robot || component_of(c.a.robot) == component_of(c.b.robot)) {
-        loops_.push_back(c);  // intra-robot, or a pair already linked: the robust loss guards it
+        // Intra-robot, or a pair already linked: the robust loss guards it, and a closure that
+        // would move a linked robot must pass the map check first.
+        if (accept_linked_pair_closure(c, result)) loops_.push_back(c);
       } else {
         const auto key = std::minmax(c.a.robot, c.b.robot);
         // Orient every candidate of a pair the same way (a = lower robot id) for PCM.
@@ -64,20 +66,62 @@ void MultiRobotMapper::detect_new_loops(OptimizeResult* result) {
 }
 
 void MultiRobotMapper::link_robot_pairs(OptimizeResult* result) {
-  const LocalPoseFn local_pose = [this](KeyframeId id) { return keyframes_.at(id).T_local_base; };
   for (auto it = inter_candidates_.begin(); it != inter_candidates_.end();) {
     const auto [ra, rb] = it->first;
     if (component_of(ra) == component_of(rb)) {  // linked through a third robot meanwhile
-      for (const LoopClosure& c : it->second) loops_.push_back(c);
+      for (const LoopClosure& c : it->second) {
+        if (accept_linked_pair_closure(c, result)) loops_.push_back(c);
+      }
       it = inter_candidates_.erase(it);
       continue;
     }
-    const std::vector<size_t> clique = pcm_max_clique(it->second, local_pose, options_.pcm);
-    if (int(clique.size()) < options_.min_link_clique) {
+    if (try_link_pair(ra, rb, &it->second, result)) {
+      it = inter_candidates_.erase(it);
+    } else {
       ++it;
+    }
+  }
+}
+
+bool MultiRobotMapper::try_link_pair(RobotId ra, RobotId rb, std::vector<LoopClosure>* candidates,
+                                     OptimizeResult* result) {
+  const LocalPoseFn local_pose = [this](KeyframeId id) { return keyframes_.at(id).T_local_base; };
+  const std::pair<RobotId, RobotId> key{ra, rb};
+  while (true) {
+    const std::vector<size_t> clique = pcm_max_clique(*candidates, local_pose, options_.pcm);
+    if (int(clique.size()) < options_.min_link_clique) return false;
+    std::vector<LoopClosure> members;
+    for (size_t i : clique) members.push_back((*candidates)[i]);
+    const std::string deficit = spread_deficit(members);
+    if (!deficit.empty()) {  // maybe right, but too local to tell aliasing apart: wait
+      if (last_verdict_[key] != deficit) {
+        last_verdict_[key] = deficit;
+        ++link_stats_.deferred_spread;
+        result->link_events.push_back(LinkEvent{rb, ra, int(members.size()), false, false, 0.0, deficit});
+      }
+      return false;
+    }
+    LinkEvent ev = judge_link(ra, rb, members);
+    ev.robot = linked(ra) || !linked(rb) ? rb : ra;
+    ev.other = ev.robot == rb ? ra : rb;
+    if (ev.inconclusive) {  // not refuted, not confirmed: wait for more keyframes
+      if (last_verdict_[key] != ev.reason) {
+        last_verdict_[key] = ev.reason;
+        ++link_stats_.deferred_inconclusive;
+        result->link_events.push_back(ev);
+      }
+      return false;
+    }
+    ++link_stats_.hypotheses;
+    last_verdict_[key] = ev.reason;
+    result->link_events.push_back(ev);
+    if (!ev.accepted) {  // refuted as a set: drop these closures, look at the rest
+      ++link_stats_.rejected_map_contradiction;
+      for (auto i = clique.rbegin(); i != clique.rend(); ++i) candidates->erase(candidates->begin() + long(*i));
       continue;
     }
-    for (size_t i : clique) loops_.push_back(it->second[i]);
+    ++link_stats_.linked;
+    for (const LoopClosure& c : members) loops_.push_back(c);
     const RobotId ca = component_of(ra), cb = component_of(rb);
     // The anchor's component keeps its root.
     if (anchor_ && component_of(*anchor_) == cb) {
@@ -85,9 +129,9 @@ void MultiRobotMapper::link_robot_pairs(OptimizeResult* result) {
     } else {
       component_parent_[cb] = ca;
     }
-    result->newly_linked.push_back(linked(ra) ? rb : ra);
+    result->newly_linked.push_back(ev.robot);
     full_resolve_ = true;
-    it = inter_candidates_.erase(it);
+    return true;
   }
 }
 
@@ -158,6 +202,7 @@ OptimizeResult MultiRobotMapper::optimize() {
     link_robot_pairs(&result);
   }
   place_new_robots();
+  release_held_closures(&result);
   update_graph(&result);
   result.nodes = int(graph_.num_nodes());
   result.edges = int(graph_.edges().size());

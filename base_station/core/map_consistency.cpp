@@ -1,0 +1,122 @@
+#include "base_station/core/map_consistency.h"
+
+#include <cmath>
+#include <set>
+
+#include "common/laser_scan.h"
+#include "common/occupancy_grid.h"
+
+namespace cairn::base {
+namespace {
+
+OccupancyGrid render(const PlacedScans& side, const MapConsistencyOptions& o) {
+  OccupancyGridOptions go;
+  go.resolution_m = o.resolution_m;
+  go.max_range_m = o.max_range_m;
+  OccupancyGrid grid(go);
+  const size_t n = std::min(side.keyframes.size(), side.T_frame_base.size());
+  for (size_t k = 0; k < n; ++k) {
+    const LaserScan& scan = side.keyframes[k]->scan;
+    std::vector<Eigen::Vector2f> no_return;
+    const float clear_m = float(std::min<double>(scan.range_max_m, o.max_range_m));
+    for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
+      const float r = scan.ranges_m[i];
+      if (std::isnan(r) || r < scan.range_max_m) continue;
+      const float a = beam_angle_rad(scan, i);
+      no_return.emplace_back(clear_m * std::cos(a), clear_m * std::sin(a));
+    }
+    grid.insert_scan(side.T_frame_base[k], scan_to_points(scan), no_return);
+  }
+  return grid;
+}
+
+bool wall_near(const OccupancyGrid& grid, const Eigen::Vector2i& c, int radius_cells, float occupied) {
+  for (int dr = -radius_cells; dr <= radius_cells; ++dr) {
+    for (int dc = -radius_cells; dc <= radius_cells; ++dc) {
+      if (dr * dr + dc * dc > radius_cells * radius_cells) continue;
+      if (grid.log_odds(c.x() + dc, c.y() + dr) >= occupied) return true;
+    }
+  }
+  return false;
+}
+
+/// Wall cells of `walls` inside `other`'s observed area, and those in its confident free space
+/// (returned as cells of `walls`).
+std::vector<Eigen::Vector2i> count(const OccupancyGrid& walls, const OccupancyGrid& other,
+                                   const MapConsistencyOptions& o, MapConsistencyResult* r) {
+  const int radius = int(std::ceil(o.tolerance_m / o.resolution_m));
+  std::vector<Eigen::Vector2i> contradicting;
+  for (int row = 0; row < walls.height(); ++row) {
+    for (int col = 0; col < walls.width(); ++col) {
+      if (walls.log_odds(col, row) < o.occupied_log_odds) continue;
+      const Eigen::Vector2i c = other.cell_of(walls.cell_center_m(col, row));
+      const float v = other.log_odds(c.x(), c.y());
+      if (v == 0.f) continue;  // unknown to the other side
+      ++r->checked_cells;
+      if (v <= o.free_log_odds && !wall_near(other, c, radius, o.occupied_log_odds)) contradicting.emplace_back(col, row);
+    }
+  }
+  r->contradicting_cells += int(contradicting.size());
+  return contradicting;
+}
+
+/// Size of the largest 8-connected cluster of `cells` (a wall segment, not scattered noise).
+int largest_cluster(const std::vector<Eigen::Vector2i>& cells) {
+  std::set<std::pair<int, int>> left;
+  for (const auto& c : cells) left.insert({c.x(), c.y()});
+  int best = 0;
+  while (!left.empty()) {
+    std::vector<std::pair<int, int>> stack{*left.begin()};
+    left.erase(left.begin());
+    int size = 0;
+    while (!stack.empty()) {
+      const auto [x, y] = stack.back();
+      stack.pop_back();
+      ++size;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          auto it = left.find({x + dx, y + dy});
+          if (it == left.end()) continue;
+          stack.push_back(*it);
+          left.erase(it);
+        }
+      }
+    }
+    best = std::max(best, size);
+  }
+  return best;
+}
+
+}  // namespace
+
+MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedScans& b,
+                                           const MapConsistencyOptions& o) {
+  MapConsistencyResult r;
+  if (a.keyframes.empty() || b.keyframes.empty()) {
+    r.reason = "no keyframes on one side";
+    return r;
+  }
+  const OccupancyGrid grid_a = render(a, o), grid_b = render(b, o);
+  r.largest_contradiction_cells = std::max(largest_cluster(count(grid_a, grid_b, o, &r)),
+                                           largest_cluster(count(grid_b, grid_a, o, &r)));
+  r.contradiction_ratio = r.checked_cells > 0 ? double(r.contradicting_cells) / r.checked_cells : 0.0;
+  r.conclusive = r.checked_cells >= o.min_checked_cells ||
+                 r.largest_contradiction_cells >= o.max_contradiction_cluster_cells;
+  if (!r.conclusive) {
+    r.reason = "inconclusive: " + std::to_string(r.checked_cells) + " overlapping wall cells";
+    return r;
+  }
+  const std::string counts = std::to_string(r.contradicting_cells) + "/" + std::to_string(r.checked_cells) +
+                             " wall cells in the other robot's free space, largest wall piece " +
+                             std::to_string(r.largest_contradiction_cells) + " cells";
+  if (r.contradiction_ratio > o.max_contradiction_ratio) {
+    r.consistent = false;
+    r.reason = "map contradiction " + std::to_string(int(std::lround(100 * r.contradiction_ratio))) + " % (" + counts + ")";
+  } else if (r.largest_contradiction_cells >= o.max_contradiction_cluster_cells) {
+    r.consistent = false;
+    r.reason = "a wall where the other robot saw free space (" + counts + ")";
+  }
+  return r;
+}
+
+}  // namespace cairn::base

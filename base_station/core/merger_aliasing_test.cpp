@@ -1,0 +1,125 @@
+// Perceptual aliasing in the merger: two wings of a building that are exact translated copies.
+// Robots exploring different wings see identical rooms, so Scan Context + verification yield
+// inter-robot closures that PCM finds mutually consistent; only the map-level check (corridor
+// ends, outer walls) tells the hypothesis is wrong. Runs without DDS.
+#include <gtest/gtest.h>
+
+#include "base_station/core/map_consistency.h"
+#include "base_station/core/multi_robot_mapper.h"
+#include "base_station/core/synthetic_world_test_util.h"
+
+namespace cairn::base {
+namespace {
+
+using testing::Segment;
+
+/// Building [0, 24] x [0, 10] m: a corridor y in [0, 2] along it, and two identical wings of two
+/// rooms each north of it (wing W x in [0, 12], wing E = wing W shifted by +12 m).
+std::vector<Segment> two_wing_building() {
+  std::vector<Segment> w = {{{0, 0}, {24, 0}}, {{24, 0}, {24, 10}}, {{24, 10}, {0, 10}}, {{0, 10}, {0, 0}}};
+  for (double ox : {0.0, 12.0}) {
+    auto add = [&](double x0, double y0, double x1, double y1) { w.push_back({{ox + x0, y0}, {ox + x1, y1}}); };
+    add(0, 2, 2.5, 2);    // corridor wall with doors at x 2.5..3.5 and 8.5..9.5
+    add(3.5, 2, 8.5, 2);
+    add(9.5, 2, 12, 2);
+    if (ox > 0) add(0, 2, 0, 10);  // wing separator (x = 12)
+    add(6, 2, 6, 10);     // room divider
+    add(1, 7, 2, 7), add(2, 7, 2, 8), add(2, 8, 1, 8), add(1, 8, 1, 7);  // a cabinet in room A
+    add(7, 8, 9, 9.5);    // a slanted wall in room B
+  }
+  return w;
+}
+
+/// Poses every ~0.5 m along straight legs between waypoints, heading along each leg.
+std::vector<SE2> along(const std::vector<Eigen::Vector2d>& waypoints) {
+  std::vector<SE2> out;
+  for (size_t i = 0; i + 1 < waypoints.size(); ++i) {
+    const Eigen::Vector2d d = waypoints[i + 1] - waypoints[i];
+    const int steps = std::max(1, int(std::round(d.norm() / 0.5)));
+    for (int k = 0; k < steps; ++k) out.emplace_back(waypoints[i] + d * (double(k) / steps), std::atan2(d.y(), d.x()));
+  }
+  out.emplace_back(waypoints.back(), out.back().yaw());
+  return out;
+}
+
+std::vector<Eigen::Vector2d> west_route(double ox) {
+  std::vector<Eigen::Vector2d> w = {{1.5, 1}, {3, 1}, {3, 5}, {1.5, 6}, {4.5, 6.5}, {3, 5}, {3, 1}, {9, 1},
+                                    {9, 5}, {10.5, 7}, {8, 6.5}, {9, 5}, {9, 1}, {10.5, 1}};
+  for (auto& p : w) p.x() += ox;
+  return w;
+}
+
+MultiRobotMapper run(const std::vector<SE2>& p0, const std::vector<SE2>& p1, const MapperOptions& options,
+                     OptimizeResult* last) {
+  MultiRobotMapper mapper(options);
+  const auto walls = two_wing_building();
+  const auto k0 = testing::make_keyframes(RobotId(0), p0, walls), k1 = testing::make_keyframes(RobotId(1), p1, walls);
+  // Interleaved arrival, optimised every 10 keyframes as the base does.
+  for (size_t i = 0; i < std::max(k0.size(), k1.size()); ++i) {
+    if (i < k0.size()) mapper.add_keyframe(k0[i]);
+    if (i < k1.size()) mapper.add_keyframe(k1[i]);
+    if (i % 10 == 9) *last = mapper.optimize();
+  }
+  *last = mapper.optimize();
+  return mapper;
+}
+
+TEST(MergerAliasing, RobotsInIdenticalWingsStayUnlinked) {
+  const std::vector<SE2> p0 = along(west_route(0)), p1 = along(west_route(12));
+  MapperOptions unchecked;
+  unchecked.check_map_consistency = false;
+  OptimizeResult r;
+  // Precondition: without the map check the aliasing merges robot 1 about 12 m off.
+  const MultiRobotMapper wrong = run(p0, p1, unchecked, &r);
+  ASSERT_TRUE(wrong.linked(RobotId(1))) << "the world no longer aliases: the test lost its point";
+  const SE2 err = (p0[0].inverse() * p1[0]).between(*wrong.global_pose({RobotId(1), 0}));
+  EXPECT_GT(err.translation().norm(), 10.0);
+
+  MultiRobotMapper mapper = run(p0, p1, MapperOptions{}, &r);
+  EXPECT_FALSE(mapper.linked(RobotId(1)));
+  EXPECT_EQ(r.unlinked_robots, 1);
+  EXPECT_TRUE(mapper.global_trajectory(RobotId(1)).empty());
+  EXPECT_GE(mapper.link_stats().rejected_map_contradiction, 1);
+  EXPECT_EQ(mapper.link_stats().linked, 0);
+  for (const auto& s : mapper.robots()) {
+    if (s.id == RobotId(1)) EXPECT_FALSE(s.linked);
+  }
+}
+
+TEST(MergerAliasing, OverlappingRobotsAreLinkedPrecisely) {
+  const std::vector<SE2> p0 = along(west_route(0));
+  std::vector<Eigen::Vector2d> back = west_route(0);
+  std::reverse(back.begin(), back.end());  // robot 1 retraces wing W from its east end
+  const std::vector<SE2> p1 = along(back);
+  OptimizeResult r;
+  MultiRobotMapper mapper = run(p0, p1, MapperOptions{}, &r);
+  ASSERT_TRUE(mapper.linked(RobotId(1)));
+  EXPECT_EQ(mapper.link_stats().linked, 1);
+  const SE2 T_global_world = p0[0].inverse();
+  double worst = 0;
+  for (size_t i = 0; i < p1.size(); ++i) {
+    const SE2 est = *mapper.global_pose({RobotId(1), int32_t(i)});
+    worst = std::max(worst, (est.translation() - (T_global_world * p1[i]).translation()).norm());
+  }
+  EXPECT_LT(worst, 0.05);
+}
+
+TEST(MapConsistency, ShiftedCopyContradictsAndTruthAgrees) {
+  const auto walls = two_wing_building();
+  const std::vector<SE2> p0 = along(west_route(0)), p1 = along(west_route(12));
+  const auto k0 = testing::make_keyframes(RobotId(0), p0, walls), k1 = testing::make_keyframes(RobotId(1), p1, walls);
+  PlacedScans a, b_truth, b_alias;
+  for (size_t i = 0; i < k0.size(); ++i) a.keyframes.push_back(&k0[i]), a.T_frame_base.push_back(p0[i]);
+  for (size_t i = 0; i < k1.size(); ++i) {
+    b_truth.keyframes.push_back(&k1[i]), b_truth.T_frame_base.push_back(p1[i]);
+    b_alias.keyframes.push_back(&k1[i]), b_alias.T_frame_base.push_back(SE2(-12, 0, 0) * p1[i]);
+  }
+  const MapConsistencyResult truth = check_map_consistency(a, b_truth);
+  EXPECT_TRUE(truth.consistent) << truth.reason;
+  const MapConsistencyResult alias = check_map_consistency(a, b_alias);
+  EXPECT_TRUE(alias.conclusive);
+  EXPECT_FALSE(alias.consistent) << alias.contradiction_ratio;
+}
+
+}  // namespace
+}  // namespace cairn::base

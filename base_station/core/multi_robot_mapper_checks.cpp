@@ -1,0 +1,140 @@
+// MultiRobotMapper: checks of link hypotheses before robots are merged (see multi_robot_mapper.h
+// and map_consistency.h): the spread of a clique's closures over both trajectories, and the
+// map-level consistency of the hypothesis over all keyframes seen so far.
+#include <cmath>
+#include <cstdio>
+
+#include "base_station/core/multi_robot_mapper.h"
+
+namespace cairn::base {
+namespace {
+
+/// Largest distance between two of `points`.
+double extent_m(const std::vector<Eigen::Vector2d>& points) {
+  double best = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (size_t j = i + 1; j < points.size(); ++j) best = std::max(best, (points[i] - points[j]).norm());
+  }
+  return best;
+}
+
+/// Mean of rigid transforms (translation mean, circular yaw mean).
+SE2 mean_transform(const std::vector<SE2>& transforms) {
+  Eigen::Vector2d t = Eigen::Vector2d::Zero();
+  double s = 0, c = 0;
+  for (const SE2& T : transforms) {
+    t += T.translation();
+    s += std::sin(T.yaw());
+    c += std::cos(T.yaw());
+  }
+  return transforms.empty() ? SE2() : SE2(t / double(transforms.size()), std::atan2(s, c));
+}
+
+std::string format_m(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.1f", v);
+  return buf;
+}
+
+}  // namespace
+
+PlacedScans MultiRobotMapper::linked_scans(const SE2& T_frame_global, RobotId exclude) const {
+  PlacedScans out;
+  for (const auto& [id, kf] : keyframes_) {
+    if (id.robot == exclude || !linked(id.robot)) continue;
+    out.keyframes.push_back(&kf);
+    out.T_frame_base.push_back(T_frame_global * *global_pose(id));
+  }
+  return out;
+}
+
+PlacedScans MultiRobotMapper::robot_scans(RobotId robot, const SE2& T_frame_local) const {
+  PlacedScans out;
+  for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0}); it != keyframes_.end() && it->first.robot == robot; ++it) {
+    out.keyframes.push_back(&it->second);
+    out.T_frame_base.push_back(T_frame_local * it->second.T_local_base);
+  }
+  return out;
+}
+
+std::string MultiRobotMapper::spread_deficit(const std::vector<LoopClosure>& closures) const {
+  std::vector<Eigen::Vector2d> pa, pb;
+  for (const LoopClosure& c : closures) {
+    pa.push_back(keyframes_.at(c.a).T_local_base.translation());
+    pb.push_back(keyframes_.at(c.b).T_local_base.translation());
+  }
+  const double ea = extent_m(pa), eb = extent_m(pb);
+  if (ea >= options_.min_link_spread_m && eb >= options_.min_link_spread_m) return {};
+  return "closures span " + format_m(ea) + " m / " + format_m(eb) + " m of the trajectories (< " +
+         format_m(options_.min_link_spread_m) + " m): waiting for closures from other places";
+}
+
+LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector<LoopClosure>& closures) const {
+  LinkEvent ev{rb, ra, int(closures.size()), false, false, 0.0, {}};
+  if (!options_.check_map_consistency) {
+    ev.accepted = true;
+    ev.reason = "linked (map check off)";
+    return ev;
+  }
+  if (!linked(ra) && linked(rb)) {  // judge from the placed side
+    std::vector<LoopClosure> flipped;
+    for (const LoopClosure& c : closures) flipped.push_back({c.b, c.a, c.T_a_b.inverse(), c.covariance, c.score});
+    LinkEvent e = judge_link(rb, ra, flipped);
+    return e;
+  }
+  // Frame A: the global frame when ra is placed, else ra's local frame.
+  const bool a_global = linked(ra);
+  std::vector<SE2> T_A_blocal;
+  for (const LoopClosure& c : closures) {
+    const SE2 T_A_a = a_global ? *global_pose(c.a) : keyframes_.at(c.a).T_local_base;
+    T_A_blocal.push_back(T_A_a * c.T_a_b * keyframes_.at(c.b).T_local_base.inverse());
+  }
+  const PlacedScans side_a = a_global ? linked_scans(SE2(), RobotId()) : robot_scans(ra, SE2());
+  const PlacedScans side_b = robot_scans(rb, mean_transform(T_A_blocal));
+  const MapConsistencyResult m = check_map_consistency(side_a, side_b, options_.map_check);
+  ev.contradiction_ratio = m.contradiction_ratio;
+  ev.accepted = m.consistent && m.conclusive;
+  ev.inconclusive = m.consistent && !m.conclusive;
+  ev.reason = ev.accepted ? "linked" : m.reason;
+  return ev;
+}
+
+bool MultiRobotMapper::accept_linked_pair_closure(const LoopClosure& c, OptimizeResult* result) {
+  if (c.a.robot == c.b.robot) return true;
+  if (!linked(c.a.robot) || !linked(c.b.robot)) {  // no placement to check against yet: hold it
+    held_closures_.push_back(c);
+    return false;
+  }
+  ++link_stats_.linked_pair_closures;
+  const SE2 Ga = *global_pose(c.a), Gb = *global_pose(c.b);
+  const SE2 E = Ga.between(Gb).between(c.T_a_b);
+  if (E.translation().norm() <= options_.linked_closure_gate_m && std::abs(E.yaw()) <= options_.linked_closure_gate_rad) {
+    return true;
+  }
+  if (!options_.check_map_consistency) return true;
+  ++link_stats_.linked_pair_checked;
+  // Hypothesis: robot b moves rigidly so that the closure holds.
+  const SE2 T_moved_global = Ga * c.T_a_b * Gb.inverse();
+  PlacedScans moved;
+  for (auto it = keyframes_.lower_bound(KeyframeId{c.b.robot, 0}); it != keyframes_.end() && it->first.robot == c.b.robot; ++it) {
+    moved.keyframes.push_back(&it->second);
+    moved.T_frame_base.push_back(T_moved_global * *global_pose(it->first));
+  }
+  const MapConsistencyResult m = check_map_consistency(linked_scans(SE2(), c.b.robot), moved, options_.map_check);
+  // A closure that would move a linked robot needs positive evidence: inconclusive is not enough.
+  if (m.consistent && m.conclusive) return true;
+  ++link_stats_.linked_pair_rejected;
+  result->link_events.push_back(LinkEvent{c.b.robot, c.a.robot, 1, false, !m.conclusive, m.contradiction_ratio,
+                                          "closure " + to_string(c.a) + " - " + to_string(c.b) + " rejected: " + m.reason});
+  return false;
+}
+
+void MultiRobotMapper::release_held_closures(OptimizeResult* result) {
+  std::vector<LoopClosure> held;
+  held.swap(held_closures_);
+  for (const LoopClosure& c : held) {
+    if (accept_linked_pair_closure(c, result)) loops_.push_back(c);  // re-holds it if still unplaced
+  }
+}
+
+}  // namespace cairn::base

@@ -1,0 +1,153 @@
+#include "tests/multirobot/split_run.h"
+
+#include <chrono>
+#include <unordered_map>
+
+#include "common/odometry_noise.h"
+#include "robot_agent/core/agent_pipeline.h"
+
+namespace cairn::multirobot {
+namespace {
+
+// Ranges rounded to centimetres: identical scans from two logs (different print precision) agree.
+std::string range_key(const LaserScan& s) {
+  std::string key;
+  for (float r : s.ranges_m) key += std::to_string(std::isfinite(r) ? std::lround(r * 100.f) : -1) + ",";
+  return key;
+}
+
+}  // namespace
+
+ReplayLog replay_from_raw(const CarmenLog& raw, const CarmenLog& corrected, int* matched) {
+  ReplayLog out;
+  std::unordered_map<std::string, SE2> corrected_by_key;
+  for (const CarmenScan& s : corrected.scans) corrected_by_key.emplace(range_key(s.scan), s.T_world_laser);
+  std::vector<int> twin(raw.scans.size(), -1);
+  std::vector<SE2> ref(raw.scans.size());
+  *matched = 0;
+  for (size_t i = 0; i < raw.scans.size(); ++i) {
+    auto it = corrected_by_key.find(range_key(raw.scans[i].scan));
+    if (it == corrected_by_key.end()) continue;
+    ref[i] = it->second;
+    twin[i] = int(i);
+    ++*matched;
+  }
+  if (*matched == 0) return out;
+  // Nearest matched scan (by index) for each scan, then carried by odometry.
+  int last = -1;
+  std::vector<int> nearest(raw.scans.size(), -1);
+  for (size_t i = 0; i < raw.scans.size(); ++i) {
+    if (twin[i] >= 0) last = int(i);
+    nearest[i] = last;
+  }
+  int next = -1;
+  for (size_t k = raw.scans.size(); k-- > 0;) {
+    if (twin[k] >= 0) next = int(k);
+    if (nearest[k] < 0 || (next >= 0 && next - int(k) < int(k) - nearest[k])) nearest[k] = next;
+  }
+  for (size_t i = 0; i < raw.scans.size(); ++i) {
+    const CarmenScan& s = raw.scans[i];
+    const int j = nearest[i];
+    out.scans.push_back(s);
+    out.odometry.push_back(s.T_odom_laser);
+    out.reference.push_back(ref[size_t(j)] * raw.scans[size_t(j)].T_odom_laser.between(s.T_odom_laser));
+  }
+  return out;
+}
+
+ReplayLog replay_from_corrected(const CarmenLog& corrected, uint32_t seed) {
+  ReplayLog out;
+  for (const CarmenScan& s : corrected.scans) {
+    out.scans.push_back(s);
+    out.reference.push_back(s.T_world_laser);
+  }
+  OdometryNoiseOptions noise;  // 10 % of distance, 3 deg per metre
+  noise.seed = seed;
+  out.odometry = add_odometry_noise(out.reference, noise);
+  return out;
+}
+
+RobotRun run_agent(const ReplayLog& log, size_t begin, size_t end, RobotId robot) {
+  agent::AgentOptions options;
+  options.enable_objects = false;
+  agent::AgentPipeline pipeline(robot, options);
+  RobotRun run;
+  const SE2 T_zero = log.odometry[begin].inverse();
+  std::unordered_map<StampNs, size_t> scan_of;
+  for (size_t i = begin; i < end; ++i) {
+    const CarmenScan& s = log.scans[i];
+    scan_of[s.stamp_ns] = i;
+    pipeline.add_odometry({s.stamp_ns, T_zero * log.odometry[i], 0.0, 0.0});
+    pipeline.add_scan(s.scan);
+    for (Keyframe& kf : pipeline.process().keyframes) run.keyframes.push_back(std::move(kf));
+  }
+  for (Keyframe& kf : pipeline.process(true).keyframes) run.keyframes.push_back(std::move(kf));
+  for (const Keyframe& kf : run.keyframes) {
+    auto it = scan_of.find(kf.stamp_ns);
+    run.reference.push_back(it != scan_of.end() ? log.reference[it->second] : SE2(NAN, NAN, NAN));
+  }
+  return run;
+}
+
+std::vector<RobotRun> run_split(const ReplayLog& log, int robots) {
+  std::vector<RobotRun> runs;
+  const size_t n = log.scans.size();
+  for (int k = 0; k < robots; ++k) runs.push_back(run_agent(log, n * k / robots, n * (k + 1) / robots, RobotId(k)));
+  return runs;
+}
+
+MergeStats merge(const std::vector<RobotRun>& runs, base::MultiRobotMapper* mapper, int optimize_every) {
+  MergeStats stats;
+  mapper->set_robot_start(RobotId(0), SE2());
+  size_t longest = 0;
+  for (const RobotRun& r : runs) longest = std::max(longest, r.keyframes.size());
+  auto optimize = [&] {
+    const auto t0 = std::chrono::steady_clock::now();
+    mapper->optimize();
+    ++stats.optimizations;
+    stats.max_optimize_s = std::max(stats.max_optimize_s, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  };
+  int added = 0;
+  for (size_t step = 0; step < longest; ++step) {
+    for (const RobotRun& r : runs) {
+      // Same progress fraction for every robot.
+      const size_t from = r.keyframes.size() * step / longest, to = r.keyframes.size() * (step + 1) / longest;
+      for (size_t i = from; i < to; ++i) {
+        mapper->add_keyframe(r.keyframes[i]);
+        if (++added % optimize_every == 0) optimize();
+      }
+    }
+  }
+  optimize();
+  return stats;
+}
+
+double merged_ate_m(const std::vector<RobotRun>& runs, const base::MultiRobotMapper& mapper, int* matched) {
+  std::vector<Eigen::Vector2d> est, ref;
+  for (const RobotRun& r : runs) {
+    for (size_t i = 0; i < r.keyframes.size(); ++i) {
+      const auto p = mapper.global_pose(r.keyframes[i].id);
+      if (!p || !r.reference[i].vector().allFinite()) continue;
+      est.push_back(p->translation());
+      ref.push_back(r.reference[i].translation());
+    }
+  }
+  *matched = int(est.size());
+  if (est.size() < 2) return 1e9;
+  const SE2 T = align_points_2d(est, ref);
+  double sum = 0;
+  for (size_t i = 0; i < est.size(); ++i) sum += (T * est[i] - ref[i]).squaredNorm();
+  return std::sqrt(sum / double(est.size()));
+}
+
+ClosureError closure_error(const base::LoopClosure& c, const std::vector<RobotRun>& runs) {
+  auto ref = [&](KeyframeId id) {
+    const RobotRun& r = runs.at(size_t(id.robot.value));
+    return r.reference.at(size_t(id.seq));
+  };
+  const SE2 truth = ref(c.a).between(ref(c.b));
+  const SE2 e = truth.between(c.T_a_b);
+  return {e.translation().norm(), std::abs(e.yaw())};
+}
+
+}  // namespace cairn::multirobot
