@@ -83,7 +83,8 @@ double wall_agreement(const fs::path& map_dir, const std::string& world_yaml, do
 }
 
 TEST(MissionIntegration, TwoRobotsOverDdsMatchGroundTruth) {
-  const std::string world = source_path("tests/worlds/two_robots.yaml");
+  // Robot 1's start is not told to the base: it must be linked by verified cross-robot closures.
+  const std::string world = source_path("tests/worlds/two_robots_meet.yaml");
   const fs::path out = fs::path(::testing::TempDir()) / ("mission_" + std::to_string(getpid()));
   fs::remove_all(out);
   const auto r = run_command(bin("cairn_mission") + " --world " + world + " --out " + out.string() +
@@ -114,6 +115,25 @@ TEST(MissionIntegration, TwoRobotsOverDdsMatchGroundTruth) {
 
   // The merged map's walls are where the floor plan has them.
   EXPECT_GT(wall_agreement(out / "map", world, 0.10), 0.90);
+}
+
+TEST(MissionIntegration, RobotsThatNeverMeetInLookAlikeWingsAreNotMergedWrongly) {
+  // The office's west and east wings look alike and the robots never see the same place: robot 1
+  // must stay unlinked (a late merge is fine, a wrong one is not).
+  const std::string world = source_path("tests/worlds/two_robots.yaml");
+  const fs::path out = fs::path(::testing::TempDir()) / ("aliasing_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  const auto r = run_command(bin("cairn_mission") + " --world " + world + " --out " + out.string() +
+                             " --port 0 --timeout 400");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const eval::MissionScore score = eval::evaluate_mission((out / "ground_truth").string(), (out / "map").string());
+  ASSERT_EQ(score.robots.size(), 2u);
+  ASSERT_TRUE(score.robots[0].global);
+  EXPECT_LT(score.robots[0].global->ate_rmse_m, 0.20);
+  if (score.robots[1].global) {
+    EXPECT_LT(score.robots[1].global->ate_max_m, 0.5) << "robot 1 was merged in the wrong place";
+  }
+  EXPECT_NE(r.output.find("robot 1 (NOT LINKED to the map)"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -156,6 +156,20 @@ bool BaseNode::all_finished() const {
   return finished >= options_.expected_robots;
 }
 
+void BaseNode::report_linking(const OptimizeResult& r) {
+  for (RobotId robot : r.newly_linked) {
+    int closures = 0;
+    for (const RobotSummary& s : mapper_.robots()) {
+      if (s.id == robot) closures = s.inter_robot_closures;
+    }
+    log_->info("{} linked into the global map through {} verified cross-robot closures", to_string(robot), closures);
+  }
+  CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 10.0,
+                        "graph: {} nodes, {} loop closures ({} between robots), {} candidates pending, "
+                        "{} robots not linked yet",
+                        r.nodes, r.loop_closures, r.inter_robot_closures, r.pending_candidates, r.unlinked_robots);
+}
+
 int BaseNode::run() {
   log_->info("console at http://{}:{}/  (domain {}, expecting {} robots)", options_.console.bind_address,
              console_->port(), options_.domain_id, options_.expected_robots);
@@ -168,6 +182,7 @@ int BaseNode::run() {
         const OptimizeResult r = mapper_.optimize();
         optimized_version_ = mapper_.version();
         if (!r.solve.converged) log_->warn("pose graph did not converge: {}", r.solve.reason);
+        report_linking(r);
       }
       publish_acks_and_corrections();
       refresh_snapshot();
@@ -193,6 +208,8 @@ int BaseNode::finish() {
     nlohmann::json j;
     j["id"] = rs.id.value;
     j["linked"] = rs.linked;
+    j["anchor"] = rs.anchor;
+    j["inter_robot_closures"] = rs.inter_robot_closures;
     j["keyframes"] = rs.keyframes;
     j["missing_keyframes"] = rs.missing_keyframes;
     j["object_reports"] = rs.objects;
@@ -202,7 +219,12 @@ int BaseNode::finish() {
   }
   summary["objects"] = mapper_.objects().size();
   summary["mapped_area_m2"] = mapper_.mapped_area_m2();
-  summary["graph"] = {{"nodes", r.nodes}, {"edges", r.edges}, {"converged", r.solve.converged},
+  summary["graph"] = {{"nodes", r.nodes},
+                      {"edges", r.edges},
+                      {"loop_closures", r.loop_closures},
+                      {"inter_robot_closures", r.inter_robot_closures},
+                      {"unlinked_robots", r.unlinked_robots},
+                      {"converged", r.solve.converged},
                       {"final_cost", r.solve.final_cost}};
   summary["rejected_samples"] = rejected_samples_;
   summary["export_ok"] = exported.ok();

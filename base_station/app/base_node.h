@@ -50,6 +50,7 @@ class BaseNode {
   bool poll_inputs();
   void publish_acks_and_corrections();
   void refresh_snapshot();
+  void report_linking(const OptimizeResult& result);
   nlohmann::json link_stats() const;
   bool all_finished() const;
   int finish();

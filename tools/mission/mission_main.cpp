@@ -82,10 +82,11 @@ int main(int argc, char** argv) {
   std::vector<std::string> base_cmd{(bin / "cairn_base").string(), "--domain", std::to_string(opt.domain), "--out",
                                     (out / "map").string(), "--robots", std::to_string(robots), "--port",
                                     std::to_string(opt.port)};
-  for (const auto& r : wf.world.robots) {
-    base_cmd.push_back("--start");
-    base_cmd.push_back(fmt_pose(r.id.value, r.T_world_start));
-  }
+  // The team knows where the first robot entered (it anchors the map in world coordinates); where
+  // the others started is not told: the base links them by cross-robot loop closures.
+  const auto& anchor = wf.world.robots.front();
+  base_cmd.push_back("--start");
+  base_cmd.push_back(fmt_pose(anchor.id.value, anchor.T_world_start));
   if (opt.serve) base_cmd.push_back("--serve");
 
   std::cout << "Cairn mission '" << wf.world.name << "': " << robots << " robots, " << wf.world.objects.size()
