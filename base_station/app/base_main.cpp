@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> starts;
   std::string log_level = "info";
   app.add_option("--domain", options.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_option("--peer", options.peers, "IPv4 address of a robot (DDS unicast discovery); repeatable");
   app.add_option("--out", options.out_dir, "results folder")->required();
   app.add_option("--robots", options.expected_robots, "finish when this many robots are done (0 = run until Ctrl-C)");
   app.add_option("--start", starts, "known start pose of a robot: id,x_m,y_m,yaw_rad (repeatable)");

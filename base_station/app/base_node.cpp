@@ -44,6 +44,7 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   dds::ParticipantOptions po;
   po.domain_id = options.domain_id;
   po.name = "cairn_base";
+  po.initial_peers = options.peers;
   n->participant_ = dds::Participant::create(po, error);
   if (!n->participant_) return nullptr;
   auto& p = *n->participant_;

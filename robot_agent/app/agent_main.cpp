@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   cairn::agent::SensorInput input;
   app.add_option("--robot", robot, "robot id")->required()->check(CLI::Range(0, 1000));
   app.add_option("--domain", node.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_option("--peer", node.peers, "IPv4 address of a DDS peer (base station, other robots); repeatable");
   app.add_option("--config", config_path, "agent YAML (keyframer, odometry, objects)");
   app.add_option("--log", log_path, "replay a CARMEN log (.clf/.log, plain or .gz) instead of the sensor topics");
   app.add_option("--log-speed", input.log_options.speed, "log replay speed, times real time (0 = as fast as possible)");

@@ -26,6 +26,7 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
   dds::ParticipantOptions po;
   po.domain_id = options.domain_id;
   po.name = "cairn_agent_" + std::to_string(robot.value);
+  po.initial_peers = options.peers;
   po.large_data_bytes_per_sec = options.large_data_bytes_per_sec;
   n->participant_ = dds::Participant::create(po, error);
   if (!n->participant_) return nullptr;
@@ -124,7 +125,12 @@ void AgentNode::publish_status(bool finished) {
   st.object_bytes(int64_t(object_out_->bytes_written()));
   st.object_messages(int32_t(object_out_->samples_written()));
   st.scans_processed(s.scans_matched);
-  st.scan_rate_hz(0.f);
+  const double now_s = std::chrono::duration<double>(Clock::now() - start_).count();
+  if (now_s > last_rate_time_s_) {
+    st.scan_rate_hz(float((s.scans_received - last_rate_scans_) / (now_s - last_rate_time_s_)));
+  }
+  last_rate_scans_ = s.scans_received;
+  last_rate_time_s_ = now_s;
   st.collision_risk(false);
   st.finished(finished);
   status_out_->write(st);

@@ -6,6 +6,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "cairn_msgsPubSubTypes.h"
 #include "common/logging.h"
@@ -17,6 +18,7 @@ namespace cairn::agent {
 
 struct AgentNodeOptions {
   int domain_id = 0;
+  std::vector<std::string> peers;  ///< unicast discovery peers (IPv4), e.g. the base station
   double status_period_s = 0.5;
   double ack_timeout_s = 60.0;   ///< how long to wait for the base to store everything at the end
   uint32_t large_data_bytes_per_sec = 0;  ///< flow controller for objects; 0 = unlimited
@@ -72,6 +74,8 @@ class AgentNode {
   int acked_object_count_ = 0;
   std::set<int32_t> objects_published_;
   int bad_samples_ = 0;
+  int last_rate_scans_ = 0;        ///< for the scan rate in the status message
+  double last_rate_time_s_ = 0.0;
 };
 
 }  // namespace cairn::agent
