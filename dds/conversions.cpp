@@ -60,6 +60,12 @@ std::optional<Eigen::Isometry3d> array_to_iso(const std::array<double, 16>& a) {
 
 }  // namespace
 
+bool check_robot(int32_t sample_robot_id, RobotId expected, std::string* error) {
+  if (sample_robot_id == expected.value) return true;
+  return fail(error, "sample for unknown robot_id " + std::to_string(sample_robot_id) + " on " + to_string(expected) +
+                         "'s topic");
+}
+
 cairn_msgs::Odometry to_msg(RobotId robot, const OdometryReading& odom) {
   cairn_msgs::Odometry m;
   m.robot_id(robot.value);

@@ -12,6 +12,9 @@
 
 namespace cairn::dds {
 
+/// A sample on a robot's own topic must carry that robot's id; false (and `error`) otherwise.
+bool check_robot(int32_t sample_robot_id, RobotId expected, std::string* error);
+
 cairn_msgs::Odometry to_msg(RobotId robot, const OdometryReading& odom);
 std::optional<OdometryReading> from_msg(const cairn_msgs::Odometry& msg, std::string* error);
 

@@ -106,5 +106,12 @@ TEST(Conversions, LaserScanKeepsNanRangesButRejectsBadGeometry) {
   EXPECT_NE(error.find("robot_id"), std::string::npos);
 }
 
+TEST(Conversions, SamplesForAnotherRobotAreNamed) {
+  std::string error;
+  EXPECT_TRUE(check_robot(3, RobotId(3), &error));
+  EXPECT_FALSE(check_robot(7, RobotId(3), &error));
+  EXPECT_EQ(error, "sample for unknown robot_id 7 on robot3's topic");
+}
+
 }  // namespace
 }  // namespace cairn::dds

@@ -139,7 +139,15 @@ nlohmann::json BaseNode::link_stats() const {
     j["objects_sent"] = link.has_status ? link.last_status.objects_sent() : 0;
     j["scans_processed"] = link.has_status ? link.last_status.scans_processed() : 0;
     j["finished"] = link.has_status && link.last_status.finished();
-    j["last_heard_age_s"] = link.last_heard_s < 0 ? -1.0 : now_s() - link.last_heard_s;
+    const double age_s = link.last_heard_s < 0 ? -1.0 : now_s() - link.last_heard_s;
+    j["last_heard_age_s"] = age_s;
+    // What the console shows: the link's state and the bytes received from the robot.
+    j["state"] = !link.has_status ? "unknown"
+                 : link.last_status.finished() ? "finished"
+                 : age_s < 2.0 ? "ok"
+                 : age_s < 10.0 ? "stale"
+                 : "lost";
+    j["bytes_rx"] = link.has_status ? link.last_status.bytes_sent() : 0;
     j["bad_samples"] = link.bad_samples;
     links[std::to_string(robot.value)] = j;
   }

@@ -71,15 +71,18 @@ bool AgentNode::poll_inputs() {
   };
   for (const auto& m : odometry_in_->take_all()) {
     any = true;
-    if (auto o = dds::from_msg(m, &error)) pipeline_.add_odometry(*o); else reject("odometry");
+    auto o = dds::check_robot(m.robot_id(), robot_, &error) ? dds::from_msg(m, &error) : std::nullopt;
+    if (o) pipeline_.add_odometry(*o); else reject("odometry");
   }
   for (const auto& m : laser_in_->take_all()) {
     any = true;
-    if (auto s = dds::from_msg(m, &error)) pipeline_.add_scan(*s); else reject("laser_scan");
+    auto s = dds::check_robot(m.robot_id(), robot_, &error) ? dds::from_msg(m, &error) : std::nullopt;
+    if (s) pipeline_.add_scan(*s); else reject("laser_scan");
   }
   for (const auto& m : rgbd_in_->take_all()) {
     any = true;
-    if (auto f = dds::from_msg(m, &error)) pipeline_.add_rgbd(*f); else reject("rgbd");
+    auto f = dds::check_robot(m.robot_id(), robot_, &error) ? dds::from_msg(m, &error) : std::nullopt;
+    if (f) pipeline_.add_rgbd(*f); else reject("rgbd");
   }
   for (const auto& c : clock_in_->take_all()) {
     if (!log_source_) input_finished_ = input_finished_ || c.finished();
