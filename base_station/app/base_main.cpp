@@ -44,9 +44,12 @@ int main(int argc, char** argv) {
   app.add_option("--start", starts, "known start pose of a robot: id,x_m,y_m,yaw_rad (repeatable)");
   app.add_option("--port", options.console.port, "console HTTP port (0 = any free port)");
   app.add_option("--bind", options.console.bind_address, "console bind address");
+  bool no_shm = false;
+  app.add_flag("--no-shm", no_shm, "UDP only, no shared memory (e.g. behind an emulated radio link)");
   app.add_flag("--serve", options.serve_after_finish, "keep the console up after the mission");
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
+  options.use_shared_memory = !no_shm;
   cairn::set_log_level(log_level);
   auto log = cairn::make_logger("base");
 

@@ -45,6 +45,7 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   po.domain_id = options.domain_id;
   po.name = "cairn_base";
   po.initial_peers = options.peers;
+  po.use_shared_memory = options.use_shared_memory;
   n->participant_ = dds::Participant::create(po, error);
   if (!n->participant_) return nullptr;
   auto& p = *n->participant_;

@@ -18,6 +18,7 @@
 #include "sim/world.h"
 #include "tools/mission/child_process.h"
 #include "tools/mission/mission_report.h"
+#include "tools/mission/network_lab.h"
 
 namespace fs = std::filesystem;
 using cairn::mission::ChildProcess;
@@ -35,6 +36,7 @@ struct Options {
   int port = 8080;
   int domain = -1;
   double timeout_s = 900;
+  cairn::mission::LinkOptions link;  ///< emulated radio between robots and base (needs root)
 };
 
 std::string fmt_pose(int id, const cairn::SE2& p) {
@@ -53,6 +55,8 @@ int main(int argc, char** argv) {
   app.add_option("--port", opt.port, "console port (0 = any free port)");
   app.add_option("--domain", opt.domain, "DDS domain id (default: a fresh one)")->check(CLI::Range(0, 232));
   app.add_option("--timeout", opt.timeout_s, "give up after this many seconds");
+  app.add_option("--link-loss", opt.link.loss_pct, "emulated radio: % of packets lost each way (needs root)");
+  app.add_option("--link-kbit", opt.link.rate_kbit, "emulated radio: rate limit each way in kbit/s (needs root)");
   CLI11_PARSE(app, argc, argv);
 
   cairn::sim::WorldFile wf;
@@ -79,19 +83,42 @@ int main(int argc, char** argv) {
   const fs::path bin = fs::canonical("/proc/self/exe").parent_path();
   const int robots = int(wf.world.robots.size());
 
-  std::vector<std::string> base_cmd{(bin / "cairn_base").string(), "--domain", std::to_string(opt.domain), "--out",
+  // With an emulated radio the base station sits behind it in its own network namespace and talks
+  // to the agents over UDP only; the sensor topics stay on the robots' side (shared memory).
+  std::unique_ptr<cairn::mission::NetworkLab> lab;
+  std::string console_host = "127.0.0.1";
+  std::vector<std::string> base_cmd, agent_extra;
+  if (opt.link.loss_pct > 0 || opt.link.rate_kbit > 0) {
+    std::string error;
+    lab = cairn::mission::NetworkLab::create(opt.link, &error);
+    if (!lab) {
+      std::cerr << "cairn_mission: " << error << "\n";
+      return 2;
+    }
+    base_cmd = lab->prefix();
+    console_host = lab->base_side_address();
+    agent_extra = {"--peer", lab->base_side_address()};
+    if (opt.link.rate_kbit > 0) {
+      // Large samples need a flow controller below the link rate, or they choke the keyframes.
+      agent_extra.push_back("--object-rate-limit");
+      agent_extra.push_back(std::to_string(opt.link.rate_kbit * 1000 / 8 / (2 * robots)));
+    }
+  }
+  base_cmd.insert(base_cmd.end(), {(bin / "cairn_base").string(), "--domain", std::to_string(opt.domain), "--out",
                                     (out / "map").string(), "--robots", std::to_string(robots), "--port",
-                                    std::to_string(opt.port)};
+                                    std::to_string(opt.port)});
   // The team knows where the first robot entered (it anchors the map in world coordinates); where
   // the others started is not told: the base links them by cross-robot loop closures.
   const auto& anchor = wf.world.robots.front();
   base_cmd.push_back("--start");
   base_cmd.push_back(fmt_pose(anchor.id.value, anchor.T_world_start));
   if (opt.serve) base_cmd.push_back("--serve");
+  if (lab) base_cmd.insert(base_cmd.end(), {"--no-shm", "--bind", "0.0.0.0", "--peer", lab->robots_side_address()});
 
   std::cout << "Cairn mission '" << wf.world.name << "': " << robots << " robots, " << wf.world.objects.size()
             << " objects of interest, DDS domain " << opt.domain << "\n"
-            << "console: http://127.0.0.1:" << opt.port << "/\n";
+            << "console: http://" << console_host << ":" << opt.port << "/\n";
+  if (lab) std::cout << lab->describe() << "\n";
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   const auto wall_start = std::chrono::steady_clock::now();
@@ -101,7 +128,12 @@ int main(int argc, char** argv) {
     const std::string id = std::to_string(r.id.value);
     procs.push_back(std::make_unique<ChildProcess>(
         "agent" + id,
-        std::vector<std::string>{(bin / "cairn_agent").string(), "--robot", id, "--domain", std::to_string(opt.domain)},
+        [&] {
+          std::vector<std::string> cmd{(bin / "cairn_agent").string(), "--robot", id, "--domain",
+                                       std::to_string(opt.domain)};
+          cmd.insert(cmd.end(), agent_extra.begin(), agent_extra.end());
+          return cmd;
+        }(),
         (out / ("logs/agent" + id + ".log")).string()));
   }
   procs.push_back(std::make_unique<ChildProcess>(
@@ -117,7 +149,7 @@ int main(int argc, char** argv) {
     }
   }
 
-  cairn::mission::ProgressPoller progress(opt.port, robots);
+  cairn::mission::ProgressPoller progress(console_host, opt.port, robots);
   const fs::path summary_file = out / "map" / "summary.json";
   while (true) {
     bool failed = false, workers_done = true;
@@ -147,7 +179,7 @@ int main(int argc, char** argv) {
 
   int code = cairn::mission::report(out, wall_s, procs, std::cout);
   if (opt.serve && code == 0) {
-    std::cout << "console still up at http://127.0.0.1:" << opt.port << "/ (Ctrl-C to stop)" << std::endl;
+    std::cout << "console still up at http://" << console_host << ":" << opt.port << "/ (Ctrl-C to stop)" << std::endl;
     while (!g_interrupted && !procs[0]->poll()) std::this_thread::sleep_for(std::chrono::milliseconds(200));
     procs[0]->terminate();
     for (int i = 0; i < 50 && !procs[0]->poll(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));

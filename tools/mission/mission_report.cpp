@@ -67,7 +67,7 @@ int free_port() { return bind_port(0); }
 std::string ProgressPoller::line(double wall_s) const {
   std::ostringstream s;
   s << std::fixed << std::setprecision(1) << "[" << std::setw(6) << wall_s << " s] ";
-  httplib::Client cli("127.0.0.1", port_);
+  httplib::Client cli(host_, port_);
   cli.set_connection_timeout(0, 300'000);
   cli.set_read_timeout(1, 0);
   const auto status = get_json(cli, "/api/status");

@@ -14,13 +14,14 @@ namespace cairn::mission {
 bool port_is_free(int port);
 int free_port();
 
-/// Polls http://127.0.0.1:<port>/api/status and /api/robots for one progress line.
+/// Polls http://<host>:<port>/api/status and /api/robots for one progress line.
 class ProgressPoller {
  public:
-  ProgressPoller(int port, int robots) : port_(port), robots_(robots) {}
+  ProgressPoller(std::string host, int port, int robots) : host_(std::move(host)), port_(port), robots_(robots) {}
   std::string line(double wall_s) const;
 
  private:
+  std::string host_;
   int port_;
   int robots_;
 };
