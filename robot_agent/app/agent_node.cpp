@@ -134,7 +134,7 @@ void AgentNode::publish_status(bool finished) {
   }
   last_rate_scans_ = s.scans_received;
   last_rate_time_s_ = now_s;
-  st.collision_risk(false);
+  st.collision_risk(s.collision_risk >= 0.5f);  // optical-flow time-to-contact test (objects/optical_flow.h)
   st.finished(finished);
   status_out_->write(st);
 }
