@@ -11,6 +11,7 @@ PACKAGES=(
   libyaml-cpp-dev nlohmann-json3-dev libcpp-httplib-dev libspdlog-dev libcli11-dev
   libsqlite3-dev libzstd-dev zlib1g-dev
   python3 procps
+  iproute2 nftables                     # emulated radio link (cairn_mission --link-loss/--link-kbit)
 )
 
 missing=()

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "common/yaml_config.h"
 #include "run_command.h"
 #include "tools/eval/mission_eval.h"
@@ -115,6 +117,36 @@ TEST(MissionIntegration, TwoRobotsOverDdsMatchGroundTruth) {
 
   // The merged map's walls are where the floor plan has them.
   EXPECT_GT(wall_agreement(out / "map", world, 0.10), 0.90);
+}
+
+TEST(MissionIntegration, LossyRateLimitedRadioLinkLosesNothing) {
+  // The base station behind an emulated radio (10 % loss each way, 1 Mbit/s): reliable DDS with
+  // the agents' outboxes and the base's acks must still deliver every keyframe and object.
+  if (geteuid() != 0 || !fs::exists("/usr/sbin/nft") || !fs::exists("/usr/sbin/tc")) {
+    GTEST_SKIP() << "needs root, nft and tc for the emulated radio link (network namespaces)";
+  }
+  const std::string world = source_path("tests/worlds/two_robots_meet.yaml");
+  const fs::path out = fs::path(::testing::TempDir()) / ("lossy_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  const auto r = run_command(bin("cairn_mission") + " --world " + world + " --out " + out.string() +
+                             " --port 0 --timeout 400 --link-loss 10 --link-kbit 1000");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("10 % loss, 1000 kbit/s each way"), std::string::npos) << r.output;
+  std::ifstream in(out / "map" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["robots"].size(), 2u);
+  for (const auto& robot : summary["robots"]) {
+    // Everything the agent sent was stored: its keyframes, without gaps, and its objects.
+    EXPECT_EQ(robot["keyframes"], robot["link"]["keyframes_sent"]) << robot.dump();
+    EXPECT_EQ(robot["missing_keyframes"], 0) << robot.dump();
+    EXPECT_EQ(robot["object_reports"], robot["link"]["objects_sent"]) << robot.dump();
+    EXPECT_TRUE(robot["link"]["finished"].get<bool>()) << robot.dump();
+  }
+  const eval::MissionScore score = eval::evaluate_mission((out / "ground_truth").string(), (out / "map").string());
+  ASSERT_EQ(score.robots.size(), 2u);
+  ASSERT_TRUE(score.robots[0].global);
+  EXPECT_LT(score.robots[0].global->ate_rmse_m, 0.20);
+  EXPECT_GE(score.objects.recall(), 0.75) << eval::format_score(score);
 }
 
 TEST(MissionIntegration, RobotsThatNeverMeetInLookAlikeWingsAreNotMergedWrongly) {

@@ -167,6 +167,12 @@ bool BaseNode::all_finished() const {
 }
 
 void BaseNode::report_linking(const OptimizeResult& r) {
+  for (const LinkEvent& e : r.link_events) {
+    if (e.accepted) continue;  // acceptance is reported below, once per robot
+    log_->info("link {} <-> {} via {} closures {}: {} (map contradiction {:.1f} %)", to_string(e.robot),
+               to_string(e.other), e.closures, e.inconclusive ? "deferred" : "rejected", e.reason,
+               100.0 * e.contradiction_ratio);
+  }
   for (RobotId robot : r.newly_linked) {
     int closures = 0;
     for (const RobotSummary& s : mapper_.robots()) {
