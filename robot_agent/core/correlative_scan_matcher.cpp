@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace cairn::agent {
 namespace {
@@ -12,26 +13,31 @@ double max_range_m(const std::vector<Eigen::Vector2f>& points) {
   return r;
 }
 
-// Adds, for every translation offset (dx, dy) in [-n, n]^2, the probability at cell + offset of each
-// point to scores[(dy + n) * side + dx + n]. Rows are read contiguously; out-of-grid reads `outside`.
+// Adds, for every translation offset (dx, dy) in [-n, n]^2, the field value at cell + offset of each
+// point to scores[(dy + n) * side + dx + n]. Rows are read contiguously; out-of-grid reads 0.
 void accumulate(const std::vector<Eigen::Vector2i>& cells, int n, const ProbabilityGrid& grid,
-                std::vector<float>* scores) {
+                std::vector<uint32_t>* scores) {
   const int side = 2 * n + 1;
-  const std::vector<uint8_t>& values = grid.field();
+  const uint8_t* values = grid.field().data();
   const int w = grid.width(), h = grid.height();
+  uint32_t* const base = scores->data();
   for (const auto& c : cells) {
     const bool inside = c.x() - n >= 0 && c.y() - n >= 0 && c.x() + n < w && c.y() + n < h;
-    for (int dy = -n; dy <= n; ++dy) {
-      float* out = &(*scores)[size_t(dy + n) * side];
-      if (inside) {
-        const uint8_t* row = &values[size_t(c.y() + dy) * w + (c.x() - n)];
-        for (int k = 0; k < side; ++k) out[k] += float(row[k]);
-      } else {
-        for (int k = 0; k < side; ++k) {
-          const int col = c.x() - n + k, row = c.y() + dy;
-          if (grid.contains(col, row)) out[k] += float(values[size_t(row) * w + col]);
-        }
+    if (inside) {
+      const uint8_t* row = values + size_t(c.y() - n) * w + (c.x() - n);
+      uint32_t* out = base;
+      for (int dy = 0; dy < side; ++dy, row += w, out += side) {
+        for (int k = 0; k < side; ++k) out[k] += row[k];
       }
+      continue;
+    }
+    // Clip the window to the grid.
+    const int k0 = std::max(0, n - c.x()), k1 = std::min(side, w - (c.x() - n));
+    const int d0 = std::max(0, n - c.y()), d1 = std::min(side, h - (c.y() - n));
+    for (int dy = d0; dy < d1; ++dy) {
+      const uint8_t* row = values + size_t(c.y() - n + dy) * w + (c.x() - n);
+      uint32_t* out = base + size_t(dy) * side;
+      for (int k = k0; k < k1; ++k) out[k] += row[k];
     }
   }
 }
@@ -60,29 +66,49 @@ CorrelativeMatch CorrelativeScanMatcher::match(const SE2& initial, const std::ve
   const int n = int(std::ceil(linear_window_m / res));
   const int side = 2 * n + 1;
   std::vector<Eigen::Vector2i> cells(points.size());
-  std::vector<float> scores(size_t(side) * side);
+  std::vector<uint32_t> scores(size_t(side) * side);
+  // Translation penalty per offset, computed once per search (not per angle).
+  std::vector<float> trans_factor(size_t(side) * side);
+  for (int dy = -n; dy <= n; ++dy) {
+    for (int dx = -n; dx <= n; ++dx) {
+      const double trans_cost = options_.translation_delta_cost_weight * res * std::hypot(double(dx), double(dy));
+      trans_factor[size_t(dy + n) * side + dx + n] = float(std::exp(-trans_cost * trans_cost));
+    }
+  }
+  const double norm = 1.0 / (255.0 * double(points.size()));
+  const Eigen::Vector2d origin = grid.origin_m();
+  const double inv_res = 1.0 / res;
   double best_weighted = -1.0;
   for (int a = -num_angles; a <= num_angles; ++a) {
     const double dyaw = a * step_rad;
     const Eigen::Matrix2d R = Eigen::Rotation2Dd(initial.yaw() + dyaw).toRotationMatrix();
+    const Eigen::Vector2d t = (initial.translation() - origin) * inv_res;
+    const Eigen::Matrix2d Rs = R * inv_res;
     for (size_t i = 0; i < points.size(); ++i) {
-      cells[i] = grid.cell_of(R * points[i].cast<double>() + initial.translation());
+      const Eigen::Vector2d q = Rs * points[i].cast<double>() + t;
+      cells[i] = Eigen::Vector2i(int(std::floor(q.x())), int(std::floor(q.y())));
     }
-    std::fill(scores.begin(), scores.end(), 0.f);
+    std::fill(scores.begin(), scores.end(), 0u);
     accumulate(cells, n, grid, &scores);
     const double rot_cost = options_.rotation_delta_cost_weight * dyaw;
-    for (int dy = -n; dy <= n; ++dy) {
-      for (int dx = -n; dx <= n; ++dx) {
-        const double raw = scores[size_t(dy + n) * side + dx + n] / (255.0 * double(points.size()));
-        const double trans_cost = options_.translation_delta_cost_weight * res * std::hypot(double(dx), double(dy));
-        const double weighted = raw * std::exp(-trans_cost * trans_cost - rot_cost * rot_cost);
-        ++best.candidates;
-        if (weighted > best_weighted) {
-          best_weighted = weighted;
-          best.score = raw;
-          best.pose = SE2(initial.translation() + res * Eigen::Vector2d(dx, dy), initial.yaw() + dyaw);
-        }
+    const float rot_factor = float(std::exp(-rot_cost * rot_cost));
+    // Best of this angle by the weighted score (exact ties keep the first, as before).
+    float best_here = -1.f;
+    size_t best_index = 0;
+    for (size_t k = 0; k < scores.size(); ++k) {
+      const float weighted = float(scores[k]) * trans_factor[k];
+      if (weighted > best_here) {
+        best_here = weighted;
+        best_index = k;
       }
+    }
+    best.candidates += int(scores.size());
+    const double weighted = double(best_here) * rot_factor * norm;
+    if (weighted > best_weighted) {
+      best_weighted = weighted;
+      const int dx = int(best_index % side) - n, dy = int(best_index / side) - n;
+      best.score = double(scores[best_index]) * norm;
+      best.pose = SE2(initial.translation() + res * Eigen::Vector2d(dx, dy), initial.yaw() + dyaw);
     }
   }
   return best;

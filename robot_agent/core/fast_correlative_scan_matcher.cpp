@@ -11,39 +11,71 @@ namespace {
 }  // namespace
 
 PrecomputationGrid PrecomputationGrid::from_grid(const ProbabilityGrid& grid) {
+  // Only cells near hits have a non-zero field: crop to their bounding box (a finished submap's
+  // free-space rays reach far beyond its walls).
+  const std::vector<uint8_t>& field = grid.field();
+  int x0 = grid.width(), y0 = grid.height(), x1 = -1, y1 = -1;
+  for (int r = 0; r < grid.height(); ++r) {
+    const uint8_t* row = field.data() + size_t(r) * grid.width();
+    int first = -1, last = -1;
+    for (int c = 0; c < grid.width(); ++c) {
+      if (row[c]) { first = c; break; }
+    }
+    if (first < 0) continue;
+    for (int c = grid.width() - 1; c >= first; --c) {
+      if (row[c]) { last = c; break; }
+    }
+    x0 = std::min(x0, first); x1 = std::max(x1, last);
+    y0 = std::min(y0, r); y1 = r;
+  }
   PrecomputationGrid g;
-  g.width_ = grid.width();
-  g.height_ = grid.height();
+  if (x1 < 0) return g;
+  g.x0_ = x0;
+  g.y0_ = y0;
+  g.width_ = x1 - x0 + 1;
+  g.height_ = y1 - y0 + 1;
   g.cells_.resize(size_t(g.width_) * g.height_);
-  g.cells_ = grid.field();
+  for (int r = 0; r < g.height_; ++r) {
+    std::copy_n(field.data() + size_t(r + y0) * grid.width() + x0, g.width_, g.cells_.data() + size_t(r) * g.width_);
+  }
   return g;
 }
 
 PrecomputationGrid PrecomputationGrid::from_previous(const PrecomputationGrid& prev) {
-  // max over a 2b block = max of the four b-blocks at (0,0), (b,0), (0,b), (b,b).
+  // max over a 2b block = max of the four b-blocks at (0,0), (b,0), (0,b), (b,b). A block starting
+  // at col is non-zero only if it overlaps the previous level's extent: col in [x0 - b, x0 + w).
   PrecomputationGrid g;
   const int half = prev.block_;
   g.block_ = 2 * half;
-  g.offset_ = g.block_ - 1;
-  g.width_ = prev.width_ - prev.offset_ + g.offset_;
-  g.height_ = prev.height_ - prev.offset_ + g.offset_;
-  g.cells_.resize(size_t(g.width_) * g.height_);
-  // Separable: horizontal max of the two b-blocks, then vertical max of that.
+  if (prev.width_ == 0) return g;
+  g.x0_ = prev.x0_ - half;
+  g.y0_ = prev.y0_ - half;
+  g.width_ = prev.width_ + half;
+  g.height_ = prev.height_ + half;
+  g.cells_.assign(size_t(g.width_) * g.height_, 0);
+  // Separable: horizontal max of the two b-blocks (previous rows), then vertical max of that.
+  // New column c <-> previous columns c - half and c (previous index space: col - prev.x0_).
   std::vector<uint8_t> horizontal(size_t(g.width_) * prev.height_);
   for (int pr = 0; pr < prev.height_; ++pr) {
-    const int row = pr - prev.offset_;
+    const uint8_t* in = prev.cells_.data() + size_t(pr) * prev.width_;
+    uint8_t* out = horizontal.data() + size_t(pr) * g.width_;
+    // out[c] = max(in[c - half], in[c]) with in[] zero outside [0, prev.width_).
     for (int c = 0; c < g.width_; ++c) {
-      const int col = c - g.offset_;
-      horizontal[size_t(pr) * g.width_ + c] = std::max(prev.at(col, row), prev.at(col + half, row));
+      const uint8_t a = (c - half >= 0 && c - half < prev.width_) ? in[c - half] : 0;
+      const uint8_t b = c < prev.width_ ? in[c] : 0;
+      out[c] = std::max(a, b);
     }
   }
-  auto h_at = [&](int c, int row) -> uint8_t {
-    const int pr = row + prev.offset_;
-    return (pr >= 0 && pr < prev.height_) ? horizontal[size_t(pr) * g.width_ + c] : 0;
-  };
   for (int r = 0; r < g.height_; ++r) {
-    const int row = r - g.offset_;
-    for (int c = 0; c < g.width_; ++c) g.cells_[size_t(r) * g.width_ + c] = std::max(h_at(c, row), h_at(c, row + half));
+    uint8_t* out = g.cells_.data() + size_t(r) * g.width_;
+    const int ra = r - half, rb = r;  // previous rows
+    const uint8_t* a = (ra >= 0 && ra < prev.height_) ? horizontal.data() + size_t(ra) * g.width_ : nullptr;
+    const uint8_t* b = rb < prev.height_ ? horizontal.data() + size_t(rb) * g.width_ : nullptr;
+    if (a && b) {
+      for (int c = 0; c < g.width_; ++c) out[c] = std::max(a[c], b[c]);
+    } else if (a || b) {
+      std::copy_n(a ? a : b, g.width_, out);
+    }
   }
   return g;
 }
@@ -101,7 +133,7 @@ std::optional<FastCorrelativeScanMatcher::Candidate> FastCorrelativeScanMatcher:
 
 std::optional<FastMatch> FastCorrelativeScanMatcher::match(const SE2& initial, const std::vector<Eigen::Vector2f>& points,
                                                            double linear_window_m, double angular_window_rad,
-                                                           double min_score) const {
+                                                           double min_score, int* scored_candidates) const {
   if (points.empty()) return std::nullopt;
   double range_m = 0.0;
   for (const auto& p : points) range_m = std::max(range_m, double(p.norm()));
@@ -131,6 +163,7 @@ std::optional<FastMatch> FastCorrelativeScanMatcher::match(const SE2& initial, c
   const int min_sum = int(std::ceil(std::max(0.0, min_score) * 255.0 * double(points.size())));
   int budget = options_.max_scored_candidates;
   const auto best = search(scans, std::move(candidates), top, n, min_sum, &budget);
+  if (scored_candidates) *scored_candidates = options_.max_scored_candidates - budget;
   if (!best || budget < 0) return std::nullopt;
   FastMatch out;
   out.pose = SE2(initial.translation() + resolution_m_ * Eigen::Vector2d(best->dx, best->dy),

@@ -30,21 +30,23 @@ struct FastCorrelativeScanMatcherOptions {
 class PrecomputationGrid {
  public:
   PrecomputationGrid() = default;
-  /// From the grid itself (width 1) or from the previous level (block width = 2 * previous).
+  /// From the grid itself (width 1), cropped to the cells whose field is non-zero, or from the
+  /// previous level (block width = 2 * previous).
   static PrecomputationGrid from_grid(const ProbabilityGrid& grid);
   static PrecomputationGrid from_previous(const PrecomputationGrid& previous);
   uint8_t at(int col, int row) const {
-    const int c = col + offset_, r = row + offset_;
-    return (c >= 0 && r >= 0 && c < width_ && r < height_) ? cells_[size_t(r) * width_ + c] : 0;
+    const unsigned c = unsigned(col - x0_), r = unsigned(row - y0_);
+    return (c < unsigned(width_) && r < unsigned(height_)) ? cells_[size_t(r) * width_ + c] : 0;
   }
   int block_cells() const { return block_; }
   /// Sum of at(c + (dx, dy)) over `cells`.
   int sum(const std::vector<Eigen::Vector2i>& cells, int dx, int dy) const {
     int total = 0;
-    const int ox = dx + offset_, oy = dy + offset_;
+    const int ox = dx - x0_, oy = dy - y0_;
+    const uint8_t* data = cells_.data();
     for (const auto& c : cells) {
       const unsigned col = unsigned(c.x() + ox), row = unsigned(c.y() + oy);
-      if (col < unsigned(width_) && row < unsigned(height_)) total += cells_[size_t(row) * width_ + col];
+      if (col < unsigned(width_) && row < unsigned(height_)) total += data[size_t(row) * width_ + col];
     }
     return total;
   }
@@ -52,7 +54,7 @@ class PrecomputationGrid {
 
  private:
   int block_ = 1;
-  int offset_ = 0;  ///< covers cols/rows from -offset_ so blocks straddling the lower edge are kept
+  int x0_ = 0, y0_ = 0;  ///< grid cell of the first column / row (blocks straddling the lower edge are kept)
   int width_ = 0, height_ = 0;
   std::vector<uint8_t> cells_;
 };
@@ -69,7 +71,8 @@ class FastCorrelativeScanMatcher {
   /// Best pose within +-linear_window_m / +-angular_window_rad of `initial_T_grid_base` whose score
   /// is at least `min_score`; nullopt when none reaches it.
   std::optional<FastMatch> match(const SE2& initial_T_grid_base, const std::vector<Eigen::Vector2f>& points_base,
-                                 double linear_window_m, double angular_window_rad, double min_score) const;
+                                 double linear_window_m, double angular_window_rad, double min_score,
+                                 int* scored_candidates = nullptr) const;
   size_t memory_bytes() const;
 
  private:

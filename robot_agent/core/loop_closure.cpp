@@ -42,7 +42,10 @@ int LoopClosure::add_node(const SE2& T_local_node, const std::vector<Eigen::Vect
   }
   ++nodes_since_optimize_;
   if (loops_since_optimize_ > 0 && nodes_since_optimize_ >= options_.optimize_every_n_nodes) {
-    if (graph_.optimize()) ++stats_.optimizations;
+    if (graph_.optimize()) {
+      ++stats_.optimizations;
+      anchored_node_ = last_loop_node_;
+    }
     loops_since_optimize_ = 0;
     nodes_since_optimize_ = 0;
   }
@@ -63,6 +66,7 @@ void LoopClosure::search(int node, const std::vector<Eigen::Vector2f>& points_ba
       fine = voxel_filter_2d(points_base, options_.refine_voxel_m);
     }
     if (try_submap(node, e, id, coarse, fine)) {
+      last_loop_node_ = node;
       ++stats_.loop_closures;
       ++loops_since_optimize_;
     }
@@ -76,12 +80,20 @@ bool LoopClosure::try_submap(int node, SubmapEntry& e, int id, const std::vector
   const SE2 T_submap_node = graph_.submap_pose(id).between(graph_.node_pose(node));
   const SE2 initial = e.T_local_submap * T_submap_node;
   const LoopClosureOptions& o = options_;
-  const double gap = double(node - e.last_node);
+  double gap = double(node - e.last_node);
+  if (o.anchor_gap_factor > 0.0 && anchored_node_ >= 0) {
+    gap = std::min(gap, o.anchor_gap_factor * double(node - anchored_node_));
+  }
   const double linear_m = std::min(o.linear_window_max_m, o.linear_window_base_m + o.linear_window_per_node_m * gap);
   const double angular_rad =
       std::min(o.angular_window_max_rad, o.angular_window_base_rad + o.angular_window_per_node_rad * gap);
-  const auto found = e.matcher->match(initial, points, linear_m, angular_rad, o.min_search_score);
-  if (!found) return false;
+  int scored = 0;
+  const auto found = e.matcher->match(initial, points, linear_m, angular_rad, o.min_search_score, &scored);
+  stats_.scored_candidates += scored;
+  if (!found) {
+    stats_.scored_candidates_failed += scored;
+    return false;
+  }
   const CeresMatch refined = refiner_.match(found->pose, fine, e.submap->grid);
   if (!refined.converged || refined.score < options_.min_refined_score) {
     ++stats_.rejected_after_refinement;
@@ -94,7 +106,10 @@ bool LoopClosure::try_submap(int node, SubmapEntry& e, int id, const std::vector
 
 void LoopClosure::finish() {
   if (!options_.enabled || graph_.num_loop_closures() == 0) return;
-  if (graph_.optimize()) ++stats_.optimizations;
+  if (graph_.optimize()) {
+    ++stats_.optimizations;
+    anchored_node_ = last_loop_node_;
+  }
   loops_since_optimize_ = 0;
   nodes_since_optimize_ = 0;
 }

@@ -29,14 +29,18 @@ struct LoopClosureOptions {
     return o;
   }();
   PoseGraphOptions graph;
-  /// The search window grows with the number of nodes since the submap was last touched (drift):
-  /// window = min(max, base + per_node * gap).
+  /// The search window grows with the drift the node's estimate can have accumulated relative to
+  /// the submap: window = min(max, base + per_node * gap), gap = the nodes since the submap was last
+  /// touched or, when fewer, anchor_gap_factor times the nodes since the newest node whose loop
+  /// closure the graph has been optimised with (which anchored the trajectory to the old submaps;
+  /// the factor allows for the residual error of that correction; 0 disables the anchor).
   double linear_window_base_m = 0.3;
   double linear_window_per_node_m = 0.01;
   double linear_window_max_m = 4.0;
   double angular_window_base_rad = 3.0 * M_PI / 180.0;
   double angular_window_per_node_rad = 0.05 * M_PI / 180.0;
   double angular_window_max_rad = 20.0 * M_PI / 180.0;
+  double anchor_gap_factor = 0.0;
   double max_constraint_distance_m = 10.0;  ///< node to submap origin, current estimate
   double min_search_score = 0.5;           ///< of the branch-and-bound match (likelihood field, 0..1)
   double min_refined_score = 0.35;        ///< of the Ceres refinement (mean probability)
@@ -53,6 +57,8 @@ struct LoopClosureStats {
   int rejected_after_refinement = 0;
   int optimizations = 0;
   size_t matcher_bytes = 0;
+  int64_t scored_candidates = 0;         ///< branch-and-bound work, all searches
+  int64_t scored_candidates_failed = 0;  ///< ... of searches that found no match
 };
 
 class LoopClosure {
@@ -92,6 +98,8 @@ class LoopClosure {
   std::vector<SubmapEntry> submaps_;
   std::vector<SE2> local_nodes_;
   int loops_since_optimize_ = 0;
+  int last_loop_node_ = -1;      ///< newest node with an accepted loop closure
+  int anchored_node_ = -1;       ///< last_loop_node_ as of the latest optimisation
   int nodes_since_optimize_ = 0;
   LoopClosureStats stats_;
 };

@@ -88,13 +88,26 @@ Eigen::Vector2i ProbabilityGrid::cell_of(const Eigen::Vector2d& p_m) const {
 void ProbabilityGrid::grow_to_include(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m) {
   const Eigen::Vector2i lo = cell_of(min_m), hi = cell_of(max_m);
   if (width_ > 0 && lo.x() >= 0 && lo.y() >= 0 && hi.x() < width_ && hi.y() < height_) return;
-  // New extent: the union, padded so repeated growth is amortised (at least doubles).
-  const int x0 = std::min(0, lo.x()), y0 = std::min(0, lo.y());
-  const int x1 = std::max(width_ - 1, hi.x()), y1 = std::max(height_ - 1, hi.y());
-  const int need_w = x1 - x0 + 1, need_h = y1 - y0 + 1;
-  const int new_w = std::max(need_w, 2 * width_), new_h = std::max(need_h, 2 * height_);
-  const int pad_x = (new_w - need_w) / 2, pad_y = (new_h - need_h) / 2;
-  const int shift_x = -x0 + pad_x, shift_y = -y0 + pad_y;  // old cell (c, r) -> (c + shift_x, r + shift_y)
+  // New extent: the union, grown only along the axes that need it, with a slack of the old size
+  // (doubling, so repeated growth is amortised) on the side(s) that overflowed.
+  auto extent = [](int lo, int hi, int size, int* new_size, int* shift) {
+    if (size > 0 && lo >= 0 && hi < size) {
+      *new_size = size;
+      *shift = 0;
+      return;
+    }
+    const int x0 = std::min(0, lo), x1 = std::max(size - 1, hi);
+    const int need = x1 - x0 + 1;
+    const int slack = std::max(8, size);
+    const bool low = lo < 0, high = hi >= size;
+    const int pad_low = low ? (high ? slack / 2 : slack) : 0;
+    const int pad_high = high ? (low ? slack - slack / 2 : slack) : 0;
+    *new_size = need + pad_low + pad_high;
+    *shift = -x0 + pad_low;  // old cell c -> c + shift
+  };
+  int new_w = 0, new_h = 0, shift_x = 0, shift_y = 0;
+  extent(lo.x(), hi.x(), width_, &new_w, &shift_x);
+  extent(lo.y(), hi.y(), height_, &new_h, &shift_y);
   std::vector<uint16_t> cells(size_t(new_w) * size_t(new_h), kUnknownValue);
   std::vector<uint8_t> field(cells.size(), 0);
   for (int r = 0; r < height_; ++r) {

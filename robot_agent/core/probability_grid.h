@@ -67,7 +67,8 @@ class ProbabilityGrid {
   }
   float fill_probability() const { return fill_probability_; }
 
-  /// Grows (at least doubling, keeping cell alignment) so the box [min_m, max_m] is inside.
+  /// Grows (only the axes that overflow, at least doubling them, slack on the overflowing side,
+  /// keeping cell alignment) so the box [min_m, max_m] is inside.
   void grow_to_include(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m);
   /// Shrinks to the bounding box of known cells (plus `margin_cells`), e.g. when a submap is finished.
   void crop_to_known(int margin_cells = 2);

@@ -19,12 +19,27 @@ SubmapInsertion ActiveSubmaps::insert(const SE2& T_local_base, const std::vector
     auto s = std::make_shared<Submap>();
     s->id = next_id_++;
     s->T_local_submap = T_local_base;
-    const int cells = std::max(8, int(std::ceil(options_.initial_size_m / options_.resolution_m)));
-    const Eigen::Vector2d origin =
-        T_local_base.translation() - 0.5 * options_.resolution_m * Eigen::Vector2d(cells, cells);
+    // The initial extent covers the first scan (beams cut at the inserter's max length) plus a
+    // margin for the travel to come, so the grid rarely has to grow (each growth reallocates it).
+    const double half = 0.5 * options_.initial_size_m;
+    Eigen::Vector2d lo = T_local_base.translation() - Eigen::Vector2d(half, half);
+    Eigen::Vector2d hi = T_local_base.translation() + Eigen::Vector2d(half, half);
+    const double max_r = options_.inserter.max_ray_length_m;
+    for (const auto& p : points_base) {
+      const double r = p.norm();
+      const Eigen::Vector2d q = T_local_base * (r > max_r ? Eigen::Vector2d(p.cast<double>() * (max_r / r))
+                                                          : Eigen::Vector2d(p.cast<double>()));
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    const double margin = options_.initial_margin_m;
+    lo -= Eigen::Vector2d(margin, margin);
+    hi += Eigen::Vector2d(margin, margin);
     // Align cell boundaries across submaps to multiples of the resolution.
-    const Eigen::Vector2d aligned = (origin / options_.resolution_m).array().floor() * options_.resolution_m;
-    s->grid = ProbabilityGrid(aligned, options_.resolution_m, cells, cells);
+    const Eigen::Vector2d aligned = (lo / options_.resolution_m).array().floor() * options_.resolution_m;
+    const int width = std::max(8, int(std::ceil((hi.x() - aligned.x()) / options_.resolution_m)));
+    const int height = std::max(8, int(std::ceil((hi.y() - aligned.y()) / options_.resolution_m)));
+    s->grid = ProbabilityGrid(aligned, options_.resolution_m, width, height);
     active_.push_back(std::move(s));
     out.created = true;
   }

@@ -22,7 +22,8 @@ struct SubmapOptions {
   /// ... or a new submap starts once the newest has seen this much travel (sparse logs), so a
   /// submap never spans so much motion that its own drift blurs it.
   double travel_per_submap_m = 6.0;
-  double initial_size_m = 20.0;  ///< initial grid extent around the first scan (grows as needed)
+  double initial_size_m = 20.0;  ///< initial grid extent at least, around the first scan's pose
+  double initial_margin_m = 3.0; ///< ... and around the first scan's bounding box (grows as needed)
 };
 
 struct Submap {

@@ -18,7 +18,8 @@ nlohmann::json stats_json(const cairn::slam::SlamRunStats& s, double total_wall_
   return {{"scans", s.scans}, {"matched", s.matched}, {"motion_filtered", s.motion_filtered},
           {"match_failed", s.match_failed}, {"too_few_points", s.too_few_points}, {"nodes", s.nodes},
           {"submaps", s.submaps}, {"loop_closures", s.loop_closures}, {"loop_searches", s.loop_searches},
-          {"optimizations", s.optimizations},
+          {"optimizations", s.optimizations}, {"loop_scored_candidates", s.loop_scored_candidates},
+          {"loop_scored_candidates_failed", s.loop_scored_candidates_failed}, {"loop_matcher_mb", s.loop_matcher_mb},
           {"beams", {{"valid", s.beams.valid}, {"nan_or_inf", s.beams.nan_or_inf},
                      {"too_close", s.beams.too_close}, {"max_range", s.beams.max_range}}},
           {"log_duration_s", s.log_duration_s}, {"slam_wall_s", s.slam_wall_s}, {"slam_cpu_s", s.slam_cpu_s},
@@ -58,6 +59,15 @@ int main(int argc, char** argv) {
   app.add_option("--ceres-rotation-weight", options.slam.matcher.ceres.rotation_weight, "local Ceres prior");
   app.add_option("--loop-search-every-n", options.slam.loop_closure.search_every_n_nodes, "loop search node sampling");
   app.add_option("--optimize-every-n", options.slam.loop_closure.optimize_every_n_nodes, "pose graph period (nodes)");
+  auto& lc = options.slam.loop_closure;
+  app.add_option("--loop-anchor-gap-factor", lc.anchor_gap_factor,
+                 "loop search window also bounded by this times the nodes since the last optimised loop "
+                 "closure (0: only by the nodes since the submap was last touched)");
+  app.add_option("--loop-max-distance", lc.max_constraint_distance_m, "loop search: node to submap origin, m");
+  app.add_option("--loop-min-search-score", lc.min_search_score, "branch-and-bound acceptance score");
+  app.add_option("--loop-max-range-for-step", lc.fast.max_range_for_step_m,
+                 "branch-and-bound angular step: one cell at this range, m");
+  app.add_option("--loop-search-voxel", lc.search_voxel_m, "branch-and-bound point thinning, m");
   CLI11_PARSE(app, argc, argv);
   options.noise.rotation_noise_rad_per_m = rot_deg_per_m * M_PI / 180.0;
   options.slam.loop_closure.enabled = !no_loop_closure;

@@ -67,6 +67,9 @@ SlamRunResult run_slam(const CarmenLog& log, bool corrected, const SlamRunOption
   out.stats.loop_closures = lc.stats().loop_closures;
   out.stats.loop_searches = lc.stats().searches;
   out.stats.optimizations = lc.stats().optimizations;
+  out.stats.loop_scored_candidates = lc.stats().scored_candidates;
+  out.stats.loop_scored_candidates_failed = lc.stats().scored_candidates_failed;
+  out.stats.loop_matcher_mb = double(lc.stats().matcher_bytes) / (1024.0 * 1024.0);
   return out;
 }
 

@@ -25,6 +25,8 @@ struct SlamRunOptions {
 struct SlamRunStats {
   int scans = 0, matched = 0, motion_filtered = 0, match_failed = 0, too_few_points = 0;
   int nodes = 0, submaps = 0, loop_closures = 0, loop_searches = 0, optimizations = 0;
+  int64_t loop_scored_candidates = 0, loop_scored_candidates_failed = 0;
+  double loop_matcher_mb = 0;
   ScanFilterStats beams;
   double log_duration_s = 0;
   double slam_wall_s = 0, slam_cpu_s = 0;
