@@ -1,5 +1,6 @@
 #include "common/scan_context.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace cairn {
@@ -21,6 +22,30 @@ std::vector<float> compute_scan_context(const std::vector<Eigen::Vector2f>& poin
 
 std::vector<float> compute_scan_context(const LaserScan& scan, const ScanContextOptions& options) {
   return compute_scan_context(scan_to_points(scan), options);
+}
+
+std::vector<float> compute_keyframe_scan_context(const Keyframe& kf, const std::vector<const Keyframe*>& recent,
+                                                 const ScanContextOptions& options) {
+  std::vector<Eigen::Vector2f> points;
+  auto append = [&](const Keyframe& other) {
+    const SE2 T = kf.T_local_base.between(other.T_local_base);
+    for (const Eigen::Vector2f& p : scan_to_points(other.scan)) points.push_back((T * p.cast<double>()).cast<float>());
+  };
+  append(kf);
+  std::vector<int32_t> used;  // each predecessor once
+  for (const Keyframe* other : recent) {
+    if (other == nullptr || other->id.robot != kf.id.robot) continue;
+    const int32_t back = kf.id.seq - other->id.seq;
+    if (back < 1 || back >= options.descriptor_keyframes) continue;
+    if (std::find(used.begin(), used.end(), other->id.seq) != used.end()) continue;
+    used.push_back(other->id.seq);
+    append(*other);
+  }
+  return compute_scan_context(points, options);
+}
+
+bool scan_context_size_ok(const std::vector<float>& d, const ScanContextOptions& o) {
+  return o.num_rings > 0 && o.num_sectors > 0 && d.size() == size_t(o.num_rings * o.num_sectors);
 }
 
 std::vector<float> scan_context_ring_key(const std::vector<float>& d, const ScanContextOptions& o) {

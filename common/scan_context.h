@@ -5,11 +5,14 @@
 // (per-ring mean) is rotation-invariant and used for a fast nearest-neighbour pre-selection; the
 // full distance is the column-shift-minimised mean cosine distance over columns seen by both
 // descriptors (so partial fields of view compare fairly), and the best shift estimates the yaw.
-// The agent computes it per keyframe (from the keyframe's scan, or from the points of its last few
-// keyframes in the keyframe frame for narrow lasers) and sends it; the base recomputes it when absent.
+// The agent computes it per keyframe with compute_keyframe_scan_context (the points of the keyframe
+// and of its last few predecessors, in the keyframe's frame: narrow lasers see too little alone)
+// and sends it in Keyframe::place_descriptor; the base recomputes it with the same function when
+// absent. Both sides use ScanContextOptions{} (defaults below, the one place they are set).
 #include <Eigen/Core>
 #include <vector>
 
+#include "common/keyframe.h"
 #include "common/laser_scan.h"
 
 namespace cairn {
@@ -18,6 +21,8 @@ struct ScanContextOptions {
   int num_rings = 20;
   int num_sectors = 60;
   double max_range_m = 20.0;
+  /// Keyframes merged into a keyframe's descriptor: the keyframe and its predecessors (seq - 1, ...).
+  int descriptor_keyframes = 3;
 };
 
 /// Flat descriptor, ring-major (ring r, sector s at r * num_sectors + s); sector 0 starts at -pi
@@ -25,6 +30,14 @@ struct ScanContextOptions {
 std::vector<float> compute_scan_context(const std::vector<Eigen::Vector2f>& points_sensor,
                                         const ScanContextOptions& options = {});
 std::vector<float> compute_scan_context(const LaserScan& scan, const ScanContextOptions& options = {});
+
+/// Descriptor of keyframe `kf`: the points of its scan and of its robot's predecessors with seq in
+/// [kf.seq - descriptor_keyframes + 1, kf.seq - 1] found in `recent` (others are ignored; missing
+/// ones are skipped), expressed in kf's base frame through the keyframes' local poses.
+std::vector<float> compute_keyframe_scan_context(const Keyframe& kf, const std::vector<const Keyframe*>& recent,
+                                                 const ScanContextOptions& options = {});
+/// Whether `descriptor` has the size `options` give (else it was computed with other options).
+bool scan_context_size_ok(const std::vector<float>& descriptor, const ScanContextOptions& options = {});
 
 /// Rotation-invariant ring key (mean of each ring), num_rings values.
 std::vector<float> scan_context_ring_key(const std::vector<float>& descriptor, const ScanContextOptions& options = {});

@@ -48,5 +48,32 @@ TEST(ScanContext, DifferentPlacesAreFar) {
   EXPECT_TRUE(compute_scan_context(std::vector<Eigen::Vector2f>{}).empty());
 }
 
+Keyframe keyframe_at(RobotId robot, int32_t seq, const SE2& pose, float range) {
+  Keyframe kf;
+  kf.id = KeyframeId{robot, seq};
+  kf.T_local_base = pose;
+  kf.scan.angle_min_rad = float(-M_PI / 2);
+  kf.scan.angle_increment_rad = float(M_PI / 180);
+  kf.scan.ranges_m.assign(181, range);
+  return kf;
+}
+
+TEST(ScanContext, KeyframeDescriptorMergesRecentPredecessorsInItsFrame) {
+  const Keyframe k0 = keyframe_at(RobotId(1), 4, SE2(0, 0, 0), 3.f);
+  const Keyframe k1 = keyframe_at(RobotId(1), 5, SE2(1, 0, 0.5), 5.f);
+  const Keyframe k2 = keyframe_at(RobotId(1), 6, SE2(2, 1, 1.0), 7.f);
+  const Keyframe old = keyframe_at(RobotId(1), 3, SE2(5, 5, 0), 9.f);    // too far back (3 keyframes)
+  const Keyframe other = keyframe_at(RobotId(2), 5, SE2(0, 0, 0), 9.f);  // another robot
+  std::vector<Eigen::Vector2f> expected;
+  for (const Keyframe* k : {&k2, &k1, &k0}) {
+    const SE2 T = k2.T_local_base.between(k->T_local_base);
+    for (const Eigen::Vector2f& p : scan_to_points(k->scan)) expected.push_back((T * p.cast<double>()).cast<float>());
+  }
+  const std::vector<float> d = compute_keyframe_scan_context(k2, {&old, &k0, &other, &k1});
+  EXPECT_EQ(d, compute_scan_context(expected));
+  EXPECT_TRUE(scan_context_size_ok(d));
+  EXPECT_EQ(compute_keyframe_scan_context(k2, {}), compute_scan_context(k2.scan));
+}
+
 }  // namespace
 }  // namespace cairn

@@ -21,13 +21,13 @@ const std::vector<float>* LoopCloser::descriptor(KeyframeId id) const {
 }
 
 std::vector<float> LoopCloser::descriptor_of(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes) const {
-  if (!kf.place_descriptor.empty()) return kf.place_descriptor;
-  std::vector<Eigen::Vector2f> points;
-  for (int k = 0; k < options_.descriptor_keyframes; ++k) {
+  if (scan_context_size_ok(kf.place_descriptor, options_.scan_context)) return kf.place_descriptor;
+  std::vector<const Keyframe*> recent;
+  for (int k = 1; k < options_.scan_context.descriptor_keyframes; ++k) {
     auto it = keyframes.find(KeyframeId{kf.id.robot, kf.id.seq - k});
-    if (it != keyframes.end()) append_points(kf, it->second, &points);
+    if (it != keyframes.end()) recent.push_back(&it->second);
   }
-  return compute_scan_context(points, options_.scan_context);
+  return compute_keyframe_scan_context(kf, recent, options_.scan_context);
 }
 
 std::vector<Eigen::Vector2f> LoopCloser::local_map(KeyframeId center, const std::map<KeyframeId, Keyframe>& keyframes) const {

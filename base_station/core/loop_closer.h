@@ -16,9 +16,9 @@
 namespace cairn::base {
 
 struct LoopCloserOptions {
+  /// Must equal the agents' (both use the defaults of ScanContextOptions); a received descriptor
+  /// of another size is ignored and recomputed here.
   ScanContextOptions scan_context;
-  /// Keyframes merged into a computed descriptor: this one and its predecessors (narrow lasers).
-  int descriptor_keyframes = 3;
   int ring_key_candidates = 6;          ///< best ring-key matches given the full distance
   double max_descriptor_distance = 0.35;
   int max_verifications = 2;            ///< per query, best descriptor distances first

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "common/scan_context.h"
+
 namespace cairn::agent {
 
 AgentPipeline::AgentPipeline(RobotId robot, const AgentOptions& options)
@@ -96,6 +98,15 @@ void AgentPipeline::process_scan(AgentOutputs* out) {
   if (!r.matched()) return;
   trajectory_.push_back({scan.stamp_ns, r.pose});
   if (auto kf = keyframer_.add(scan, r.pose, r.covariance)) {
+    // Place descriptor for the base's place recognition (common/scan_context.h, default options on
+    // both sides), from this keyframe and the last descriptor_keyframes - 1 ones.
+    const ScanContextOptions scan_context;
+    std::vector<const Keyframe*> recent;
+    for (const Keyframe& k : recent_keyframes_) recent.push_back(&k);
+    kf->place_descriptor = compute_keyframe_scan_context(*kf, recent, scan_context);
+    recent_keyframes_.push_back(*kf);
+    recent_keyframes_.back().place_descriptor.clear();
+    while (int(recent_keyframes_.size()) > scan_context.descriptor_keyframes - 1) recent_keyframes_.pop_front();
     anchors_.push_back(Anchor{kf->id.seq, kf->T_local_base});
     anchor_stamps_ns_.push_back(kf->stamp_ns);
     out->keyframes.push_back(std::move(*kf));

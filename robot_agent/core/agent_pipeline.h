@@ -96,6 +96,7 @@ class AgentPipeline {
   Trajectory trajectory_;          ///< matched poses
   Trajectory tracked_;             ///< every processed scan's pose (matched or predicted)
   std::vector<Anchor> anchors_;    ///< emitted keyframes' poses, by seq
+  std::deque<Keyframe> recent_keyframes_;  ///< last emitted ones, for the place descriptor
   std::vector<StampNs> anchor_stamps_ns_;
   AgentStats stats_;
 };
