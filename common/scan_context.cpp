@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/scan_codec.h"
+
 namespace cairn {
 
 std::vector<float> compute_scan_context(const std::vector<Eigen::Vector2f>& points, const ScanContextOptions& o) {
@@ -96,6 +98,29 @@ ScanContextMatch scan_context_distance(const std::vector<float>& a, const std::v
   const int signed_shift = best.shift_sectors > S / 2 ? best.shift_sectors - S : best.shift_sectors;
   best.yaw_rad = signed_shift * 2.0 * M_PI / S;
   return best;
+}
+
+}  // namespace cairn
+
+namespace cairn {
+
+std::vector<uint8_t> encode_scan_context(const std::vector<float>& descriptor) {
+  if (descriptor.empty()) return {};
+  std::vector<uint8_t> q(descriptor.size());
+  for (size_t i = 0; i < descriptor.size(); ++i) {
+    const float v = std::isfinite(descriptor[i]) ? descriptor[i] * 32.f : 0.f;
+    q[i] = uint8_t(std::lround(std::clamp(v, 0.f, 255.f)));
+  }
+  return zstd_compress(q.data(), q.size(), 3);
+}
+
+std::optional<std::vector<float>> decode_scan_context(const std::vector<uint8_t>& bytes, std::string* error) {
+  if (bytes.empty()) return std::vector<float>{};
+  auto q = zstd_decompress(bytes, 1 << 16, error);
+  if (!q) return std::nullopt;
+  std::vector<float> out(q->size());
+  for (size_t i = 0; i < q->size(); ++i) out[i] = (*q)[i] / 32.f;
+  return out;
 }
 
 }  // namespace cairn

@@ -10,6 +10,9 @@
 // and sends it in Keyframe::place_descriptor; the base recomputes it with the same function when
 // absent. Both sides use ScanContextOptions{} (defaults below, the one place they are set).
 #include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "common/keyframe.h"
@@ -38,6 +41,11 @@ std::vector<float> compute_keyframe_scan_context(const Keyframe& kf, const std::
                                                  const ScanContextOptions& options = {});
 /// Whether `descriptor` has the size `options` give (else it was computed with other options).
 bool scan_context_size_ok(const std::vector<float>& descriptor, const ScanContextOptions& options = {});
+
+/// Wire form of a descriptor: bins quantised to 1/32 (log counts stay below 8) as bytes, then zstd.
+/// 1200 floats (4.8 kB) become ~0.2-0.4 kB. decode returns nullopt for corrupt bytes.
+std::vector<uint8_t> encode_scan_context(const std::vector<float>& descriptor);
+std::optional<std::vector<float>> decode_scan_context(const std::vector<uint8_t>& bytes, std::string* error = nullptr);
 
 /// Rotation-invariant ring key (mean of each ring), num_rings values.
 std::vector<float> scan_context_ring_key(const std::vector<float>& descriptor, const ScanContextOptions& options = {});

@@ -76,4 +76,24 @@ TEST(ScanContext, KeyframeDescriptorMergesRecentPredecessorsInItsFrame) {
 }
 
 }  // namespace
+TEST(ScanContextCodec, RoundTripIsCompactAndCloseAndCorruptBytesFail) {
+  LaserScan scan;
+  scan.angle_min_rad = float(-M_PI);
+  scan.angle_increment_rad = float(2 * M_PI / 360);
+  scan.range_max_m = 30.f;
+  for (int i = 0; i < 360; ++i) scan.ranges_m.push_back(3.f + 2.f * std::sin(i * 0.05f));
+  const std::vector<float> d = compute_scan_context(scan);
+  const auto bytes = encode_scan_context(d);
+  EXPECT_LT(bytes.size(), d.size() * sizeof(float) / 4);
+  std::string error;
+  const auto back = decode_scan_context(bytes, &error);
+  ASSERT_TRUE(back) << error;
+  ASSERT_EQ(back->size(), d.size());
+  for (size_t i = 0; i < d.size(); ++i) EXPECT_NEAR((*back)[i], d[i], 1.0 / 64 + 1e-6);
+  EXPECT_LT(scan_context_distance(d, *back).distance, 0.01);
+  auto bad = bytes;
+  bad.resize(bad.size() / 2);
+  EXPECT_FALSE(decode_scan_context(bad, &error));
+}
+
 }  // namespace cairn

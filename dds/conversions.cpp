@@ -5,6 +5,7 @@
 
 #include "common/cloud_codec.h"
 #include "common/scan_codec.h"
+#include "common/scan_context.h"
 
 namespace cairn::dds {
 namespace {
@@ -173,7 +174,7 @@ cairn_msgs::Keyframe to_msg(const Keyframe& kf) {
   m.T_prev_this(pose_msg(kf.T_prev_this));
   m.edge_covariance(ecov);
   m.scan_zstd(encode_scan(kf.scan));
-  m.place_descriptor(kf.place_descriptor);
+  m.place_descriptor_zstd(encode_scan_context(kf.place_descriptor));
   return m;
 }
 
@@ -200,7 +201,12 @@ std::optional<Keyframe> from_msg(const cairn_msgs::Keyframe& m, std::string* err
   kf.edge_covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(m.edge_covariance().data());
   kf.scan = std::move(*scan);
   kf.scan.stamp_ns = kf.stamp_ns;
-  kf.place_descriptor = m.place_descriptor();
+  auto descriptor = decode_scan_context(m.place_descriptor_zstd(), &scan_error);
+  if (!descriptor) {
+    fail(error, "keyframe: place_descriptor_zstd: " + scan_error);
+    return std::nullopt;
+  }
+  kf.place_descriptor = std::move(*descriptor);
   return kf;
 }
 

@@ -17,7 +17,7 @@ Keyframe make_keyframe() {
   kf.scan.angle_increment_rad = float(2 * M_PI / 360);
   kf.scan.range_max_m = 12.f;
   for (int i = 0; i < 360; ++i) kf.scan.ranges_m.push_back(1.0f + 0.01f * i);
-  kf.place_descriptor = {1.f, 2.f, 3.f};
+  kf.place_descriptor = {1.f, 2.f, 3.f, 0.5f};
   return kf;
 }
 

@@ -52,6 +52,9 @@ DataWriterQos writer_qos(TopicKind kind, const QosOptions& options) {
       q.history().kind = KEEP_ALL_HISTORY_QOS;
       set_limits(q, 4, 100000);
       q.publish_mode().kind = ASYNCHRONOUS_PUBLISH_MODE;
+      // On a rate-limited link a burst (e.g. the flush at the end of a mission) must be paced
+      // below the link rate, or its retransmissions keep the link saturated.
+      if (options.large_data_flow_controlled) q.publish_mode().flow_controller_name = kLargeDataFlowController;
       break;
     case TopicKind::kObject:
       reliable_common(q);

@@ -44,7 +44,7 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
   dds::QosOptions large;
   large.large_data_flow_controlled = options.large_data_bytes_per_sec > 0;
   n->keyframe_out_ = std::make_unique<W<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>>(
-      p, dds::kKeyframeTopic, TopicKind::kKeyframe);
+      p, dds::kKeyframeTopic, TopicKind::kKeyframe, large);
   n->object_out_ = std::make_unique<W<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>>(
       p, dds::kObjectTopic, TopicKind::kObject, large);
   n->status_out_ = std::make_unique<W<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>>(
