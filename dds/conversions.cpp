@@ -13,19 +13,11 @@ namespace {
 constexpr int kMaxRobotId = 1000;
 constexpr int kMaxImagePixels = 4096 * 4096;
 
-cairn_msgs::Pose2D pose_msg(const SE2& p) {
-  cairn_msgs::Pose2D m;
-  m.x_m(p.x());
-  m.y_m(p.y());
-  m.yaw_rad(p.yaw());
-  return m;
-}
-
 bool finite_pose(const cairn_msgs::Pose2D& m) {
   return std::isfinite(m.x_m()) && std::isfinite(m.y_m()) && std::isfinite(m.yaw_rad());
 }
 
-SE2 from_pose_msg(const cairn_msgs::Pose2D& m) { return SE2(m.x_m(), m.y_m(), m.yaw_rad()); }
+SE2 from_to_msg(const cairn_msgs::Pose2D& m) { return SE2(m.x_m(), m.y_m(), m.yaw_rad()); }
 
 template <size_t N>
 bool all_finite(const std::array<double, N>& a) {
@@ -61,6 +53,14 @@ std::optional<Eigen::Isometry3d> array_to_iso(const std::array<double, 16>& a) {
 
 }  // namespace
 
+cairn_msgs::Pose2D to_msg(const SE2& p) {
+  cairn_msgs::Pose2D m;
+  m.x_m(p.x());
+  m.y_m(p.y());
+  m.yaw_rad(p.yaw());
+  return m;
+}
+
 bool check_robot(int32_t sample_robot_id, RobotId expected, std::string* error) {
   if (sample_robot_id == expected.value) return true;
   return fail(error, "sample for unknown robot_id " + std::to_string(sample_robot_id) + " on " + to_string(expected) +
@@ -71,7 +71,7 @@ cairn_msgs::Odometry to_msg(RobotId robot, const OdometryReading& odom) {
   cairn_msgs::Odometry m;
   m.robot_id(robot.value);
   m.stamp_ns(odom.stamp_ns);
-  m.T_odom_base(pose_msg(odom.T_odom_base));
+  m.T_odom_base(to_msg(odom.T_odom_base));
   m.linear_mps(odom.linear_mps);
   m.angular_radps(odom.angular_radps);
   return m;
@@ -83,7 +83,7 @@ std::optional<OdometryReading> from_msg(const cairn_msgs::Odometry& m, std::stri
     fail(error, "odometry: non-finite T_odom_base or velocity");
     return std::nullopt;
   }
-  return OdometryReading{m.stamp_ns(), from_pose_msg(m.T_odom_base()), m.linear_mps(), m.angular_radps()};
+  return OdometryReading{m.stamp_ns(), from_to_msg(m.T_odom_base()), m.linear_mps(), m.angular_radps()};
 }
 
 cairn_msgs::LaserScan to_msg(RobotId robot, const LaserScan& scan) {
@@ -166,12 +166,12 @@ cairn_msgs::Keyframe to_msg(const Keyframe& kf) {
   m.robot_id(kf.id.robot.value);
   m.seq(kf.id.seq);
   m.stamp_ns(kf.stamp_ns);
-  m.T_local_base(pose_msg(kf.T_local_base));
+  m.T_local_base(to_msg(kf.T_local_base));
   std::array<double, 9> cov, ecov;
   Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(cov.data()) = kf.covariance;
   Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(ecov.data()) = kf.edge_covariance;
   m.covariance(cov);
-  m.T_prev_this(pose_msg(kf.T_prev_this));
+  m.T_prev_this(to_msg(kf.T_prev_this));
   m.edge_covariance(ecov);
   m.scan_zstd(encode_scan(kf.scan));
   m.place_descriptor_zstd(encode_scan_context(kf.place_descriptor));
@@ -195,9 +195,9 @@ std::optional<Keyframe> from_msg(const cairn_msgs::Keyframe& m, std::string* err
   Keyframe kf;
   kf.id = {RobotId(m.robot_id()), m.seq()};
   kf.stamp_ns = m.stamp_ns();
-  kf.T_local_base = from_pose_msg(m.T_local_base());
+  kf.T_local_base = from_to_msg(m.T_local_base());
   kf.covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(m.covariance().data());
-  kf.T_prev_this = from_pose_msg(m.T_prev_this());
+  kf.T_prev_this = from_to_msg(m.T_prev_this());
   kf.edge_covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(m.edge_covariance().data());
   kf.scan = std::move(*scan);
   kf.scan.stamp_ns = kf.stamp_ns;

@@ -12,6 +12,8 @@
 
 namespace cairn::dds {
 
+cairn_msgs::Pose2D to_msg(const SE2& pose);
+
 /// A sample on a robot's own topic must carry that robot's id; false (and `error`) otherwise.
 bool check_robot(int32_t sample_robot_id, RobotId expected, std::string* error);
 

@@ -23,14 +23,6 @@ int32_t contiguous_seq(const MultiRobotMapper& mapper, RobotId robot) {
   return expected - 1;
 }
 
-cairn_msgs::Pose2D pose_msg(const SE2& p) {
-  cairn_msgs::Pose2D m;
-  m.x_m(p.x());
-  m.y_m(p.y());
-  m.yaw_rad(p.yaw());
-  return m;
-}
-
 }  // namespace
 
 BaseNode::BaseNode(const BaseNodeOptions& options, const MapperOptions& mapper_options)
@@ -123,7 +115,7 @@ void BaseNode::publish_acks_and_corrections() {
     cairn_msgs::Correction c;
     c.robot_id(r.id.value);
     c.linked(r.linked);
-    c.T_global_local(pose_msg(r.T_global_local));
+    c.T_global_local(dds::to_msg(r.T_global_local));
     correction_out_->write(c);
   }
 }
