@@ -1,5 +1,7 @@
 #include "robot_agent/core/test_util.h"
 
+#include "common/carmen_log.h"
+
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -105,28 +107,14 @@ RgbdFrame render_rgbd(const SE2& T_world_base, const Eigen::Vector3d& object_wor
 }
 
 std::optional<std::vector<CarmenScan>> read_carmen_flaser(const std::string& path, int max_scans) {
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
+  if (!std::ifstream(path)) return std::nullopt;
+  const CarmenLog log = read_carmen_log(path);  // the project's one CARMEN reader (common/)
   std::vector<CarmenScan> out;
-  std::string line;
-  while (int(out.size()) < max_scans && std::getline(in, line)) {
-    std::istringstream ss(line);
-    std::string tag;
-    int n = 0;
-    if (!(ss >> tag >> n) || tag != "FLASER" || n <= 0) continue;
-    CarmenScan c;
-    c.scan.ranges_m.resize(size_t(n));
-    for (float& r : c.scan.ranges_m) ss >> r;
-    double x, y, th, ox, oy, oth, ts;
-    std::string host;
-    ss >> x >> y >> th >> ox >> oy >> oth >> ts >> host;
-    if (!ss) continue;
-    c.scan.stamp_ns = sec_to_ns(ts);
-    c.scan.angle_min_rad = float(-M_PI / 2);
-    c.scan.angle_increment_rad = float(M_PI / 180.0);
-    c.scan.range_min_m = 0.05f;
+  for (const auto& record : log.scans) {
+    if (int(out.size()) >= max_scans) break;
+    CarmenScan c{record.scan, record.T_world_laser};
+    c.scan.range_min_m = 0.05f;  // the matcher tests' sensor limits
     c.scan.range_max_m = 50.f;
-    c.pose = SE2(x, y, th);
     out.push_back(std::move(c));
   }
   return out;

@@ -1,6 +1,6 @@
 #pragma once
 // Test and benchmark helpers: a synthetic polygonal world ray-cast analytically, a synthetic RGB-D
-// camera, and a reader for CARMEN FLASER lines.
+// camera, and the first scans of a CARMEN log (via common/carmen_log).
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -34,7 +34,7 @@ struct CarmenScan {
   LaserScan scan;
   SE2 pose;       ///< corrected pose from the log
 };
-/// The first `max_scans` FLASER lines of a CARMEN log; nullopt when the file cannot be opened.
+/// The first `max_scans` laser records of a CARMEN log; nullopt when the file cannot be opened.
 std::optional<std::vector<CarmenScan>> read_carmen_flaser(const std::string& path, int max_scans);
 
 }  // namespace cairn::agent::testing
