@@ -137,6 +137,9 @@ ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_
       [&](const std::string& p, std::string* e) { return write_objects_geojson(objects, p, e); });
   run(&summary, dir + "objects.csv",
       [&](const std::string& p, std::string* e) { return write_objects_csv(objects, p, e); });
+  run(&summary, dir + "objects_robot_frame.csv", [&](const std::string& p, std::string* e) {
+    return write_text(p, robot_frame_objects_csv(mapper.keyframes(), mapper.object_reports()), e);
+  });
   for (const GlobalObject& o : objects) {
     run(&summary, dir + "object_" + object_key(o.id) + ".ply",
         [&](const std::string& p, std::string* e) { return write_object_ply(o, p, e); });

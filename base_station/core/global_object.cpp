@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <numeric>
+#include <sstream>
 
 #include "common/registration/rgb_icp.h"
 
@@ -27,8 +29,9 @@ Eigen::AlignedBox3d bounds(const ColoredCloud& c) {
 
 double weight(const ObjectReport& r) { return std::max(1, r.observations); }
 
-/// RGB-ICP of `source` onto `target` (both global), seeded with the identity.
-registration::RgbIcpResult align(const ColoredCloud& source, const ColoredCloud& target, const ObjectMergeOptions& o) {
+/// RGB-ICP of `source` onto `target` (both global), seeded with `prior` (default: the placements).
+registration::RgbIcpResult align(const ColoredCloud& source, const ColoredCloud& target, const ObjectMergeOptions& o,
+                                 const Eigen::Isometry3d& prior = Eigen::Isometry3d::Identity()) {
   registration::RgbIcpOptions icp;
   icp.use_features = false;
   icp.voxel_m = o.icp_voxel_m;
@@ -38,7 +41,7 @@ registration::RgbIcpResult align(const ColoredCloud& source, const ColoredCloud&
   icp.delta_rotation_rad = 1e-4;
   icp.min_points = o.min_cloud_points;
   icp.min_eigen_ratio = o.icp_min_eigen_ratio;
-  return registration::rgb_icp(source, target, Eigen::Isometry3d::Identity(), icp);
+  return registration::rgb_icp(source, target, prior, icp);
 }
 
 int find_root(std::vector<int>& parent, int i) {
@@ -56,7 +59,9 @@ MergeCheck check_same_object(const PlacedObjectReport& a, const PlacedObjectRepo
   if (a.report->class_name != b.report->class_name) return c.reason = "different class", c;
   const double d = (a.T_global_object.translation() - b.T_global_object.translation()).norm();
   const double extent = std::max(a.report->size_m.maxCoeff(), b.report->size_m.maxCoeff());
-  const double gate = std::min(o.max_gate_m, std::max(o.min_gate_m, o.size_factor * extent));
+  const bool cross_robot = a.report->id.robot != b.report->id.robot;
+  // Two robots' placements may disagree by a few decimetres: their gate is the widest one.
+  const double gate = cross_robot ? o.max_gate_m : std::min(o.max_gate_m, std::max(o.min_gate_m, o.size_factor * extent));
   const ColoredCloud ca = placed_cloud(a), cb = placed_cloud(b);
   const bool clouds = int(ca.size()) >= o.min_cloud_points && int(cb.size()) >= o.min_cloud_points;
   bool boxes = false;
@@ -71,23 +76,45 @@ MergeCheck check_same_object(const PlacedObjectReport& a, const PlacedObjectRepo
     return c.reason = "accepted by centroid gate: a cloud has too few points to verify", c;
   }
   const bool a_smaller = ca.size() < cb.size();  // register the smaller cloud onto the larger
-  const registration::RgbIcpResult r = a_smaller ? align(ca, cb, o) : align(cb, ca, o);
-  c.fitness = r.score;
-  c.rmse_m = r.rmse_m;
-  c.T_a_b = a_smaller ? r.T_target_source.inverse() : r.T_target_source;
+  const ColoredCloud& source = a_smaller ? ca : cb;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // of the registered (source) cloud
-  for (const ColoredPoint& p : a_smaller ? ca : cb) centroid += Eigen::Vector3d(p.x, p.y, p.z);
-  centroid /= double(a_smaller ? ca.size() : cb.size());
-  const double dt = (r.T_target_source * centroid - centroid).norm();  // how far the object moves
-  const double dr = Eigen::AngleAxisd(r.T_target_source.linear()).angle();
-  if (r.score < o.min_fitness) return c.reason = "ICP fitness " + std::to_string(r.score) + " too low (" + r.reason + ")", c;
-  if (r.rmse_m > o.max_rmse_m) return c.reason = "ICP RMSE " + std::to_string(r.rmse_m) + " m too high", c;
-  if (dt > o.max_correction_m || dr > o.max_correction_rad)
-    return c.reason = "ICP correction too large (" + std::to_string(dt) + " m, " + std::to_string(dr) + " rad)", c;
-  c.accepted = true;
-  c.reason = "ICP fitness " + std::to_string(r.score) + ", RMSE " + std::to_string(r.rmse_m) + " m" +
-             (r.degenerate ? " (weakly constrained directions held at the placement)" : "");
-  return c;
+  for (const ColoredPoint& p : source) centroid += Eigen::Vector3d(p.x, p.y, p.z);
+  centroid /= double(source.size());
+  // First from the placements; for two robots' reports then from the reported centres made to
+  // coincide (their relative placement error is larger than ICP's capture range).
+  std::vector<Eigen::Isometry3d> priors{Eigen::Isometry3d::Identity()};
+  if (cross_robot) {
+    Eigen::Isometry3d centres = Eigen::Isometry3d::Identity();
+    const Eigen::Vector3d s = (a_smaller ? a : b).T_global_object.translation();
+    const Eigen::Vector3d t = (a_smaller ? b : a).T_global_object.translation();
+    centres.translation() = t - s;
+    priors.push_back(centres);
+  }
+  std::string why;
+  for (size_t k = 0; k < priors.size(); ++k) {
+    const registration::RgbIcpResult r = a_smaller ? align(ca, cb, o, priors[k]) : align(cb, ca, o, priors[k]);
+    c.fitness = r.score;
+    c.rmse_m = r.rmse_m;
+    c.T_a_b = a_smaller ? r.T_target_source.inverse() : r.T_target_source;
+    const double dt = (r.T_target_source * centroid - centroid).norm();  // how far the object moves
+    const double dr = Eigen::AngleAxisd(r.T_target_source.linear()).angle();
+    const double max_dt = cross_robot ? o.max_cross_robot_correction_m : o.max_correction_m;
+    const std::string attempt = k == 0 ? "from the placements: " : "; from the centres: ";
+    if (r.score < o.min_fitness) {
+      why += attempt + "ICP fitness " + std::to_string(r.score) + " too low (" + r.reason + ")";
+    } else if (r.rmse_m > o.max_rmse_m) {
+      why += attempt + "ICP RMSE " + std::to_string(r.rmse_m) + " m too high";
+    } else if (dt > max_dt || dr > o.max_correction_rad) {
+      why += attempt + "ICP correction too large (" + std::to_string(dt) + " m, " + std::to_string(dr) + " rad)";
+    } else {
+      c.accepted = true;
+      c.reason = "ICP " + std::string(k == 0 ? "from the placements" : "from the centres") + ": fitness " +
+                 std::to_string(r.score) + ", RMSE " + std::to_string(r.rmse_m) + " m, correction " +
+                 std::to_string(dt) + " m" + (r.degenerate ? " (weakly constrained directions held at the placement)" : "");
+      return c;
+    }
+  }
+  return c.reason = why, c;
 }
 
 std::vector<GlobalObject> merge_object_reports(const std::vector<PlacedObjectReport>& placed,
@@ -191,6 +218,22 @@ GlobalObject fuse(const std::vector<PlacedObjectReport>& placed, const std::vect
 }
 
 }  // namespace
+
+std::string robot_frame_objects_csv(const std::map<KeyframeId, Keyframe>& keyframes,
+                                    const std::map<ObjectId, ObjectReport>& reports) {
+  std::ostringstream s;
+  s << std::setprecision(9) << "id,class,robot,anchor_seq,anchor_stamp_ns,anchor_x_m,anchor_y_m,anchor_yaw_rad,x_m,y_m,"
+                                         "z_m,observations\n";
+  for (const auto& [id, r] : reports) {
+    const auto kf = keyframes.find(KeyframeId{id.robot, r.anchor_seq});
+    if (kf == keyframes.end()) continue;
+    const Eigen::Vector3d p = (kf->second.T_local_base.to_isometry3() * r.T_anchor_object).translation();
+    const SE2& A = kf->second.T_local_base;
+    s << object_key(id) << ',' << r.class_name << ',' << id.robot.value << ',' << r.anchor_seq << ','
+      << kf->second.stamp_ns << ',' << A.x() << ',' << A.y() << ',' << A.yaw() << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << r.observations << '\n';
+  }
+  return s.str();
+}
 
 std::string object_key(ObjectId id) {
   return std::to_string(id.robot.value) + "-" + std::to_string(id.seq);

@@ -82,15 +82,45 @@ TEST(ObjectMerge, OneObjectSeenByTwoRobotsBecomesOneAlignedObject) {
 }
 
 TEST(ObjectMerge, TwoNearbyObjectsOfTheSameClassStayTwo) {
-  // Two victims 0.38 m apart (surfaces 0.08 m apart), both seen from the west by different robots:
-  // same class, within the candidate gate, but ICP finds no overlap.
+  // One robot's two victims 0.38 m apart (surfaces 0.08 m apart), both seen from the west: same
+  // class, within the candidate gate, but ICP finds no overlap. (Two robots' reports this close are
+  // within their relative placement error and cannot be told apart from one object.)
   const ObjectReport a = report({RobotId(0), 0}, half_cylinder(0.15, 0.5, M_PI), 8);
-  const ObjectReport b = report({RobotId(1), 0}, half_cylinder(0.15, 0.5, M_PI), 8);
+  const ObjectReport b = report({RobotId(0), 1}, half_cylinder(0.15, 0.5, M_PI), 8);
   const std::vector<PlacedObjectReport> placed{{&a, pose(4.0, 3.0, 0.25)}, {&b, pose(4.0, 3.38, 0.25)}};
   const MergeCheck check = check_same_object(placed[0], placed[1], {});
   EXPECT_TRUE(check.candidate);
   EXPECT_FALSE(check.accepted) << check.reason;
   std::printf("distinct: %s\n", check.reason.c_str());
+  EXPECT_EQ(merge_object_reports(placed, {}).size(), 2u);
+}
+
+TEST(ObjectMerge, OneObjectFromTwoRobotsPlacedThirtyCentimetresApartIsMerged) {
+  // Robot 1's placement is off by 0.3 m (the robots' placement RMSE in the simulated missions):
+  // beyond ICP's capture range from the placements, so the centres are made to coincide first.
+  const ObjectReport a = report({RobotId(0), 0}, half_cylinder(0.25, 1.0, M_PI), 12);
+  const ObjectReport b = report({RobotId(1), 2}, half_cylinder(0.25, 1.0, -M_PI / 2), 8);
+  const Eigen::Vector3d truth(6.0, 2.0, 0.5);
+  for (const double bearing : {0.0, 2.0, 4.0}) {
+    const std::vector<PlacedObjectReport> placed{
+        {&a, pose(truth.x(), truth.y(), truth.z())},
+        {&b, pose(truth.x() + 0.3 * std::cos(bearing), truth.y() + 0.3 * std::sin(bearing), truth.z(), 0.04)}};
+    const MergeCheck check = check_same_object(placed[0], placed[1], {});
+    EXPECT_TRUE(check.accepted) << check.reason;
+    std::printf("0.3 m apart, bearing %.0f rad: %s\n", bearing, check.reason.c_str());
+    EXPECT_EQ(merge_object_reports(placed, {}).size(), 1u);
+  }
+}
+
+TEST(ObjectMerge, TwoRobotsVictimsOneMetreApartStayTwo) {
+  // Two distinct victims 1 m apart, each seen by another robot, one placement 0.15 m off toward
+  // the other: a wrong merge would lose a victim.
+  const ObjectReport a = report({RobotId(0), 0}, half_cylinder(0.25, 1.0, M_PI), 12);
+  const ObjectReport b = report({RobotId(1), 0}, half_cylinder(0.25, 1.0, M_PI), 12);
+  const std::vector<PlacedObjectReport> placed{{&a, pose(6.0, 2.0, 0.5)}, {&b, pose(6.0, 2.85, 0.5)}};
+  const MergeCheck check = check_same_object(placed[0], placed[1], {});
+  EXPECT_FALSE(check.accepted) << check.reason;
+  std::printf("1 m apart: %s\n", check.reason.c_str());
   EXPECT_EQ(merge_object_reports(placed, {}).size(), 2u);
 }
 

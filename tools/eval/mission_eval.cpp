@@ -102,6 +102,81 @@ ObjectScore score_class(const std::string& cls, const std::vector<PointObject>& 
   return s;
 }
 
+/// Scores every report on its own against the nearest same-class truth (see RobotFrameScore).
+ObjectScore score_reports(const std::string& cls, const std::vector<PointObject>& truth,
+                          const std::vector<PointObject>& reports, double max_dist_m) {
+  ObjectScore s;
+  s.class_name = cls;
+  std::vector<bool> found(truth.size(), false);
+  for (size_t i = 0; i < truth.size(); ++i) s.ground_truth += cls == "all" || truth[i].class_name == cls;
+  for (const PointObject& r : reports) {
+    if (cls != "all" && r.class_name != cls) continue;
+    ++s.detected;
+    int best = -1;
+    double best_d = max_dist_m;
+    for (size_t i = 0; i < truth.size(); ++i) {
+      const double d = (truth[i].position_m - r.position_m).head<2>().norm();
+      if (truth[i].class_name == r.class_name && d <= best_d) best_d = d, best = int(i);
+    }
+    if (best < 0) continue;
+    found[size_t(best)] = true;
+    ++s.matched;
+    s.mean_error_xy_m += best_d;
+    s.max_error_xy_m = std::max(s.max_error_xy_m, best_d);
+    s.mean_error_xyz_m += (truth[size_t(best)].position_m - r.position_m).norm();
+  }
+  if (s.matched) s.mean_error_xy_m /= s.matched, s.mean_error_xyz_m /= s.matched;
+  // recall() = matched / ground_truth: count found objects, not matched reports, for it.
+  int objects_found = 0;
+  for (size_t i = 0; i < truth.size(); ++i) objects_found += found[i] && (cls == "all" || truth[i].class_name == cls);
+  s.objects_found = objects_found;
+  return s;
+}
+
+/// Places objects_robot_frame.csv through each robot's true start and through the true pose of
+/// each report's anchor keyframe.
+std::vector<RobotFrameScore> score_robot_frame(const std::string& gt_dir, const std::string& results_dir,
+                                               const std::vector<PointObject>& truth, const std::vector<std::string>& classes,
+                                               double max_dist_m) {
+  namespace fs = std::filesystem;
+  const fs::path file = fs::path(results_dir) / "objects_robot_frame.csv";
+  const fs::path starts_file = fs::path(gt_dir) / "gt_robots.csv";
+  if (!fs::exists(file) || !fs::exists(starts_file)) return {};
+  std::map<int, SE2> starts;
+  for (const auto& row : read_csv(starts_file.string()))
+    starts[int(number(row, "id", starts_file.string()))] =
+        SE2(number(row, "start_x", starts_file.string()), number(row, "start_y", starts_file.string()),
+            number(row, "start_yaw", starts_file.string()));
+  std::map<int, Trajectory> gt;
+  std::vector<PointObject> by_start, by_anchor;
+  const std::string path = file.string();
+  for (const auto& row : read_csv(path)) {
+    auto cls = row.find("class");
+    if (cls == row.end()) throw InputError(path + ": column 'class' is missing");
+    const int robot = int(number(row, "robot", path));
+    const auto start = starts.find(robot);
+    if (start == starts.end()) throw InputError(path + ": robot " + std::to_string(robot) + " is not in " + starts_file.string());
+    const Eigen::Vector3d p_local(number(row, "x_m", path), number(row, "y_m", path), number(row, "z_m", path));
+    by_start.push_back({cls->second, start->second.to_isometry3() * p_local});
+    if (!gt.count(robot)) {
+      const fs::path g = fs::path(gt_dir) / ("gt_robot" + std::to_string(robot) + ".csv");
+      gt[robot] = fs::exists(g) ? read_trajectory_csv(g.string()) : Trajectory{};
+    }
+    const SE2 T_local_anchor(number(row, "anchor_x_m", path), number(row, "anchor_y_m", path),
+                             number(row, "anchor_yaw_rad", path));
+    const auto truth_anchor = interpolate_pose(gt[robot], StampNs(number(row, "anchor_stamp_ns", path)));
+    if (truth_anchor)
+      by_anchor.push_back({cls->second, (*truth_anchor * T_local_anchor.inverse()).to_isometry3() * p_local});
+  }
+  std::vector<RobotFrameScore> out{{"true start", {}, {}}, {"true anchor", {}, {}}};
+  for (RobotFrameScore& r : out) {
+    const std::vector<PointObject>& reports = r.placement == "true start" ? by_start : by_anchor;
+    for (const auto& c : classes) r.classes.push_back(score_reports(c, truth, reports, max_dist_m));
+    r.objects = score_reports("all", truth, reports, max_dist_m);
+  }
+  return out;
+}
+
 }  // namespace
 
 MissionScore evaluate_mission(const std::string& gt_dir, const std::string& results_dir, const EvalOptions& options) {
@@ -136,6 +211,7 @@ MissionScore evaluate_mission(const std::string& gt_dir, const std::string& resu
   std::sort(classes.begin(), classes.end());
   for (const auto& c : classes) score.classes.push_back(score_class(c, truth, found, options.object_match_distance_m));
   score.objects = score_class("all", truth, found, options.object_match_distance_m);
+  score.robot_frame = score_robot_frame(gt_dir, results_dir, truth, classes, options.object_match_distance_m);
   return score;
 }
 
@@ -157,6 +233,21 @@ nlohmann::json to_json(const MissionScore& score) {
   j["objects"] = obj(score.objects);
   j["classes"] = nlohmann::json::array();
   for (const auto& c : score.classes) j["classes"].push_back(obj(c));
+  j["robot_frame"] = nlohmann::json::array();
+  for (const auto& r : score.robot_frame) {
+    nlohmann::json rj{{"placement", r.placement}, {"objects", obj(r.objects)}, {"classes", nlohmann::json::array()}};
+    // Every report on its own: recall counts objects found by any report (see RobotFrameScore).
+    auto fix = [](nlohmann::json& o, const ObjectScore& c) {
+      o["objects_found"] = c.objects_found;
+      o["recall"] = c.ground_truth ? double(c.objects_found) / c.ground_truth : 0.0;
+    };
+    fix(rj["objects"], r.objects);
+    for (const auto& c : r.classes) {
+      rj["classes"].push_back(obj(c));
+      fix(rj["classes"].back(), c);
+    }
+    j["robot_frame"].push_back(rj);
+  }
   return j;
 }
 
@@ -177,6 +268,16 @@ std::string format_score(const MissionScore& score) {
   };
   for (const auto& c : score.classes) line(c);
   line(score.objects);
+  for (const auto& r : score.robot_frame) {
+    s << "  objects in each robot's own frame, placed by its " << r.placement << " (every report on its own):\n";
+    auto rline = [&](const ObjectScore& o) {
+      s << "    " << o.class_name << ": " << o.objects_found << "/" << o.ground_truth << " objects found by "
+        << o.detected << " reports (precision " << o.precision() << "), position error " << o.mean_error_xy_m
+        << " m mean xy, " << o.max_error_xy_m << " m max\n";
+    };
+    for (const auto& c : r.classes) rline(c);
+    rline(r.objects);
+  }
   return s.str();
 }
 

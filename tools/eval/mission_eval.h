@@ -23,6 +23,7 @@ struct ObjectScore {
   int detected = 0;
   int matched = 0;
   double mean_error_xy_m = 0, max_error_xy_m = 0, mean_error_xyz_m = 0;
+  int objects_found = 0;  ///< robot-frame scores only: objects matched by at least one report
   double recall() const { return ground_truth ? double(matched) / ground_truth : 0.0; }
   double precision() const { return detected ? double(matched) / detected : 0.0; }
 };
@@ -34,10 +35,22 @@ struct RobotScore {
   std::optional<TrajectoryErrorStats> aligned;  ///< after a best SE2 alignment
 };
 
+/// Objects scored in the robots' own frames (objects_robot_frame.csv from the base, each robot's
+/// true start from gt_robots.csv): the object pipeline without the robots' placement error at the
+/// base. Every report is scored on its own (duplicates across robots are expected): precision =
+/// reports within the match distance of a same-class object / reports; recall = objects found by at
+/// least one report; the error is each matched report's distance to its nearest object.
+struct RobotFrameScore {
+  std::string placement;  ///< "true start" (local SLAM + true start) or "true anchor" (true anchor pose)
+  std::vector<ObjectScore> classes;
+  ObjectScore objects;
+};
+
 struct MissionScore {
   std::vector<RobotScore> robots;
   std::vector<ObjectScore> classes;
   ObjectScore objects;  ///< all classes together
+  std::vector<RobotFrameScore> robot_frame;  ///< empty when objects_robot_frame.csv is absent
 };
 
 /// Reads gt_robot<N>.csv / gt_objects.csv from `ground_truth_dir` and trajectory_robot<N>.csv /

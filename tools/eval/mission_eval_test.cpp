@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -55,6 +56,35 @@ TEST(MissionEval, ScoresTrajectoryAndObjects) {
   EXPECT_EQ(s.classes[2].class_name, "victim");
   EXPECT_EQ(s.classes[2].matched, 1);
   EXPECT_NE(format_score(s).find("victim: found 1/2"), std::string::npos);
+}
+
+TEST(MissionEval, ScoresObjectsInEachRobotsOwnFrame) {
+  const Dirs d = make_dirs("eval_robot_frame");
+  std::ofstream(d.res / "objects.csv") << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n";
+  // Robot 0 started at the world origin (gt_robot0 starts there). Its local SLAM put the anchor
+  // keyframe of the second report at local (1.3, 0) where it truly was at (1.0, 0) (t = 1 s).
+  std::ofstream(d.gt / "gt_robots.csv") << "id,start_x,start_y,start_yaw\n0,0,0,0\n";
+  std::ofstream(d.res / "objects_robot_frame.csv")
+      << "id,class,robot,anchor_seq,anchor_stamp_ns,anchor_x_m,anchor_y_m,anchor_yaw_rad,x_m,y_m,z_m,observations\n"
+         "0-0,victim,0,0,0,0,0,0,1.05,1,0.2,5\n"
+         "0-1,victim,0,3,1000000000,1.3,0,0,5.3,1,0.2,5\n"
+         "0-2,exit,0,0,0,0,0,0,9,9,1,5\n";
+  const MissionScore s = evaluate_mission(d.gt.string(), d.res.string());
+  ASSERT_EQ(s.robot_frame.size(), 2u);
+  const RobotFrameScore& start = s.robot_frame[0];
+  EXPECT_EQ(start.placement, "true start");
+  EXPECT_EQ(start.objects.detected, 3);
+  EXPECT_EQ(start.objects.matched, 2);
+  EXPECT_EQ(start.objects.objects_found, 2);  // both victims; the exit report is far off
+  const ObjectScore& victim = start.classes.back();
+  ASSERT_EQ(victim.class_name, "victim");
+  EXPECT_NEAR(victim.mean_error_xy_m, (0.05 + 0.3) / 2, 1e-6);
+  const ObjectScore& anchored = s.robot_frame[1].classes.back();
+  EXPECT_EQ(s.robot_frame[1].placement, "true anchor");
+  EXPECT_EQ(anchored.matched, 2);
+  EXPECT_NEAR(anchored.mean_error_xy_m, 0.05 / 2, 1e-6);  // the anchor's drift is gone
+  EXPECT_NE(format_score(s).find("robot's own frame"), std::string::npos);
+  EXPECT_EQ(to_json(s)["robot_frame"][0]["objects"]["objects_found"], 2);
 }
 
 TEST(MissionEval, MalformedResultsNameTheFile) {

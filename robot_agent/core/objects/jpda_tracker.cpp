@@ -134,7 +134,8 @@ void JpdaTracker::pda_update(JpdaTarget* t, const std::vector<Eigen::VectorXd>& 
   t->P = 0.5 * (t->P + t->P.transpose());
 }
 
-JpdaUpdate JpdaTracker::update(const std::vector<Eigen::VectorXd>& z, const std::vector<Eigen::MatrixXd>& R) {
+JpdaUpdate JpdaTracker::update(const std::vector<Eigen::VectorXd>& z, const std::vector<Eigen::MatrixXd>& R,
+                               const std::vector<std::vector<bool>>* allowed) {
   const size_t n = targets_.size(), m = z.size();
   JpdaUpdate out;
   out.beta.assign(n, std::vector<double>(m + 1, 0.0));
@@ -149,7 +150,7 @@ JpdaUpdate JpdaTracker::update(const std::vector<Eigen::VectorXd>& z, const std:
       const Eigen::MatrixXd S = h * targets_[t].P * h.transpose() + R[j];
       const Eigen::VectorXd nu = z[j] - h * targets_[t].x;
       d2[t][j] = nu.dot(S.ldlt().solve(nu));
-      in_gate[t][j] = d2[t][j] <= options_.gate_chi2;
+      in_gate[t][j] = d2[t][j] <= options_.gate_chi2 && (!allowed || (*allowed)[t][j]);
       if (!in_gate[t][j]) continue;
       out.gated[j] = true;
       lik[t][j] = std::exp(-0.5 * d2[t][j]) / (norm_pow * std::sqrt(std::max(1e-300, S.determinant())));

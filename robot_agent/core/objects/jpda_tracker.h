@@ -44,7 +44,11 @@ class JpdaTracker {
   /// New target at measurement z (velocity 0 with variance `velocity_var` in CV mode). Returns its id.
   int add(const Eigen::VectorXd& z, const Eigen::MatrixXd& R, double velocity_var = 1.0);
   void predict(double dt_s);
-  JpdaUpdate update(const std::vector<Eigen::VectorXd>& z, const std::vector<Eigen::MatrixXd>& R);
+  /// `allowed` (optional, [target index in targets()][measurement]): false keeps that measurement
+  /// out of that target's gate whatever its distance (the caller knows they are different objects,
+  /// e.g. from their 3D extent).
+  JpdaUpdate update(const std::vector<Eigen::VectorXd>& z, const std::vector<Eigen::MatrixXd>& R,
+                    const std::vector<std::vector<bool>>* allowed = nullptr);
   void remove(int id);
   /// Fuses target `from` into `into` (product of Gaussians on the whole state), removes `from`.
   void merge(int into, int from);

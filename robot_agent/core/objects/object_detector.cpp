@@ -61,7 +61,8 @@ std::vector<PixelPoint> back_project(const RgbdFrame& f, const cv::Mat& labels, 
 }
 
 // Keeps points near the median depth, moves them to the base frame, filters, fits the centre.
-bool build_cloud(const RgbdFrame& f, std::vector<PixelPoint> pts, const ObjectDetectorOptions& o, Detection* d) {
+bool build_cloud(const RgbdFrame& f, std::vector<PixelPoint> pts, const ObjectDetectorOptions& o,
+                 const ObjectClassOptions& cls, Detection* d) {
   if (int(pts.size()) < o.min_points) return false;
   std::vector<double> depths(pts.size());
   for (size_t i = 0; i < pts.size(); ++i) depths[i] = pts[i].p_camera.z();
@@ -83,7 +84,11 @@ bool build_cloud(const RgbdFrame& f, std::vector<PixelPoint> pts, const ObjectDe
   d->surface_centroid_base = sum / double(cloud.size());
   d->centroid_base = d->surface_centroid_base;
   if (o.fit_shape) {
-    d->shape = best_shape_fit(xyz, d->camera_base);
+    ShapeFitOptions fit;
+    // A view cut by the image border shows an unknown part of the face: only the short side is safe.
+    fit.box_footprint_prior_m =
+        d->truncated_side ? Eigen::Vector2d::Constant(cls.box_footprint_m.minCoeff()) : cls.box_footprint_m;
+    d->shape = best_shape_fit(xyz, d->camera_base, fit);
     if (d->shape.converged) d->centroid_base = d->shape.center_m;
   }
   d->cloud_base = std::move(cloud);
@@ -91,13 +96,17 @@ bool build_cloud(const RgbdFrame& f, std::vector<PixelPoint> pts, const ObjectDe
 }
 
 // Eq. 19 fallback: the floor contact point under the blob's bottom centre.
-bool place_without_depth(const RgbdFrame& f, const cv::Rect& box, Detection* d) {
+// The contact point is the object's near edge: the centre is about half its short side further on.
+bool place_without_depth(const RgbdFrame& f, const cv::Rect& box, const ObjectClassOptions& cls, Detection* d) {
   const auto H = ground_homography(f.intrinsics, f.T_base_camera);
   if (!H) return false;
   const auto xy = apply_homography(*H, box.x + 0.5 * box.width, box.y + box.height - 0.5);
   if (!xy) return false;
   d->has_depth = false;
   d->centroid_base = Eigen::Vector3d(xy->x(), xy->y(), 0.0);
+  Eigen::Vector3d ray = d->centroid_base - d->camera_base;
+  ray.z() = 0.0;
+  if (ray.norm() > 1e-6) d->centroid_base += 0.5 * std::max(0.0, cls.box_footprint_m.minCoeff()) * ray.normalized();
   d->surface_centroid_base = d->centroid_base;
   d->median_depth_m = (d->centroid_base - d->camera_base).norm();
   return true;
@@ -121,9 +130,10 @@ double blob_saliency(const ImageD& sal, int sal_w, int sal_h, const cv::Mat& lab
 
 std::vector<ObjectClassOptions> default_object_classes() {
   return {
-      {"victim", {HsvRange{0, 120, 70, 16, 255, 255}, HsvRange{170, 120, 70, 180, 255, 255}}, 150, 0.3, 12.0},
-      {"hazard", {HsvRange{20, 120, 70, 35, 255, 255}}, 150, 0.3, 12.0},
-      {"exit", {HsvRange{45, 80, 50, 85, 255, 255}}, 150, 0.3, 12.0},
+      {"victim", {HsvRange{0, 120, 70, 16, 255, 255}, HsvRange{170, 120, 70, 180, 255, 255}}, 150, 0.3, 12.0,
+       Eigen::Vector2d(1.6, 0.5)},
+      {"hazard", {HsvRange{20, 120, 70, 35, 255, 255}}, 150, 0.3, 12.0, Eigen::Vector2d::Zero()},
+      {"exit", {HsvRange{45, 80, 50, 85, 255, 255}}, 150, 0.3, 12.0, Eigen::Vector2d(1.0, 0.12)},
   };
 }
 
@@ -169,8 +179,8 @@ DetectionFrame ObjectDetector::analyse(const RgbdFrame& frame) const {
       d.truncated_side = box.x <= 1 || box.x + box.width >= w - 1;
       d.truncated_top_bottom = box.y <= 1 || box.y + box.height >= h - 1;
       d.saliency = blob_saliency(sal, sal_w, sal_h, labels, label, box);
-      if (!build_cloud(frame, back_project(frame, labels, label, box, options_), options_, &d)) {
-        if (!place_without_depth(frame, box, &d)) continue;
+      if (!build_cloud(frame, back_project(frame, labels, label, box, options_), options_, cls, &d)) {
+        if (!place_without_depth(frame, box, cls, &d)) continue;
         ++out.without_depth;
       }
       d.thumbnail_jpeg = make_thumbnail(rgb_raw, box, options_);

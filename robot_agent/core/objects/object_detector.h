@@ -30,9 +30,12 @@ struct ObjectClassOptions {
   int min_area_px = 150;          ///< at 320x240; scaled with the image area
   double min_fill_ratio = 0.3;    ///< blob area / bounding-box area (shape cue)
   double max_aspect = 12.0;       ///< long / short side of the bounding box
+  /// Footprint (long, short side) of a box-shaped object of this class; 0: unknown. Completes the
+  /// sides a box hides from the camera (shape_fit.h: complete_box_footprint).
+  Eigen::Vector2d box_footprint_m = Eigen::Vector2d::Zero();
 };
 
-/// victim = red/orange, hazard = yellow, exit = green.
+/// victim = red/orange (lying: 1.6 x 0.5 m), hazard = yellow, exit = green (door panel: 1.0 x 0.12 m).
 std::vector<ObjectClassOptions> default_object_classes();
 
 struct ObjectDetectorOptions {

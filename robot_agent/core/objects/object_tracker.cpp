@@ -13,7 +13,11 @@ namespace {
 
 // Detection noise: sigma grows with range; along the viewing ray larger than across it.
 Eigen::Matrix3d detection_covariance(const Detection& d, const ObjectTrackerOptions& o) {
-  if (!d.has_depth) return Eigen::Matrix3d::Identity() * o.no_depth_sigma_m * o.no_depth_sigma_m;
+  if (!d.has_depth) {
+    const double range = (d.centroid_base - d.camera_base).head<2>().norm();
+    const double s = o.no_depth_sigma_m + o.no_depth_sigma_per_m2 * range * range;
+    return Eigen::Matrix3d::Identity() * s * s;
+  }
   Eigen::Vector3d ray = d.centroid_base - d.camera_base;
   const double range = ray.norm();
   ray.z() = 0.0;
@@ -56,6 +60,39 @@ Eigen::Matrix3d ObjectTracker::covariance_of(const Track& t) const {
   return x ? Eigen::Matrix3d(f.position_covariance(*x)) : Eigen::Matrix3d::Identity();
 }
 
+ObjectTracker::Footprint ObjectTracker::footprint_of(const Detection& d, const SE2& T_local_base) {
+  Footprint f;
+  if (!d.has_depth || d.truncated_side || !d.shape.converged) return f;
+  f.kind = d.shape.kind;
+  f.half_m = 0.5 * d.shape.size_m.head<2>();
+  f.yaw_rad = d.shape.yaw_rad + T_local_base.yaw();
+  f.range_m = (d.centroid_base - d.camera_base).head<2>().norm();
+  return f;
+}
+
+namespace {
+
+bool inside(const Eigen::Vector2d& centre, double half_x, double half_y, double yaw, bool box, const Eigen::Vector2d& p,
+            double margin) {
+  const Eigen::Vector2d q = Eigen::Rotation2Dd(-yaw) * (p - centre);
+  if (!box) return q.norm() <= half_x + margin;
+  return std::abs(q.x()) <= half_x + margin && std::abs(q.y()) <= half_y + margin;
+}
+
+}  // namespace
+
+bool ObjectTracker::separate(const Footprint& a, const Eigen::Vector3d& ca, const Footprint& b,
+                             const Eigen::Vector3d& cb) const {
+  if (a.kind == ShapeKind::kUnknown || b.kind == ShapeKind::kUnknown) return false;  // no extent: the gate decides
+  const double margin =
+      options_.separation_margin_m + options_.separation_margin_per_m * std::max(a.range_m, b.range_m);
+  const bool b_in_a = inside(ca.head<2>(), a.half_m.x(), a.half_m.y(), a.yaw_rad, a.kind == ShapeKind::kBox,
+                             cb.head<2>(), margin);
+  const bool a_in_b = inside(cb.head<2>(), b.half_m.x(), b.half_m.y(), b.yaw_rad, b.kind == ShapeKind::kBox,
+                             ca.head<2>(), margin);
+  return !b_in_a && !a_in_b;
+}
+
 void ObjectTracker::observe(Track* t, StampNs stamp_ns, const Detection& d, const Eigen::Isometry3d& T) {
   ++t->observations;
   t->last_stamp_ns = stamp_ns;
@@ -95,7 +132,17 @@ void ObjectTracker::update_class(const std::string& cls, StampNs stamp_ns, const
     R.push_back(T.linear() * detection_covariance(*d, options_) * T.linear().transpose());
   }
   const std::vector<JpdaTarget> before = filter.targets();  // beta rows follow this order
-  const JpdaUpdate upd = filter.update(z, R);
+  // 3D extent: a detection outside a track's footprint (and vice versa) is another object.
+  std::vector<Footprint> det_fp(dets.size());
+  for (size_t j = 0; j < dets.size(); ++j) det_fp[j] = footprint_of(*dets[j], T_local_base);
+  std::vector<std::vector<bool>> allowed(before.size(), std::vector<bool>(dets.size(), true));
+  for (size_t t = 0; t < before.size(); ++t) {
+    const Track* track = track_of(cls, before[t].id);
+    if (!track) continue;
+    const Eigen::Vector3d centre = filter.position(before[t]);
+    for (size_t j = 0; j < dets.size(); ++j) allowed[t][j] = !separate(track->footprint, centre, det_fp[j], z[j]);
+  }
+  const JpdaUpdate upd = filter.update(z, R, &allowed);
   for (size_t j = 0; j < dets.size(); ++j) {
     int best = -1;
     double best_beta = 0.0;
@@ -112,7 +159,9 @@ void ObjectTracker::update_class(const std::string& cls, StampNs stamp_ns, const
       tracks_.push_back(fresh);
       track = &tracks_.back();
     }
-    if (track) observe(track, stamp_ns, *dets[j], T);
+    if (!track) continue;
+    if (det_fp[j].kind != ShapeKind::kUnknown) track->footprint = det_fp[j];
+    observe(track, stamp_ns, *dets[j], T);
   }
 }
 
@@ -125,6 +174,7 @@ void ObjectTracker::merge_close_tracks(const std::string& cls) {
       // Same object when closer than the merge distance in xy (homography-only views have no
       // height). Not by cloud footprint: a partial view's track would drag a good estimate away.
       if ((mean_of(ta) - mean_of(tb)).head<2>().norm() > options_.merge_distance_m) continue;
+      if (separate(ta.footprint, mean_of(ta), tb.footprint, mean_of(tb))) continue;  // two objects side by side
       // Keep the published (else older) track; fold the other one in.
       const bool keep_a = ta.published || !tb.published;
       Track& keep = keep_a ? ta : tb;

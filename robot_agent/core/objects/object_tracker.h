@@ -8,7 +8,9 @@
 // ambiguous ones only update the filters. Each track fuses its views into one coloured cloud,
 // aligned by RGB-ICP (Algorithm 3) when that converges. A track is published once seen in
 // min_observations frames and re-published when its estimate improved (moved, cloud grew,
-// covariance shrank). Close tracks of the same class are merged.
+// covariance shrank). Close tracks of the same class are merged, unless their fitted 3D footprints
+// (box / cylinder / sphere from shape_fit) exclude each other's centres: then they are two objects
+// side by side, and a detection outside a track's footprint is kept out of its JPDA gate too.
 #include <Eigen/Core>
 #include <map>
 #include <string>
@@ -28,9 +30,15 @@ struct ObjectTrackerOptions {
   double min_assignment_probability = 0.5;
   double lateral_sigma_m = 0.03, lateral_sigma_per_m = 0.01;  ///< detection noise across the ray
   double range_sigma_m = 0.05, range_sigma_per_m = 0.02;      ///< along the ray
-  double no_depth_sigma_m = 0.4;          ///< homography-only detections
+  double no_depth_sigma_m = 0.4;          ///< homography-only detections, plus:
+  double no_depth_sigma_per_m2 = 0.015;   ///< the ground homography's range error grows as range^2
   double truncated_sigma_m = 0.5;         ///< blobs cut by the image border (that axis only)
-  double merge_distance_m = 0.5;          ///< same-class tracks closer than this are one object
+  double merge_distance_m = 0.5;          ///< same-class tracks closer than this are one object...
+  /// ...unless their 3D extents say otherwise: a detection (or track) whose centre lies outside a
+  /// track's fitted footprint (box, cylinder or sphere, grown by this margin + the per-metre part
+  /// times the range), and whose own footprint excludes the track's centre, is another object: it is
+  /// kept out of that track's JPDA gate and may start a track even inside the gate.
+  double separation_margin_m = 0.05, separation_margin_per_m = 0.02;
   int min_observations = 3;               ///< frames before a track is published
   double tentative_timeout_s = 20.0;      ///< unpublished tracks without a hit for this long are dropped
   double republish_moved_m = 0.05;        ///< centre change that triggers a re-publish
@@ -67,8 +75,16 @@ class ObjectTracker {
   int icp_fusions() const { return icp_fusions_; }
 
  private:
+  /// Fitted footprint in the local frame (kind kUnknown: none).
+  struct Footprint {
+    ShapeKind kind = ShapeKind::kUnknown;
+    Eigen::Vector2d half_m = Eigen::Vector2d::Zero();  ///< box half sides; radius in x otherwise
+    double yaw_rad = 0.0;
+    double range_m = 0.0;                              ///< of the view it came from
+  };
   struct Track {
     int32_t seq = 0;
+    Footprint footprint;
     std::string class_name;
     int target_id = 0;                     ///< in jpda_[class_name]
     ColoredCloud cloud_local;
@@ -88,6 +104,9 @@ class ObjectTracker {
                     const SE2& T_local_base);
   void observe(Track* track, StampNs stamp_ns, const Detection& d, const Eigen::Isometry3d& T_local_base);
   void merge_close_tracks(const std::string& cls);
+  static Footprint footprint_of(const Detection& d, const SE2& T_local_base);
+  bool separate(const Footprint& a, const Eigen::Vector3d& centre_a, const Footprint& b,
+                const Eigen::Vector3d& centre_b) const;
   void drop_stale(StampNs stamp_ns);
   Track* track_of(const std::string& cls, int target_id);
   Eigen::Vector3d mean_of(const Track& t) const;

@@ -84,7 +84,6 @@ ShapeFit fit_box(const std::vector<Eigen::Vector3d>& pts, const ShapeFitOptions&
   ShapeFit f;
   f.kind = ShapeKind::kBox;
   if (int(pts.size()) < o.min_points) return f.reason = "too few points", f;
-  double best_area = 1e300;
   auto extents = [&](double yaw, Eigen::Vector2d* lo, Eigen::Vector2d* hi) {
     const double c = std::cos(yaw), s = std::sin(yaw);
     *lo = Eigen::Vector2d::Constant(1e300), *hi = -*lo;
@@ -93,12 +92,36 @@ ShapeFit fit_box(const std::vector<Eigen::Vector3d>& pts, const ShapeFitOptions&
       *lo = lo->cwiseMin(q), *hi = hi->cwiseMax(q);
     }
   };
+  // Yaw by the closeness criterion of L-shape fitting (Zhang et al., "Efficient L-shape fitting
+  // for vehicle detection using laser scanners", 2017): the visible side faces should lie on the
+  // rectangle's edges. The minimum-area rectangle is wrong for a thin L (one long and one short
+  // visible face): it aligns with the L's hypotenuse. Top-face points are interior, so only the
+  // side points vote; seen from above (few side points) every point does.
+  double zlo0, zhi0;
+  z_extent(pts, &zlo0, &zhi0);
+  std::vector<Eigen::Vector2d> side;
+  for (const auto& p : pts)
+    if (p.z() < zhi0 - o.top_face_band_m) side.push_back(p.head<2>());
+  if (int(side.size()) < o.min_points) {
+    side.clear();
+    for (const auto& p : pts) side.push_back(p.head<2>());
+  }
+  double best_closeness = -1.0;
   Eigen::Vector2d lo, hi;
   for (int k = 0; k < 90; ++k) {  // 1 degree steps over the rectangle's symmetry period
-    const double yaw = k * M_PI / 180.0;
-    extents(yaw, &lo, &hi);
-    const double area = (hi - lo).prod();
-    if (area < best_area) best_area = area, f.yaw_rad = yaw;
+    const double yaw = k * M_PI / 180.0, c = std::cos(yaw), s = std::sin(yaw);
+    Eigen::Vector2d slo = Eigen::Vector2d::Constant(1e300), shi = -slo;
+    std::vector<Eigen::Vector2d> q(side.size());
+    for (size_t i = 0; i < side.size(); ++i) {
+      q[i] = Eigen::Vector2d(c * side[i].x() + s * side[i].y(), -s * side[i].x() + c * side[i].y());
+      slo = slo.cwiseMin(q[i]), shi = shi.cwiseMax(q[i]);
+    }
+    double closeness = 0.0;
+    for (const Eigen::Vector2d& p : q) {
+      const double dx = std::min(p.x() - slo.x(), shi.x() - p.x()), dy = std::min(p.y() - slo.y(), shi.y() - p.y());
+      closeness += 1.0 / std::max(std::min(dx, dy), o.closeness_floor_m);
+    }
+    if (closeness > best_closeness) best_closeness = closeness, f.yaw_rad = yaw;
   }
   extents(f.yaw_rad, &lo, &hi);
   const Eigen::Vector2d mid = 0.5 * (lo + hi);
@@ -119,6 +142,35 @@ ShapeFit fit_box(const std::vector<Eigen::Vector3d>& pts, const ShapeFitOptions&
   return f;
 }
 
+void complete_box_footprint(ShapeFit* f, const Eigen::Vector3d& viewpoint, const ShapeFitOptions& o) {
+  const Eigen::Vector2d prior = o.box_footprint_prior_m;
+  if (f->kind != ShapeKind::kBox || !f->converged || !(prior.minCoeff() > 0.0)) return;
+  const double L = prior.maxCoeff(), S = prior.minCoeff();
+  const Eigen::Vector2d fitted = f->size_m.head<2>();
+  // Assignment a: x <- L, y <- S; b: x <- S, y <- L. The side closest to the short prior side takes
+  // it (an end face seen alone is the short side), unless a fitted side would overshoot its prior.
+  auto cost = [&](double px, double py) {
+    const double short_fitted = px < py ? fitted.x() : fitted.y();
+    return 10.0 * (std::max(0.0, fitted.x() - px) + std::max(0.0, fitted.y() - py)) + std::abs(short_fitted - S);
+  };
+  const Eigen::Vector2d target = cost(L, S) <= cost(S, L) ? Eigen::Vector2d(L, S) : Eigen::Vector2d(S, L);
+  const double c = std::cos(f->yaw_rad), s = std::sin(f->yaw_rad);
+  const Eigen::Vector2d axes[2] = {Eigen::Vector2d(c, s), Eigen::Vector2d(-s, c)};
+  const Eigen::Vector2d view = (f->center_m - viewpoint).head<2>();
+  if (view.norm() < 1e-6) return;
+  for (int k = 0; k < 2; ++k) {
+    const double missing = target[k] - fitted[k];
+    const double along = view.normalized().dot(axes[k]);
+    // The other side must be (nearly) complete: it is what identifies the hidden one.
+    const bool other_complete = fitted[1 - k] >= (1.0 - o.completion_side_tolerance) * target[1 - k];
+    if (missing <= 0.0 || !other_complete || f->score > o.max_completion_rms_m ||
+        std::abs(along) < o.min_completion_view_cos)
+      continue;
+    f->center_m.head<2>() += 0.5 * missing * (along > 0 ? 1.0 : -1.0) * axes[k];
+    f->size_m[k] = target[k];
+  }
+}
+
 ShapeFit best_shape_fit(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& viewpoint,
                         const ShapeFitOptions& o) {
   ShapeFit best = fit_box(pts, o);
@@ -133,6 +185,7 @@ ShapeFit best_shape_fit(const std::vector<Eigen::Vector3d>& pts, const Eigen::Ve
     if ((f.center_m - mean).head<2>().dot(view) < 0.0) continue;
     if (f.score + o.box_preference_m < best.score) best = f;
   }
+  complete_box_footprint(&best, viewpoint, o);
   return best;
 }
 
