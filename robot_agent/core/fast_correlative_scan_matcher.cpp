@@ -13,16 +13,17 @@ namespace {
 PrecomputationGrid PrecomputationGrid::from_grid(const ProbabilityGrid& grid) {
   // Only cells near hits have a non-zero field: crop to their bounding box (a finished submap's
   // free-space rays reach far beyond its walls).
-  const std::vector<uint8_t>& field = grid.field();
+  const auto& field = grid.field();
   int x0 = grid.width(), y0 = grid.height(), x1 = -1, y1 = -1;
-  for (int r = 0; r < grid.height(); ++r) {
+  const int c0 = std::max(0, grid.written_min().x()), c1 = std::min(grid.width() - 1, grid.written_max().x());
+  for (int r = std::max(0, grid.written_min().y()); r <= std::min(grid.height() - 1, grid.written_max().y()); ++r) {
     const uint8_t* row = field.data() + size_t(r) * grid.width();
     int first = -1, last = -1;
-    for (int c = 0; c < grid.width(); ++c) {
+    for (int c = c0; c <= c1; ++c) {
       if (row[c]) { first = c; break; }
     }
     if (first < 0) continue;
-    for (int c = grid.width() - 1; c >= first; --c) {
+    for (int c = c1; c >= first; --c) {
       if (row[c]) { last = c; break; }
     }
     x0 = std::min(x0, first); x1 = std::max(x1, last);

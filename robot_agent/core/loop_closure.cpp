@@ -24,6 +24,9 @@ int LoopClosure::add_node(const SE2& T_local_node, const std::vector<Eigen::Vect
     graph_.add_submap(correction * s.T_local_submap);
   }
   const int node = graph_.add_node(correction * T_local_node, T_local_node);
+  travel_m_.push_back(local_nodes_.empty() ? 0.0
+                                           : travel_m_.back() + (T_local_node.translation() -
+                                                                 local_nodes_.back().translation()).norm());
   local_nodes_.push_back(T_local_node);
   for (int id : insertion.inserted_into) {
     SubmapEntry& e = submaps_[size_t(id)];
@@ -42,14 +45,53 @@ int LoopClosure::add_node(const SE2& T_local_node, const std::vector<Eigen::Vect
   }
   ++nodes_since_optimize_;
   if (loops_since_optimize_ > 0 && nodes_since_optimize_ >= options_.optimize_every_n_nodes) {
-    if (graph_.optimize()) {
-      ++stats_.optimizations;
-      anchored_node_ = last_loop_node_;
-    }
-    loops_since_optimize_ = 0;
-    nodes_since_optimize_ = 0;
+    optimize(options_.periodic_max_num_iterations);
   }
   return node;
+}
+
+void LoopClosure::optimize(int max_num_iterations) {
+  const int newest = graph_.num_nodes() - 1;
+  const SE2 before = newest >= 0 ? graph_.node_pose(newest) : SE2();
+  loops_since_optimize_ = 0;
+  nodes_since_optimize_ = 0;
+  if (!graph_.optimize(max_num_iterations)) return;
+  ++stats_.optimizations;
+  if (newest < 0) return;
+  // The newest node's correction is the drift accumulated since the previous anchor (or the start).
+  const SE2 after = graph_.node_pose(newest);
+  const double travel_m = travel_m_[size_t(newest)] - (anchored_node_ >= 0 ? travel_m_[size_t(anchored_node_)] : 0.0);
+  if (travel_m > 1.0) {
+    observed_rates_.emplace_back((after.translation() - before.translation()).norm() / travel_m,
+                                 std::abs(normalize_angle(after.yaw() - before.yaw())) / travel_m);
+    const size_t keep = size_t(std::max(1, options_.anchor_rate_memory));
+    if (observed_rates_.size() > keep) observed_rates_.erase(observed_rates_.begin());
+  }
+  anchored_node_ = last_loop_node_;
+}
+
+void LoopClosure::anchored_window(int anchor, int node, double* linear_m, double* angular_rad) const {
+  const LoopClosureOptions& o = options_;
+  double linear_rate = o.anchor_min_linear_rate, angular_rate = o.anchor_min_angular_rate_rad;
+  for (const auto& [l, a] : observed_rates_) {
+    linear_rate = std::max(linear_rate, l);
+    angular_rate = std::max(angular_rate, a);
+  }
+  const double travel_m = travel_m_[size_t(node)] - travel_m_[size_t(anchor)];
+  *linear_m = o.linear_window_base_m + o.anchor_gap_factor * linear_rate * travel_m;
+  *angular_rad = o.angular_window_base_rad + o.anchor_gap_factor * angular_rate * travel_m;
+}
+
+void LoopClosure::window(int node, const SubmapEntry& e, double* linear_m, double* angular_rad) const {
+  const LoopClosureOptions& o = options_;
+  const double gap = double(node - e.last_node);
+  *linear_m = std::min(o.linear_window_max_m, o.linear_window_base_m + o.linear_window_per_node_m * gap);
+  *angular_rad = std::min(o.angular_window_max_rad, o.angular_window_base_rad + o.angular_window_per_node_rad * gap);
+  if (o.anchor_gap_factor <= 0.0 || anchored_node_ < 0) return;
+  double l = 0.0, a = 0.0;
+  anchored_window(anchored_node_, node, &l, &a);
+  *linear_m = std::min(*linear_m, l);
+  *angular_rad = std::min(*angular_rad, a);
 }
 
 void LoopClosure::search(int node, const std::vector<Eigen::Vector2f>& points_base, const std::vector<int>& own) {
@@ -59,6 +101,7 @@ void LoopClosure::search(int node, const std::vector<Eigen::Vector2f>& points_ba
     SubmapEntry& e = submaps_[size_t(id)];
     if (!e.matcher || std::find(own.begin(), own.end(), id) != own.end()) continue;
     if (e.last_node > node - options_.min_node_separation) continue;
+    if (node < e.retry_node) continue;
     const SE2 T_submap_node = graph_.submap_pose(id).between(T_global_node);
     if (T_submap_node.translation().norm() > options_.max_constraint_distance_m) continue;
     if (coarse.empty()) {
@@ -78,40 +121,48 @@ bool LoopClosure::try_submap(int node, SubmapEntry& e, int id, const std::vector
   ++stats_.searches;
   // The initial guess in the submap grid's (local) frame, from the current optimised poses.
   const SE2 T_submap_node = graph_.submap_pose(id).between(graph_.node_pose(node));
-  const SE2 initial = e.T_local_submap * T_submap_node;
+  SE2 initial = e.T_local_submap * T_submap_node;
   const LoopClosureOptions& o = options_;
-  double gap = double(node - e.last_node);
-  if (o.anchor_gap_factor > 0.0 && anchored_node_ >= 0) {
-    gap = std::min(gap, o.anchor_gap_factor * double(node - anchored_node_));
+  double linear_m = 0.0, angular_rad = 0.0;
+  window(node, e, &linear_m, &angular_rad);
+  if (o.tracking_max_gap_nodes > 0 && e.loop_node >= 0 && node - e.loop_node <= o.tracking_max_gap_nodes) {
+    // Tracking: the latest closure to this submap moved by the local SLAM's motion since.
+    double l = 0.0, a = 0.0;
+    anchored_window(e.loop_node, node, &l, &a);
+    if (l <= linear_m && a <= angular_rad) {
+      initial = e.T_grid_loop_node * local_nodes_[size_t(e.loop_node)].between(local_nodes_[size_t(node)]);
+      linear_m = l;
+      angular_rad = a;
+    }
   }
-  const double linear_m = std::min(o.linear_window_max_m, o.linear_window_base_m + o.linear_window_per_node_m * gap);
-  const double angular_rad =
-      std::min(o.angular_window_max_rad, o.angular_window_base_rad + o.angular_window_per_node_rad * gap);
   int scored = 0;
   const auto found = e.matcher->match(initial, points, linear_m, angular_rad, o.min_search_score, &scored);
   stats_.scored_candidates += scored;
+  const auto fail = [&] {
+    ++e.failures;
+    e.retry_node = node + std::max(1, o.search_every_n_nodes) * std::min(e.failures, o.max_failure_backoff) + 1;
+    return false;
+  };
   if (!found) {
     stats_.scored_candidates_failed += scored;
-    return false;
+    return fail();
   }
   const CeresMatch refined = refiner_.match(found->pose, fine, e.submap->grid);
   if (!refined.converged || refined.score < options_.min_refined_score) {
     ++stats_.rejected_after_refinement;
-    return false;
+    return fail();
   }
+  e.failures = 0;
   graph_.add_constraint({id, node, e.T_local_submap.between(refined.pose), PoseGraphConstraint::Kind::kLoopClosure,
                          refined.score});
+  e.loop_node = node;
+  e.T_grid_loop_node = refined.pose;
   return true;
 }
 
 void LoopClosure::finish() {
   if (!options_.enabled || graph_.num_loop_closures() == 0) return;
-  if (graph_.optimize()) {
-    ++stats_.optimizations;
-    anchored_node_ = last_loop_node_;
-  }
-  loops_since_optimize_ = 0;
-  nodes_since_optimize_ = 0;
+  optimize(options_.graph.max_num_iterations);
 }
 
 }  // namespace cairn::agent

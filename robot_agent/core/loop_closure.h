@@ -6,6 +6,9 @@
 // are refined with Ceres and added as loop-closure constraints, and the graph is optimised
 // periodically and at the end. New nodes and submaps enter the graph through the correction
 // T_global_local of the newest submap, so the local SLAM itself never jumps.
+// Search scheduling (what keeps it cheap): windows bounded by the drift measured by the
+// optimisations since the last anchoring loop closure, tracking of a submap's latest closure, and a
+// back-off for submaps whose searches keep failing (see the options).
 #include <Eigen/Core>
 #include <memory>
 #include <vector>
@@ -31,22 +34,39 @@ struct LoopClosureOptions {
   PoseGraphOptions graph;
   /// The search window grows with the drift the node's estimate can have accumulated relative to
   /// the submap: window = min(max, base + per_node * gap), gap = the nodes since the submap was last
-  /// touched or, when fewer, anchor_gap_factor times the nodes since the newest node whose loop
-  /// closure the graph has been optimised with (which anchored the trajectory to the old submaps;
-  /// the factor allows for the residual error of that correction; 0 disables the anchor).
+  /// touched.
   double linear_window_base_m = 0.3;
   double linear_window_per_node_m = 0.01;
   double linear_window_max_m = 4.0;
   double angular_window_base_rad = 3.0 * M_PI / 180.0;
   double angular_window_per_node_rad = 0.05 * M_PI / 180.0;
   double angular_window_max_rad = 20.0 * M_PI / 180.0;
-  double anchor_gap_factor = 0.0;
+  /// Anchored window (when smaller): once an optimisation has used a loop closure, the nodes after
+  /// that "anchor" drift from the (now consistent) old submaps only by the local SLAM's drift over
+  /// the distance travelled since: window = base + anchor_gap_factor * rate * travel, the rate
+  /// being the drift the optimisations actually corrected per metre (the newest node's pose change
+  /// over its travel since the previous anchor; the largest of the recent ones), at least the
+  /// floors below. anchor_gap_factor = 0 disables the anchored window.
+  double anchor_gap_factor = 2.0;
+  double anchor_min_linear_rate = 0.05;                   ///< m of drift per m travelled
+  double anchor_min_angular_rate_rad = 0.5 * M_PI / 180;  ///< rad of drift per m travelled
+  int anchor_rate_memory = 4;  ///< optimisations over which the largest observed rate is kept
+  /// Tracking: a node within this many nodes of the submap's latest accepted loop closure is
+  /// searched around that closure's match moved by the local SLAM's relative motion since, with the
+  /// anchored window for the travel since (the relative pose is already known; 0 disables).
+  int tracking_max_gap_nodes = 16;
+  /// Back-off: after k consecutive failed searches a submap skips min(k, this) sampled nodes (a
+  /// submap near the robot but out of its view keeps failing; 0 disables).
+  int max_failure_backoff = 3;
   double max_constraint_distance_m = 10.0;  ///< node to submap origin, current estimate
   double min_search_score = 0.5;           ///< of the branch-and-bound match (likelihood field, 0..1)
   double min_refined_score = 0.35;        ///< of the Ceres refinement (mean probability)
   int search_every_n_nodes = 4;            ///< sample nodes for the constraint search
   int min_node_separation = 0;             ///< a submap's last node must be at least this much older
   int optimize_every_n_nodes = 120;        ///< when new loop closures exist
+  /// Periodic optimisations start from the previous solution and only need to be close (they seed
+  /// the loop search); the final one (finish()) runs graph.max_num_iterations.
+  int periodic_max_num_iterations = 10;
   double search_voxel_m = 0.15;            ///< points used for the branch-and-bound search
   double refine_voxel_m = 0.08;            ///< points used for the Ceres refinement
 };
@@ -87,6 +107,10 @@ class LoopClosure {
     std::shared_ptr<const Submap> submap;             ///< set when finished
     std::unique_ptr<FastCorrelativeScanMatcher> matcher;
     int last_node = -1;
+    int loop_node = -1;    ///< newest node with an accepted loop closure to this submap
+    SE2 T_grid_loop_node;  ///< ... its matched pose in the submap grid's frame
+    int failures = 0;      ///< consecutive failed searches
+    int retry_node = 0;    ///< back-off: not searched again before this node
   };
   void search(int node, const std::vector<Eigen::Vector2f>& points, const std::vector<int>& own_submaps);
   bool try_submap(int node, SubmapEntry& entry, int submap_id, const std::vector<Eigen::Vector2f>& coarse,
@@ -97,6 +121,15 @@ class LoopClosure {
   CeresScanMatcher refiner_;
   std::vector<SubmapEntry> submaps_;
   std::vector<SE2> local_nodes_;
+  /// Optimises the graph; on success re-anchors and updates the observed drift rates.
+  void optimize(int max_num_iterations);
+  /// Search windows for a node against a submap (gap-based, bounded by the anchored window).
+  void window(int node, const SubmapEntry& entry, double* linear_m, double* angular_rad) const;
+  /// base + anchor_gap_factor * drift rate * travel between the nodes.
+  void anchored_window(int anchor, int node, double* linear_m, double* angular_rad) const;
+
+  std::vector<double> travel_m_;  ///< per node: distance travelled since the first node (local frame)
+  std::vector<std::pair<double, double>> observed_rates_;  ///< recent (linear, angular) drift per metre
   int loops_since_optimize_ = 0;
   int last_loop_node_ = -1;      ///< newest node with an accepted loop closure
   int anchored_node_ = -1;       ///< last_loop_node_ as of the latest optimisation

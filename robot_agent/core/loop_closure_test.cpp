@@ -36,6 +36,45 @@ TEST(RangeDataInserter, HitsRaiseAndMissesLowerProbability) {
   EXPECT_GT(grid.at(grid.cell_of({2.01, 0.01}).x(), grid.cell_of({2.01, 0.01}).y(), 0.f), 0.6f);
 }
 
+// Growth and cropping copy only the written-cell box: every cell must read the same at the same
+// world position afterwards, and free space stops at max_free_space_length_m.
+TEST(ProbabilityGrid, GrowthAndCropKeepEveryWrittenCell) {
+  RangeDataInserterOptions o;
+  o.max_free_space_length_m = 10.0;
+  RangeDataInserter inserter(o);
+  ProbabilityGrid grid(Eigen::Vector2d(-2, -2), 0.05, 80, 80);
+  const std::vector<Eigen::Vector2f> points = {{1.5f, 0.0f}, {0.0f, 1.2f}, {-1.0f, -1.0f}};
+  inserter.insert(SE2(), points, &grid);
+  std::vector<std::pair<Eigen::Vector2d, float>> probes;
+  for (double x = -1.9; x < 1.9; x += 0.1) {
+    for (double y = -1.9; y < 1.9; y += 0.1) {
+      const Eigen::Vector2i c = grid.cell_of({x, y});
+      probes.push_back({grid.cell_center_m(c.x(), c.y()), grid.known(c.x(), c.y()) ? grid.at(c.x(), c.y(), -1.f) : -1.f});
+    }
+  }
+  inserter.insert(SE2(0, 0, 0), {{20.0f, 0.0f}}, &grid);  // grows along +x only
+  const Eigen::Vector2i far_hit = grid.cell_of({20.01, 0.01}), free_end = grid.cell_of({12.0, 0.01});
+  ASSERT_TRUE(grid.contains(far_hit.x(), far_hit.y()));
+  EXPECT_GT(grid.at(far_hit.x(), far_hit.y(), 0.f), 0.5f);
+  EXPECT_FALSE(grid.known(free_end.x(), free_end.y()));  // beyond 10 m of free space
+  const Eigen::Vector2i free_near = grid.cell_of({5.0, 0.01});
+  EXPECT_LT(grid.at(free_near.x(), free_near.y(), 1.f), 0.5f);
+  grid.crop_to_known();
+  int compared = 0;
+  for (const auto& [p, before] : probes) {
+    const Eigen::Vector2i c = grid.cell_of(p);
+    if (before < 0.f) continue;
+    ++compared;
+    ASSERT_TRUE(grid.known(c.x(), c.y())) << p.transpose();
+    // The second scan's free ray along +x may have lowered cells on the x axis.
+    if (std::abs(p.y()) > 0.1) EXPECT_FLOAT_EQ(grid.at(c.x(), c.y(), -1.f), before) << p.transpose();
+  }
+  EXPECT_GT(compared, 10);
+  const Eigen::Vector2i hit_after = grid.cell_of({20.01, 0.01});
+  EXPECT_GT(grid.at(hit_after.x(), hit_after.y(), 0.f), 0.5f);
+  EXPECT_GT(grid.field_at(hit_after.x(), hit_after.y()), 0.9f);  // the likelihood field moved with it
+}
+
 TEST(FastCorrelativeScanMatcher, FindsALargeOffsetAndCeresRefinesIt) {
   const auto room = testing::make_room();
   const ProbabilityGrid grid = room_grid(room);

@@ -41,8 +41,9 @@ class PoseGraph2D {
   int add_node(const SE2& T_global_node, const SE2& T_local_node);
   void add_constraint(const PoseGraphConstraint& c);
 
-  /// Runs Ceres; returns false when the solver reports an unusable solution (poses unchanged).
-  bool optimize();
+  /// Runs Ceres (at most `max_num_iterations`, or the options' when <= 0); returns false when the
+  /// solver reports an unusable solution (poses unchanged).
+  bool optimize(int max_num_iterations = 0);
 
   const SE2& submap_pose(int i) const { return submaps_[size_t(i)]; }
   const SE2& node_pose(int i) const { return nodes_[size_t(i)]; }

@@ -33,8 +33,17 @@ ProbabilityGrid::ProbabilityGrid(const Eigen::Vector2d& origin_m, double resolut
       width_(std::max(0, width)),
       height_(std::max(0, height)),
       fill_probability_(fill_probability),
-      values_(size_t(width_) * size_t(height_), kUnknownValue),
-      field_(values_.size(), 0) {}
+      values_(size_t(width_) * size_t(height_)),  // kUnknownValue == 0: lazily zeroed pages
+      field_(values_.size()) {}
+
+void ProbabilityGrid::include_written_box(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m) {
+  if (width_ == 0 || height_ == 0) return;
+  const Eigen::Vector2i lo = cell_of(min_m).cwiseMax(Eigen::Vector2i(0, 0));
+  const Eigen::Vector2i hi = cell_of(max_m).cwiseMin(Eigen::Vector2i(width_ - 1, height_ - 1));
+  if (lo.x() > hi.x() || lo.y() > hi.y()) return;
+  written_min_ = written_min_.cwiseMin(lo);
+  written_max_ = written_max_.cwiseMax(hi);
+}
 
 void ProbabilityGrid::splat_hit(int col, int row, double sigma_cells) {
   const int radius = std::max(1, int(std::ceil(2.0 * sigma_cells)));
@@ -48,6 +57,9 @@ void ProbabilityGrid::splat_hit(int col, int row, double sigma_cells) {
     }
   }
   const bool inside = col - radius >= 0 && row - radius >= 0 && col + radius < width_ && row + radius < height_;
+  written_min_ = written_min_.cwiseMin(Eigen::Vector2i(std::max(0, col - radius), std::max(0, row - radius)));
+  written_max_ = written_max_.cwiseMax(
+      Eigen::Vector2i(std::min(width_ - 1, col + radius), std::min(height_ - 1, row + radius)));
   const uint8_t* k = kernel_.data();
   for (int dy = -radius; dy <= radius; ++dy) {
     for (int dx = -radius; dx <= radius; ++dx, ++k) {
@@ -59,9 +71,11 @@ void ProbabilityGrid::splat_hit(int col, int row, double sigma_cells) {
 }
 
 void ProbabilityGrid::rebuild_field(double sigma_cells) {
-  std::fill(field_.begin(), field_.end(), 0);
-  for (int r = 0; r < height_; ++r) {
-    for (int c = 0; c < width_; ++c) {
+  if (written_max_.x() < written_min_.x()) return;  // nothing written
+  const Eigen::Vector2i lo = written_min_, hi = written_max_;
+  for (int r = lo.y(); r <= hi.y(); ++r) std::fill_n(&field_[size_t(r) * width_ + lo.x()], hi.x() - lo.x() + 1, 0);
+  for (int r = lo.y(); r <= hi.y(); ++r) {
+    for (int c = lo.x(); c <= hi.x(); ++c) {
       const uint16_t v = values_[size_t(r) * width_ + c];
       if (v != kUnknownValue && value_to_probability(v) > 0.5f) splat_hit(c, r, sigma_cells);
     }
@@ -108,11 +122,17 @@ void ProbabilityGrid::grow_to_include(const Eigen::Vector2d& min_m, const Eigen:
   int new_w = 0, new_h = 0, shift_x = 0, shift_y = 0;
   extent(lo.x(), hi.x(), width_, &new_w, &shift_x);
   extent(lo.y(), hi.y(), height_, &new_h, &shift_y);
-  std::vector<uint16_t> cells(size_t(new_w) * size_t(new_h), kUnknownValue);
-  std::vector<uint8_t> field(cells.size(), 0);
-  for (int r = 0; r < height_; ++r) {
-    std::copy_n(&values_[size_t(r) * width_], width_, &cells[size_t(r + shift_y) * new_w + shift_x]);
-    std::copy_n(&field_[size_t(r) * width_], width_, &field[size_t(r + shift_y) * new_w + shift_x]);
+  ZeroedVector<uint16_t> cells(size_t(new_w) * size_t(new_h));
+  ZeroedVector<uint8_t> field(cells.size());
+  // Only the written box holds data; the rest stays untouched (lazily zeroed) memory.
+  if (written_max_.x() >= written_min_.x()) {
+    const int x0 = written_min_.x(), n = written_max_.x() - x0 + 1;
+    for (int r = written_min_.y(); r <= written_max_.y(); ++r) {
+      std::copy_n(&values_[size_t(r) * width_ + x0], n, &cells[size_t(r + shift_y) * new_w + x0 + shift_x]);
+      std::copy_n(&field_[size_t(r) * width_ + x0], n, &field[size_t(r + shift_y) * new_w + x0 + shift_x]);
+    }
+    written_min_ += Eigen::Vector2i(shift_x, shift_y);
+    written_max_ += Eigen::Vector2i(shift_x, shift_y);
   }
   values_.swap(cells);
   field_.swap(field);
@@ -123,8 +143,8 @@ void ProbabilityGrid::grow_to_include(const Eigen::Vector2d& min_m, const Eigen:
 
 void ProbabilityGrid::crop_to_known(int margin_cells) {
   int x0 = width_, y0 = height_, x1 = -1, y1 = -1;
-  for (int r = 0; r < height_; ++r) {
-    for (int c = 0; c < width_; ++c) {
+  for (int r = std::max(0, written_min_.y()); r <= std::min(height_ - 1, written_max_.y()); ++r) {
+    for (int c = std::max(0, written_min_.x()); c <= std::min(width_ - 1, written_max_.x()); ++c) {
       if (values_[size_t(r) * width_ + c] == kUnknownValue) continue;
       x0 = std::min(x0, c); x1 = std::max(x1, c); y0 = std::min(y0, r); y1 = std::max(y1, r);
     }
@@ -133,8 +153,8 @@ void ProbabilityGrid::crop_to_known(int margin_cells) {
   x0 = std::max(0, x0 - margin_cells); y0 = std::max(0, y0 - margin_cells);
   x1 = std::min(width_ - 1, x1 + margin_cells); y1 = std::min(height_ - 1, y1 + margin_cells);
   const int w = x1 - x0 + 1, h = y1 - y0 + 1;
-  std::vector<uint16_t> cells(size_t(w) * size_t(h));
-  std::vector<uint8_t> field(cells.size());
+  ZeroedVector<uint16_t> cells(size_t(w) * size_t(h));
+  ZeroedVector<uint8_t> field(cells.size());
   for (int r = 0; r < h; ++r) {
     std::copy_n(&values_[size_t(r + y0) * width_ + x0], w, &cells[size_t(r) * w]);
     std::copy_n(&field_[size_t(r + y0) * width_ + x0], w, &field[size_t(r) * w]);
@@ -144,6 +164,8 @@ void ProbabilityGrid::crop_to_known(int margin_cells) {
   origin_m_ += resolution_m_ * Eigen::Vector2d(x0, y0);
   width_ = w;
   height_ = h;
+  written_min_ = Eigen::Vector2i(0, 0);
+  written_max_ = Eigen::Vector2i(w - 1, h - 1);
 }
 
 ProbabilityGrid ProbabilityGrid::blurred(double sigma_cells) const {

@@ -11,6 +11,8 @@
 // without rebuilding a blurred grid per scan.
 #include <Eigen/Core>
 #include <cstdint>
+#include <cstdlib>
+#include <new>
 #include <vector>
 
 #include "common/occupancy_grid.h"
@@ -29,6 +31,33 @@ extern const float* const kValueToProbability;
 inline float value_to_probability(uint16_t value) { return kValueToProbability[value & kMaxValue]; }
 /// Nearest value of a probability (clamped to [kMinProbability, kMaxProbability]); never 0.
 uint16_t probability_to_value(float probability);
+
+/// Allocates with calloc and leaves value-initialisation out: calloc knows when its memory is fresh
+/// from the kernel (already zero) and skips the memset that std::vector's value-initialisation of a
+/// new grid would always do. (Mapping every grid anonymously to keep unwritten pages lazy was
+/// measured slower: page faults cost more than the memset in a paravirtualised VM.)
+template <typename T>
+struct ZeroedAllocator {
+  using value_type = T;
+  ZeroedAllocator() = default;
+  template <typename U>
+  ZeroedAllocator(const ZeroedAllocator<U>&) {}
+  T* allocate(size_t n) {
+    if (void* p = std::calloc(n, sizeof(T))) return static_cast<T*>(p);
+    throw std::bad_alloc();
+  }
+  void deallocate(T* p, size_t) { std::free(p); }
+  template <typename U>
+  void construct(U*) {}  // memory is already zero
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) { ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...); }
+  template <typename U>
+  bool operator==(const ZeroedAllocator<U>&) const { return true; }
+  template <typename U>
+  bool operator!=(const ZeroedAllocator<U>&) const { return false; }
+};
+template <typename T>
+using ZeroedVector = std::vector<T, ZeroedAllocator<T>>;
 
 class ProbabilityGrid {
  public:
@@ -55,7 +84,10 @@ class ProbabilityGrid {
   float probability_of(uint16_t value) const {
     return value == kUnknownValue ? fill_probability_ : kValueToProbability[value];
   }
-  void set_probability(int col, int row, float p) { values_[size_t(row) * width_ + col] = probability_to_value(p); }
+  void set_probability(int col, int row, float p) {
+    values_[size_t(row) * width_ + col] = probability_to_value(p);
+    include_written_cell(col, row);
+  }
   bool known(int col, int row) const { return contains(col, row) && values_[size_t(row) * width_ + col] != 0; }
   Eigen::Vector2i cell_of(const Eigen::Vector2d& p_m) const;
   /// Continuous cell coordinates (col, row) where integer values are cell centres.
@@ -73,10 +105,17 @@ class ProbabilityGrid {
   /// Shrinks to the bounding box of known cells (plus `margin_cells`), e.g. when a submap is finished.
   void crop_to_known(int margin_cells = 2);
 
-  const std::vector<uint16_t>& values() const { return values_; }
-  std::vector<uint16_t>& mutable_values() { return values_; }
+  const ZeroedVector<uint16_t>& values() const { return values_; }
+  /// Raw cell access for bulk writers (the range data inserter): cells written must lie inside a
+  /// box declared with include_written_box, or crop_to_known / growth may drop them.
+  ZeroedVector<uint16_t>& mutable_values() { return values_; }
+  /// Declares that cells (and field values) inside [min_m, max_m] may be written (clamped to the grid).
+  void include_written_box(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m);
+  /// Cell box that can hold known cells or field values: [min, max] (empty when max < min).
+  const Eigen::Vector2i& written_min() const { return written_min_; }
+  const Eigen::Vector2i& written_max() const { return written_max_; }
   /// Likelihood field, 0..255, same layout as values().
-  const std::vector<uint8_t>& field() const { return field_; }
+  const ZeroedVector<uint8_t>& field() const { return field_; }
   float field_at(int col, int row) const {
     return contains(col, row) ? field_[size_t(row) * width_ + col] * (1.f / 255.f) : 0.f;
   }
@@ -91,8 +130,13 @@ class ProbabilityGrid {
   int width_ = 0;
   int height_ = 0;
   float fill_probability_ = kMinProbability;
-  std::vector<uint16_t> values_;
-  std::vector<uint8_t> field_;
+  void include_written_cell(int col, int row) {
+    written_min_ = written_min_.cwiseMin(Eigen::Vector2i(col, row));
+    written_max_ = written_max_.cwiseMax(Eigen::Vector2i(col, row));
+  }
+  ZeroedVector<uint16_t> values_;
+  ZeroedVector<uint8_t> field_;
+  Eigen::Vector2i written_min_{INT32_MAX, INT32_MAX}, written_max_{-1, -1};
   double kernel_sigma_cells_ = -1.0;
   std::vector<uint8_t> kernel_;  ///< splat_hit's Gaussian, row-major over [-radius, radius]^2
 };

@@ -22,7 +22,7 @@ RangeDataInserter::RangeDataInserter(const RangeDataInserterOptions& options)
       hit_table_(compute_update_table(options.hit_probability)),
       miss_table_(compute_update_table(options.miss_probability)) {}
 
-void RangeDataInserter::apply(size_t index, const std::vector<uint16_t>& table, std::vector<uint16_t>* cells,
+void RangeDataInserter::apply(size_t index, const std::vector<uint16_t>& table, ZeroedVector<uint16_t>* cells,
                               std::vector<size_t>* touched) const {
   uint16_t& v = (*cells)[index];
   if (v >= kUpdateMarker) return;  // already updated by this scan
@@ -50,7 +50,8 @@ void RangeDataInserter::insert(const SE2& T, const std::vector<Eigen::Vector2f>&
   }
   const double pad = 2 * grid->resolution_m();
   grid->grow_to_include(lo - Eigen::Vector2d(pad, pad), hi + Eigen::Vector2d(pad, pad));
-  std::vector<uint16_t>& cells = grid->mutable_values();
+  grid->include_written_box(lo, hi);
+  ZeroedVector<uint16_t>& cells = grid->mutable_values();
   const int w = grid->width();
   std::vector<size_t>& touched = touched_;
   touched.clear();
@@ -62,8 +63,11 @@ void RangeDataInserter::insert(const SE2& T, const std::vector<Eigen::Vector2f>&
   }
   if (options_.insert_free_space) {
     const Eigen::Vector2i o = grid->cell_of(origin);
-    for (const Eigen::Vector2d& e : ends) {
+    const double free_m = options_.max_free_space_length_m;
+    for (const Eigen::Vector2d& end : ends) {
       // Bresenham from the sensor cell to (excluding) the endpoint cell.
+      const double length_m = (end - origin).norm();
+      const Eigen::Vector2d e = free_m > 0.0 && length_m > free_m ? Eigen::Vector2d(origin + (end - origin) * (free_m / length_m)) : end;
       const Eigen::Vector2i c = grid->cell_of(e);
       int x = o.x(), y = o.y();
       const int dx = std::abs(c.x() - x), dy = -std::abs(c.y() - y);

@@ -17,6 +17,9 @@ struct RangeDataInserterOptions {
   float miss_probability = 0.49f;
   bool insert_free_space = true;
   double max_ray_length_m = 30.0;  ///< beams are cut to this length (endpoint then not a hit)
+  /// Free space is inserted along at most this much of each beam (0: the whole beam). The matchers
+  /// read the likelihood field of the hits; free cells only enter the probability scores.
+  double max_free_space_length_m = 10.0;
   double field_sigma_cells = 1.0;  ///< hit kernel of the likelihood field
 };
 
@@ -34,7 +37,7 @@ class RangeDataInserter {
               ProbabilityGrid* grid) const;
 
  private:
-  void apply(size_t index, const std::vector<uint16_t>& table, std::vector<uint16_t>* cells,
+  void apply(size_t index, const std::vector<uint16_t>& table, ZeroedVector<uint16_t>* cells,
              std::vector<size_t>* touched) const;
 
   RangeDataInserterOptions options_;

@@ -23,7 +23,9 @@ struct SubmapOptions {
   /// submap never spans so much motion that its own drift blurs it.
   double travel_per_submap_m = 6.0;
   double initial_size_m = 20.0;  ///< initial grid extent at least, around the first scan's pose
-  double initial_margin_m = 3.0; ///< ... and around the first scan's bounding box (grows as needed)
+  /// ... and around the first scan's bounding box (grows as needed; 8 m measured no faster: a larger
+  /// grid costs as much in page faults as the growth copies it saves).
+  double initial_margin_m = 3.0;
 };
 
 struct Submap {

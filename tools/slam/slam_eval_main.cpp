@@ -4,20 +4,46 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
 #include <iostream>
 
 #include "common/errors.h"
 #include "tools/slam/slam_eval.h"
 
+namespace {
+
+// Per-pose error of the aligned estimate against the reference (both at the reference's stamps).
+void write_errors_csv(const std::string& path, const cairn::Trajectory& est, const cairn::Trajectory& ref,
+                      const cairn::SE2& T_reference_estimate) {
+  std::ofstream out(path);
+  if (!out) throw cairn::InputError("cannot write --errors-csv " + path);
+  out << "stamp_ns,ref_x_m,ref_y_m,est_x_m,est_y_m,error_m,yaw_error_deg\n";
+  size_t j = 0;
+  for (const auto& e : est) {
+    while (j < ref.size() && ref[j].stamp_ns < e.stamp_ns) ++j;
+    if (j == ref.size() || ref[j].stamp_ns != e.stamp_ns) continue;
+    const cairn::SE2 a = T_reference_estimate * e.pose;
+    const cairn::SE2& r = ref[j].pose;
+    out << e.stamp_ns << ',' << r.x() << ',' << r.y() << ',' << a.x() << ',' << a.y() << ','
+        << (a.translation() - r.translation()).norm() << ','
+        << cairn::normalize_angle(a.yaw() - r.yaw()) * 180.0 / M_PI << '\n';
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"Cairn 2D SLAM accuracy evaluation"};
-  std::string estimate_path, reference_path, raw_path, relations_path;
+  std::string estimate_path, reference_path, raw_path, relations_path, errors_path;
   double offset_s = std::numeric_limits<double>::quiet_NaN();
   app.add_option("--estimate", estimate_path, "trajectory CSV (stamp_ns,x_m,y_m,yaw_rad)")->required();
   app.add_option("--reference", reference_path, "corrected CARMEN log (reference poses)");
   app.add_option("--raw-log", raw_path, "raw log the estimate was computed from (match scans by ranges)");
   app.add_option("--relations", relations_path, "Kuemmerle .relations file");
   app.add_option("--relations-offset-s", offset_s, "relation stamp - log stamp (default: estimated)");
+  app.add_option("--errors-csv", errors_path,
+                 "write the per-pose error after alignment (stamp_ns,ref_x_m,ref_y_m,est_x_m,est_y_m,error_m,"
+                 "yaw_error_deg)");
   CLI11_PARSE(app, argc, argv);
   nlohmann::json j;
   try {
@@ -32,6 +58,7 @@ int main(int argc, char** argv) {
       const cairn::Trajectory est = cairn::slam::sample_at(estimate, ref, cairn::kNsPerSec);
       const auto e = cairn::trajectory_error(est, ref);
       if (!e) throw cairn::InputError("fewer than 2 estimate poses match the reference");
+      if (!errors_path.empty()) write_errors_csv(errors_path, est, ref, e->T_reference_estimate);
       j["reference_poses"] = ref.size();
       j["reference_unmatched_scans"] = unmatched;
       j["matched"] = e->matched;

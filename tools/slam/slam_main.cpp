@@ -24,6 +24,8 @@ nlohmann::json stats_json(const cairn::slam::SlamRunStats& s, double total_wall_
                      {"too_close", s.beams.too_close}, {"max_range", s.beams.max_range}}},
           {"log_duration_s", s.log_duration_s}, {"slam_wall_s", s.slam_wall_s}, {"slam_cpu_s", s.slam_cpu_s},
           {"scans_per_s", s.scans_per_s()}, {"real_time_factor", s.real_time_factor()},
+          {"scans_per_cpu_s", s.slam_cpu_s > 0 ? s.scans / s.slam_cpu_s : 0.0},
+          {"real_time_factor_cpu", s.slam_cpu_s > 0 ? s.log_duration_s / s.slam_cpu_s : 0.0},
           {"total_wall_s", total_wall_s}, {"total_cpu_s", total_cpu_s},
           {"peak_rss_mb", cairn::slam::peak_rss_mb()}};
 }
@@ -61,14 +63,34 @@ int main(int argc, char** argv) {
   app.add_option("--optimize-every-n", options.slam.loop_closure.optimize_every_n_nodes, "pose graph period (nodes)");
   auto& lc = options.slam.loop_closure;
   app.add_option("--loop-anchor-gap-factor", lc.anchor_gap_factor,
-                 "loop search window also bounded by this times the nodes since the last optimised loop "
-                 "closure (0: only by the nodes since the submap was last touched)");
+                 "loop search window also bounded by this times the drift rate the optimisations corrected "
+                 "times the travel since the last optimised loop closure (0: only by the nodes since the "
+                 "submap was last touched)");
+  app.add_option("--loop-tracking-max-gap", lc.tracking_max_gap_nodes,
+                 "search near the submap's latest loop closure for nodes within this many nodes of it (0: off)");
+  app.add_option("--loop-failure-backoff", lc.max_failure_backoff,
+                 "a submap whose searches failed k times skips min(k, this) sampled nodes (0: off)");
+  app.add_option("--graph-periodic-iterations", lc.periodic_max_num_iterations, "periodic pose graph optimisations");
+  app.add_option("--graph-final-iterations", lc.graph.max_num_iterations, "final pose graph optimisation");
+  app.add_option("--local-ceres-iterations", options.slam.matcher.ceres.max_num_iterations, "local scan matcher");
   app.add_option("--loop-max-distance", lc.max_constraint_distance_m, "loop search: node to submap origin, m");
   app.add_option("--loop-min-search-score", lc.min_search_score, "branch-and-bound acceptance score");
   app.add_option("--loop-max-range-for-step", lc.fast.max_range_for_step_m,
                  "branch-and-bound angular step: one cell at this range, m");
   app.add_option("--loop-search-voxel", lc.search_voxel_m, "branch-and-bound point thinning, m");
+  double correlative_angular_deg = options.slam.matcher.correlative.angular_window_rad * 180.0 / M_PI;
+  app.add_option("--correlative-angular-window-deg", correlative_angular_deg, "local correlative search, +- deg");
+  app.add_option("--correlative-linear-window", options.slam.matcher.correlative.linear_window_m,
+                 "local correlative search, +- m");
+  app.add_option("--correlative-max-range-for-step", options.slam.matcher.correlative.max_range_for_step_m,
+                 "local correlative angular step: one cell at this range, m");
+  app.add_option("--free-space-max-length", options.slam.submaps.inserter.max_free_space_length_m,
+                 "submaps: free space inserted along at most this much of each beam, m (0: all)");
+  app.add_option("--submap-initial-margin", options.slam.submaps.initial_margin_m,
+                 "submaps: initial grid margin around the first scan, m");
+  app.add_option("--match-voxel", options.slam.match_voxel_m, "local matching point thinning, m");
   CLI11_PARSE(app, argc, argv);
+  options.slam.matcher.correlative.angular_window_rad = correlative_angular_deg * M_PI / 180.0;
   options.noise.rotation_noise_rad_per_m = rot_deg_per_m * M_PI / 180.0;
   options.slam.loop_closure.enabled = !no_loop_closure;
   options.slam.matcher.use_correlative = !no_correlative;

@@ -1,9 +1,10 @@
 // Real-data regression of the robot agent's 2D SLAM (local SLAM + loop closure) as cairn_slam runs
 // it: raw MIT CSAIL against the GMapping-corrected reference (scans matched by ranges), and the
 // ACES corrected log with seeded odometry noise (10 % of distance, 3 deg per metre) against its own
-// poses. The target is an ATE of 0.05 m; the bounds below are the regression guard at the
-// accuracy measured when this was written (MIT 0.076-0.077 m, ACES 0.167 m, see the README of tools/slam)
-// with a margin, so a change that loses accuracy fails loudly.
+// poses, and the Intel corrected log with the same noise against its poses and the Kuemmerle et al.
+// relations. The target is an ATE of 0.05 m; the bounds below are the regression guard at the
+// accuracy measured when this was written (MIT 0.076 m, ACES 0.159 m, Intel 0.078 m and relations
+// 0.019 m, see the README of tools/slam) with a margin, so a change that loses accuracy fails loudly.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -38,7 +39,7 @@ TEST(SlamRegression, MitCsailRawAgainstCorrectedReference) {
   RecordProperty("ate_m", std::to_string(slam));
   std::cout << "MIT CSAIL raw: ATE " << slam << " m (odometry " << odometry << " m)\n";
   EXPECT_GT(odometry, 1.0);
-  EXPECT_LT(slam, 0.10);
+  EXPECT_LT(slam, 0.09);
 }
 
 TEST(SlamRegression, AcesCorrectedWithNoisyOdometry) {
@@ -51,7 +52,28 @@ TEST(SlamRegression, AcesCorrectedWithNoisyOdometry) {
   RecordProperty("ate_m", std::to_string(slam));
   std::cout << "ACES + noise: ATE " << slam << " m (odometry " << odometry << " m)\n";
   EXPECT_GT(odometry, 1.0);
-  EXPECT_LT(slam, 0.25);
+  EXPECT_LT(slam, 0.20);
+}
+
+TEST(SlamRegression, IntelCorrectedWithNoisyOdometryAndRelations) {
+  const std::string path = kData + "intel/intel.gfs.log", relations_path = kData + "intel/intel.relations";
+  if (!std::ifstream(path)) GTEST_SKIP() << "data absent: " << path;
+  if (!std::ifstream(relations_path)) GTEST_SKIP() << "data absent: " << relations_path;
+  const CarmenLog log = read_carmen_log(path);
+  const SlamRunResult r = run_slam(log, true, SlamRunOptions{});
+  const Trajectory reference = reference_from_corrected(log);
+  const double slam = ate_m(r.trajectory, reference), odometry = ate_m(r.odometry, reference);
+  const auto relations = read_relations(relations_path);
+  const RelationsError rel = relations_error(relations, r.trajectory, estimate_time_offset_s(relations, r.trajectory));
+  RecordProperty("ate_m", std::to_string(slam));
+  RecordProperty("relations_trans_mean_m", std::to_string(rel.trans_mean_m));
+  std::cout << "Intel + noise: ATE " << slam << " m (odometry " << odometry << " m), relations "
+            << rel.trans_mean_m << " +- " << rel.trans_sd_m << " m over " << rel.used << "\n";
+  EXPECT_GT(odometry, 1.0);
+  EXPECT_LT(slam, 0.10);
+  EXPECT_GE(rel.used, 40);
+  EXPECT_LT(rel.trans_mean_m, 0.03);
+  EXPECT_LT(rel.rot_mean_deg, 0.6);
 }
 
 }  // namespace
