@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "common/ids.h"
+#include "common/landmark_observation.h"
 #include "common/laser_scan.h"
 #include "common/se2.h"
 #include "common/time.h"
@@ -22,6 +23,8 @@ struct Keyframe {
   Covariance3 edge_covariance = Covariance3::Identity() * 1e-4;
   LaserScan scan;                                        ///< in the base frame (laser at origin)
   std::vector<float> place_descriptor;                   ///< rotation-invariant, may be empty
+  /// Identified landmarks (markers) seen around this keyframe, expressed from its base frame.
+  std::vector<LandmarkObservation> landmarks;
 };
 
 }  // namespace cairn

@@ -175,6 +175,16 @@ cairn_msgs::Keyframe to_msg(const Keyframe& kf) {
   m.edge_covariance(ecov);
   m.scan_zstd(encode_scan(kf.scan));
   m.place_descriptor_zstd(encode_scan_context(kf.place_descriptor));
+  for (const LandmarkObservation& o : kf.landmarks) {
+    cairn_msgs::LandmarkObservation l;
+    l.landmark_id(o.id.value);
+    l.stamp_ns(o.stamp_ns);
+    l.range_m(float(o.range_m));
+    l.bearing_rad(float(o.bearing_rad));
+    l.sigma_range_m(float(o.sigma_range_m));
+    l.sigma_bearing_rad(float(o.sigma_bearing_rad));
+    m.landmarks().push_back(l);
+  }
   return m;
 }
 
@@ -207,6 +217,17 @@ std::optional<Keyframe> from_msg(const cairn_msgs::Keyframe& m, std::string* err
     return std::nullopt;
   }
   kf.place_descriptor = std::move(*descriptor);
+  for (size_t i = 0; i < m.landmarks().size(); ++i) {
+    const cairn_msgs::LandmarkObservation& l = m.landmarks()[i];
+    const LandmarkObservation o{LandmarkId(l.landmark_id()), l.stamp_ns(), l.range_m(), l.bearing_rad(),
+                                l.sigma_range_m(), l.sigma_bearing_rad()};
+    const std::string bad = validate_landmark_observation(o);
+    if (!bad.empty()) {
+      fail(error, "keyframe: landmarks[" + std::to_string(i) + "]: " + bad);
+      return std::nullopt;
+    }
+    kf.landmarks.push_back(o);
+  }
   return kf;
 }
 

@@ -51,6 +51,29 @@ TEST(Conversions, KeyframeWithCorruptScanIsRejected) {
   EXPECT_NE(error.find("scan_zstd"), std::string::npos) << error;
 }
 
+TEST(Conversions, KeyframeLandmarksRoundTripAndNanIsRejected) {
+  Keyframe kf = make_keyframe();
+  kf.landmarks.push_back(LandmarkObservation{LandmarkId(12), 123, 3.25, -0.5, 0.05, 0.02});
+  kf.landmarks.push_back(LandmarkObservation{LandmarkId(3), 456, 1.0, 2.0, 0.1, 0.01});
+  std::string error;
+  auto back = from_msg(to_msg(kf), &error);
+  ASSERT_TRUE(back) << error;
+  ASSERT_EQ(back->landmarks.size(), 2u);
+  EXPECT_EQ(back->landmarks[0].id, LandmarkId(12));
+  EXPECT_EQ(back->landmarks[1].stamp_ns, 456);
+  EXPECT_NEAR(back->landmarks[0].range_m, 3.25, 1e-6);
+  EXPECT_NEAR(back->landmarks[0].bearing_rad, -0.5, 1e-6);
+  EXPECT_NEAR(back->landmarks[1].sigma_bearing_rad, 0.01, 1e-6);
+  auto msg = to_msg(kf);
+  msg.landmarks()[1].bearing_rad(std::nanf(""));
+  EXPECT_FALSE(from_msg(msg, &error));
+  EXPECT_NE(error.find("landmarks[1]: bearing_rad must be finite"), std::string::npos) << error;
+  msg = to_msg(kf);
+  msg.landmarks()[0].landmark_id(-4);
+  EXPECT_FALSE(from_msg(msg, &error));
+  EXPECT_NE(error.find("landmarks[0]: invalid landmark id"), std::string::npos) << error;
+}
+
 TEST(Conversions, ObjectRoundTripAndBadConfidence) {
   ObjectReport o;
   o.id = {RobotId(1), 3};

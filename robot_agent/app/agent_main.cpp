@@ -5,6 +5,7 @@
 #include "common/carmen_log.h"
 #include "common/errors.h"
 #include "common/logging.h"
+#include "common/multirobot_log.h"
 #include "robot_agent/app/agent_config.h"
 #include "robot_agent/app/agent_node.h"
 
@@ -18,7 +19,9 @@ int main(int argc, char** argv) {
   app.add_option("--domain", node.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--peer", node.peers, "IPv4 address of a DDS peer (base station, other robots); repeatable");
   app.add_option("--config", config_path, "agent YAML (keyframer, odometry, objects)");
-  app.add_option("--log", log_path, "replay a CARMEN log (.clf/.log, plain or .gz) instead of the sensor topics");
+  app.add_option("--log", log_path,
+                 "replay a log instead of the sensor topics: CARMEN (.clf/.log, plain or .gz), or a Cairn "
+                 "multi-robot log (docs/multirobot_log_format.md; this robot's records are used)");
   app.add_option("--log-speed", input.log_options.speed, "log replay speed, times real time (0 = as fast as possible)");
   app.add_option("--object-rate-limit", node.large_data_bytes_per_sec, "bytes/s for object clouds (0 = no limit)");
   app.add_option("--log-level", log_level);
@@ -28,9 +31,23 @@ int main(int argc, char** argv) {
 
   cairn::agent::AgentOptions options;
   cairn::CarmenLog carmen;
+  cairn::MultiRobotLog multirobot;
   try {
     if (!config_path.empty()) options = cairn::agent::load_agent_options(config_path);
-    if (!log_path.empty()) {
+    if (!log_path.empty() && cairn::is_multirobot_log(log_path)) {
+      multirobot = cairn::read_multirobot_log(log_path);
+      input.robot_log = multirobot.robot(cairn::RobotId(robot));
+      if (!input.robot_log) {
+        throw cairn::InputError(log_path + ": holds no records for robot " + std::to_string(robot));
+      }
+      log->info("{}: robot {}: {} scans, {} odometry, {} landmark observations; {} NaN beams in the log", log_path,
+                robot, input.robot_log->scans.size(), input.robot_log->odometry.size(),
+                input.robot_log->landmarks.size(), multirobot.stats.nan_ranges);
+      if (input.robot_log->odometry.empty()) {
+        log->warn("{}: no odometry for robot {}: matching with constant-velocity prediction", log_path, robot);
+        options.use_odometry = false;
+      }
+    } else if (!log_path.empty()) {
       carmen = cairn::read_carmen_log(log_path);
       input.log = &carmen;
       if (cairn::is_corrected_log_name(log_path)) {

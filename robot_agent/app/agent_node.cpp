@@ -23,6 +23,13 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
     }
     n->log_source_ = std::make_unique<LogSource>(*input.log, input.log_options);
   }
+  if (input.robot_log) {
+    if (input.robot_log->scans.empty()) {
+      *error = "the multi-robot log holds no laser scans for " + to_string(robot);
+      return nullptr;
+    }
+    n->log_source_ = std::make_unique<LogSource>(*input.robot_log, input.log_options);
+  }
   dds::ParticipantOptions po;
   po.domain_id = options.domain_id;
   po.name = "cairn_agent_" + std::to_string(robot.value);

@@ -28,6 +28,7 @@ struct AgentNodeOptions {
 /// recorded CARMEN log replayed in-process.
 struct SensorInput {
   const CarmenLog* log = nullptr;  ///< nullptr = DDS sensor topics
+  const RobotLogData* robot_log = nullptr;  ///< or this robot's part of a multi-robot log
   LogSourceOptions log_options;
 };
 

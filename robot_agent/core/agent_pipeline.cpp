@@ -98,6 +98,7 @@ void AgentPipeline::process_scan(AgentOutputs* out) {
   if (!r.matched()) return;
   trajectory_.push_back({scan.stamp_ns, r.pose});
   if (auto kf = keyframer_.add(scan, r.pose, r.covariance)) {
+    attach_landmarks(&*kf);  // agent_pipeline_landmarks.cpp
     // Place descriptor for the base's place recognition (common/scan_context.h, default options on
     // both sides), from this keyframe and the last descriptor_keyframes - 1 ones.
     const ScanContextOptions scan_context;

@@ -50,6 +50,9 @@ struct AgentStats {
   int pose_graph_optimizations = 0;
   float collision_risk = 0.f;      ///< latest optical-flow estimate (0..1), for the status message
   int collision_estimates = 0;     ///< RGB frames that gave a valid flow estimate
+  int landmarks_received = 0;      ///< identified landmark (marker) observations
+  int landmarks_invalid = 0;       ///< NaN / negative / zero-sigma values: dropped
+  int landmarks_in_keyframes = 0;  ///< attached to an emitted keyframe
 };
 
 class AgentPipeline {
@@ -59,6 +62,10 @@ class AgentPipeline {
   void add_odometry(const OdometryReading& odometry);
   void add_scan(const LaserScan& scan);
   void add_rgbd(const RgbdFrame& frame);
+  /// An identified landmark seen from the base frame at o.stamp_ns. It is attached to the first
+  /// keyframe emitted with a stamp >= its own, re-expressed from that keyframe's base frame
+  /// (agent_pipeline_landmarks.cpp). Invalid observations are counted and dropped.
+  void add_landmark(const LandmarkObservation& observation);
 
   /// Processes what is ready and returns what was produced since the last call.
   /// `flush`: end of input, process everything buffered.
@@ -79,6 +86,7 @@ class AgentPipeline {
   void process_rgbd(AgentOutputs* out);
   std::optional<SE2> odometry_at(StampNs stamp_ns) const;
   Anchor anchor_at(StampNs stamp_ns) const;
+  void attach_landmarks(Keyframe* kf);
 
   RobotId robot_;
   AgentOptions options_;
@@ -91,6 +99,7 @@ class AgentPipeline {
   std::deque<OdometryReading> odometry_;
   std::deque<LaserScan> scans_;
   std::deque<RgbdFrame> frames_;
+  std::deque<LandmarkObservation> landmarks_;  ///< waiting for a keyframe at or after their stamp
   bool any_scan_processed_ = false;
   StampNs last_scan_stamp_ns_ = 0;
   Trajectory trajectory_;          ///< matched poses
