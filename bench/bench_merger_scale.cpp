@@ -1,16 +1,32 @@
-// Merger scale (issue: "time per incremental update against graph size, 10 robots up to 20,000
-// keyframes; aim for at most 100 ms per update at 10,000 keyframes"). A synthetic team of 10
-// robots, each linked by a start hint, drives a noisy random walk; every keyframe is followed by
-// MultiRobotMapper::optimize() (the base's incremental update). Prints the curve: mean and max ms
-// per update over each 1,000-keyframe window, plus the cost of a full global-map render.
-// Usage: bench_merger_scale [total_keyframes=20000] [beams=90]
+// Merger scale (issue 4: "time per incremental update against graph size, 10 robots up to 20,000
+// keyframes; aim for at most 100 ms per update at 10,000 keyframes"). A team of 10 robots, each
+// linked by a start hint; every keyframe is followed by MultiRobotMapper::optimize() (the base's
+// incremental update). Two configurations:
+//  - default: loop detection off, noise-free odometry along random walks (each within 40 m of its
+//    start), a small synthetic scan (90 beams, 3 m);
+//  - --loops: loop detection on (place recognition, verification, PCM/map checks, loop windows and
+//    refinement solves), robots wander through a random building of 8 m rooms (doors, closed walls,
+//    pillars) with noisy odometry and 360-beam scans ray-cast in it, so they revisit rooms and
+//    close loops within and between robots.
+// Like the console, the global map is re-rendered every 10 updates (--render-every N). Prints per 1,000-keyframe
+// window: mean / max ms per update, mean / max ms per render, loop closures, resident memory; then
+// the cost of rendering the whole map from scratch.
+// Usage: bench_merger_scale [total_keyframes=20000] [--loops [--no-map-check]] [--render-every N=10]
+// (--no-map-check: no map-consistency check of closures into linked pairs; it renders every
+// linked keyframe per check, O(keyframes), and dominates the --loops run.)
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <fstream>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "base_station/core/multi_robot_mapper.h"
+#include "base_station/core/synthetic_world_test_util.h"
+#include "common/laser_scan.h"
 
 namespace {
 
@@ -18,13 +34,135 @@ using cairn::Keyframe;
 using cairn::KeyframeId;
 using cairn::RobotId;
 using cairn::SE2;
+using cairn::base::testing::Segment;
+
+constexpr int kRobots = 10;
+constexpr double kRoomM = 8.0;
+constexpr int kRoomsX = 10, kRoomsY = 6;
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// A keyframe of robot `robot` at local pose `pose` with a small synthetic scan (a circular room).
-Keyframe make_keyframe(RobotId robot, int seq, const SE2& prev, const SE2& pose, int beams) {
+/// CPU time of this process, ms (the machine may be shared: wall time alone would mislead).
+double cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+
+/// Resident memory of this process from /proc/self/status ("VmRSS" or "VmHWM"), MB.
+double memory_mb(const char* key) {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind(key, 0) == 0) return std::atof(line.c_str() + std::strlen(key) + 1) / 1024.0;
+  }
+  return 0.0;
+}
+
+/// A building of kRoomsX x kRoomsY rooms. Each inner wall is open, has a 1.6 m door, or is closed;
+/// some rooms hold a pillar. open[x][y][0] / [1]: can pass from room (x, y) to (x + 1, y) / (x, y + 1).
+struct Building {
+  std::vector<Segment> walls;
+  bool pass[kRoomsX][kRoomsY][2] = {};
+};
+
+void add_wall(const Eigen::Vector2d& a, const Eigen::Vector2d& b, int kind, std::vector<Segment>* walls) {
+  if (kind == 0) return;  // open
+  if (kind == 2) {        // closed
+    walls->push_back({a, b});
+    return;
+  }
+  const Eigen::Vector2d mid = 0.5 * (a + b), dir = (b - a).normalized();
+  walls->push_back({a, mid - 0.8 * dir});
+  walls->push_back({mid + 0.8 * dir, b});
+}
+
+Building make_building(std::mt19937* rng) {
+  Building b;
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double W = kRoomsX * kRoomM, H = kRoomsY * kRoomM;
+  b.walls = {{{0, 0}, {W, 0}}, {{W, 0}, {W, H}}, {{W, H}, {0, H}}, {{0, H}, {0, 0}}};
+  for (int x = 0; x < kRoomsX; ++x) {
+    for (int y = 0; y < kRoomsY; ++y) {
+      const Eigen::Vector2d c0(x * kRoomM, y * kRoomM);
+      for (int dir = 0; dir < 2; ++dir) {
+        if ((dir == 0 && x + 1 == kRoomsX) || (dir == 1 && y + 1 == kRoomsY)) continue;
+        const double r = u(*rng);
+        const int kind = r < 0.15 ? 0 : r < 0.85 ? 1 : 2;
+        b.pass[x][y][dir] = kind != 2;
+        const Eigen::Vector2d a = dir == 0 ? c0 + Eigen::Vector2d(kRoomM, 0) : c0 + Eigen::Vector2d(0, kRoomM);
+        add_wall(a, a + (dir == 0 ? Eigen::Vector2d(0, kRoomM) : Eigen::Vector2d(kRoomM, 0)), kind, &b.walls);
+      }
+      if (u(*rng) < 0.5) {  // a pillar (0.4 - 1.2 m square) off the room's centre lines
+        const double s = 0.4 + 0.8 * u(*rng);
+        const Eigen::Vector2d p = c0 + Eigen::Vector2d(1.5 + 1.5 * u(*rng), 1.5 + 1.5 * u(*rng));
+        const Eigen::Vector2d q = p + Eigen::Vector2d(s, s);
+        b.walls.push_back({p, {q.x(), p.y()}});
+        b.walls.push_back({{q.x(), p.y()}, q});
+        b.walls.push_back({q, {p.x(), q.y()}});
+        b.walls.push_back({{p.x(), q.y()}, p});
+      }
+    }
+  }
+  return b;
+}
+
+/// A robot of the --loops world: goes from room centre to a random passable neighbour's centre.
+struct Walker {
+  int x = 0, y = 0;
+  std::vector<SE2> plan;  ///< remaining true poses to visit (0.5 m apart)
+  SE2 true_pose, local_pose;
+  int seq = 0;
+};
+
+void plan_next_room(const Building& b, std::mt19937* rng, Walker* w) {
+  std::vector<std::pair<int, int>> next;
+  if (w->x + 1 < kRoomsX && b.pass[w->x][w->y][0]) next.push_back({w->x + 1, w->y});
+  if (w->y + 1 < kRoomsY && b.pass[w->x][w->y][1]) next.push_back({w->x, w->y + 1});
+  if (w->x > 0 && b.pass[w->x - 1][w->y][0]) next.push_back({w->x - 1, w->y});
+  if (w->y > 0 && b.pass[w->x][w->y - 1][1]) next.push_back({w->x, w->y - 1});
+  if (next.empty()) next.push_back({w->x, w->y});
+  const auto [nx, ny] = next[std::uniform_int_distribution<size_t>(0, next.size() - 1)(*rng)];
+  const Eigen::Vector2d from = w->true_pose.translation(), to((nx + 0.5) * kRoomM, (ny + 0.5) * kRoomM);
+  const double yaw = (to - from).norm() > 1e-6 ? std::atan2(to.y() - from.y(), to.x() - from.x()) : w->true_pose.yaw();
+  const int steps = std::max(1, int(std::round((to - from).norm() / 0.5)));
+  for (int i = 1; i <= steps; ++i) w->plan.push_back(SE2(from + (to - from) * double(i) / steps, yaw));
+  w->x = nx;
+  w->y = ny;
+}
+
+/// The next keyframe of walker `r` (noisy odometry; scan ray-cast in the building).
+Keyframe next_loop_keyframe(const Building& b, std::mt19937* rng, RobotId robot, Walker* w) {
+  if (w->plan.empty()) plan_next_room(b, rng, w);
+  const SE2 next = w->plan.front();
+  w->plan.erase(w->plan.begin());
+  std::normal_distribution<double> n_xy(0.0, 0.01), n_yaw(0.0, 0.003);
+  const SE2 step = w->true_pose.between(next);
+  const SE2 measured = step * SE2(n_xy(*rng), n_xy(*rng), n_yaw(*rng));
+  std::vector<Segment> near;  // walls within scan range: the ray cast stays cheap
+  for (const Segment& s : b.walls) {
+    const Eigen::Vector2d lo = s.a.cwiseMin(s.b).array() - 9.0, hi = s.a.cwiseMax(s.b).array() + 9.0;
+    const Eigen::Vector2d p = next.translation();
+    if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) near.push_back(s);
+  }
+  Keyframe kf;
+  kf.id = KeyframeId{robot, w->seq};
+  kf.stamp_ns = cairn::StampNs(w->seq + 1) * cairn::kNsPerSec;
+  kf.T_prev_this = measured;
+  kf.T_local_base = w->local_pose * measured;
+  kf.edge_covariance = cairn::Covariance3(Eigen::Vector3d(1e-4, 1e-4, 1e-5).asDiagonal());
+  kf.scan = cairn::base::testing::simulate_scan(next, near);
+  w->true_pose = next;
+  w->local_pose = kf.T_local_base;
+  ++w->seq;
+  return kf;
+}
+
+/// A keyframe of the default configuration: a small synthetic scan (a wavy circular room).
+Keyframe make_keyframe(RobotId robot, int seq, const SE2& prev, const SE2& pose) {
+  constexpr int kBeams = 90;
   Keyframe kf;
   kf.id = KeyframeId{robot, seq};
   kf.stamp_ns = cairn::StampNs(seq + 1) * cairn::kNsPerSec;
@@ -32,46 +170,143 @@ Keyframe make_keyframe(RobotId robot, int seq, const SE2& prev, const SE2& pose,
   kf.T_prev_this = prev.between(pose);
   kf.edge_covariance = cairn::Covariance3::Identity() * 1e-3;
   kf.scan.angle_min_rad = float(-M_PI);
-  kf.scan.angle_increment_rad = float(2 * M_PI / beams);
+  kf.scan.angle_increment_rad = float(2 * M_PI / kBeams);
   kf.scan.range_max_m = 12.f;
-  for (int i = 0; i < beams; ++i) kf.scan.ranges_m.push_back(3.f + 0.5f * float(std::sin(0.1 * i + seq)));
+  for (int i = 0; i < kBeams; ++i) kf.scan.ranges_m.push_back(3.f + 0.5f * float(std::sin(0.1 * i + seq)));
   return kf;
 }
+
+struct Stat {
+  double sum = 0, max = 0;
+  int n = 0;
+  void add(double v) {
+    sum += v;
+    max = std::max(max, v);
+    ++n;
+  }
+  double mean() const { return n ? sum / n : 0.0; }
+};
+
+struct Window {
+  Stat wall, cpu, render_wall, render_cpu;
+};
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int total = argc > 1 ? std::atoi(argv[1]) : 20000;
-  const int beams = argc > 2 ? std::atoi(argv[2]) : 90;
-  const int robots = 10, window = 1000;
+  int total = 20000, render_every = 10;
+  bool loops = false, map_check = true;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--loops") == 0) {
+      loops = true;
+    } else if (std::strcmp(argv[i], "--no-map-check") == 0) {
+      map_check = false;
+    } else if (std::strcmp(argv[i], "--render-every") == 0 && i + 1 < argc) {
+      render_every = std::atoi(argv[++i]);
+    } else {
+      total = std::atoi(argv[i]);
+    }
+  }
+  if (total <= 0 || render_every <= 0) {
+    std::fprintf(stderr, "usage: bench_merger_scale [total_keyframes > 0] [--loops [--no-map-check]] [--render-every N > 0]\n");
+    return 2;
+  }
+  constexpr int kWindow = 1000;
   cairn::base::MapperOptions options;
-  options.detect_loops = false;  // place recognition is benchmarked per query elsewhere
+  options.detect_loops = loops;
+  options.check_map_consistency = map_check;
   cairn::base::MultiRobotMapper mapper(options);
   std::mt19937 rng(42);
   std::normal_distribution<double> turn(0.0, 0.3);
-  std::vector<SE2> pose(robots);
-  std::vector<int> seq(robots, 0);
-  for (int r = 0; r < robots; ++r) mapper.set_robot_start(RobotId(r), SE2(30.0 * r, 0, 0));
-  std::printf("keyframes  mean_ms  max_ms  (per add_keyframe + optimize, %d robots)\n", robots);
-  double sum = 0, worst = 0;
-  for (int k = 0; k < total; ++k) {
-    const int r = k % robots;
-    const SE2 next = pose[size_t(r)] * SE2(0.5, 0.0, turn(rng));
-    const auto t0 = std::chrono::steady_clock::now();
-    mapper.add_keyframe(make_keyframe(RobotId(r), seq[size_t(r)]++, pose[size_t(r)], next, beams));
-    mapper.optimize();
-    const double ms = ms_since(t0);
-    pose[size_t(r)] = next;
-    sum += ms;
-    worst = std::max(worst, ms);
-    if ((k + 1) % window == 0) {
-      std::printf("%9d  %7.2f  %6.2f\n", k + 1, sum / window, worst);
-      std::fflush(stdout);
-      sum = worst = 0;
+  const Building building = make_building(&rng);
+  std::vector<Walker> walkers(kRobots);
+  std::vector<SE2> pose(kRobots);
+  for (int r = 0; r < kRobots; ++r) {
+    if (loops) {
+      Walker& w = walkers[size_t(r)];
+      w.x = (r * 3) % kRoomsX;
+      w.y = (r * 7) % kRoomsY;
+      w.true_pose = SE2((w.x + 0.5) * kRoomM, (w.y + 0.5) * kRoomM, 0.0);
+      mapper.set_robot_start(RobotId(r), w.true_pose);
+    } else {
+      mapper.set_robot_start(RobotId(r), SE2(30.0 * r, 0, 0));
     }
   }
+  std::printf("%d robots, loop detection %s%s, map rendered every %d updates\n", kRobots, loops ? "on" : "off",
+              loops && !map_check ? " (no map check)" : "", render_every);
+  std::printf("           update (wall ms)  update (cpu ms)   render (wall ms)  render (cpu ms)\n");
+  std::printf("keyframes    mean     max      mean     max      mean     max     mean     max  loops  rss_mb\n");
+  Window win;
+  int closures = 0;
+  for (int k = 0; k < total; ++k) {
+    const int r = k % kRobots;
+    Keyframe kf;
+    if (loops) {
+      kf = next_loop_keyframe(building, &rng, RobotId(r), &walkers[size_t(r)]);
+    } else {
+      // A random walk that turns back towards its start beyond 40 m (a bounded site).
+      const SE2& cur = pose[size_t(r)];
+      double dyaw = turn(rng);
+      if (cur.translation().norm() > 40.0) {
+        const double home = std::atan2(-cur.y(), -cur.x());
+        dyaw = 0.3 * cairn::normalize_angle(home - cur.yaw()) + 0.1 * turn(rng);
+      }
+      const SE2 next = cur * SE2(0.5, 0.0, dyaw);
+      kf = make_keyframe(RobotId(r), walkers[size_t(r)].seq++, pose[size_t(r)], next);
+      pose[size_t(r)] = next;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = cpu_ms();
+    mapper.add_keyframe(kf);
+    closures = mapper.optimize().loop_closures;
+    win.cpu.add(cpu_ms() - c0);
+    win.wall.add(ms_since(t0));
+    if ((k + 1) % render_every == 0) {
+      const auto t1 = std::chrono::steady_clock::now();
+      const double c1 = cpu_ms();
+      mapper.global_map();
+      win.render_cpu.add(cpu_ms() - c1);
+      win.render_wall.add(ms_since(t1));
+    }
+    if ((k + 1) % kWindow == 0) {
+      std::printf("%9d %7.2f %7.1f   %7.2f %7.1f   %7.2f %7.1f  %7.2f %7.1f  %5d  %6.0f\n", k + 1, win.wall.mean(),
+                  win.wall.max, win.cpu.mean(), win.cpu.max, win.render_wall.mean(), win.render_wall.max,
+                  win.render_cpu.mean(), win.render_cpu.max, closures, memory_mb("VmRSS"));
+      std::fflush(stdout);
+      win = Window{};
+    }
+  }
+  // The whole map from scratch (what every render cost before incremental rendering).
   const auto t0 = std::chrono::steady_clock::now();
-  const double area = mapper.mapped_area_m2();
-  std::printf("global map render of %d keyframes: %.0f ms (%.0f m2)\n", total, ms_since(t0), area);
+  const double c0 = cpu_ms();
+  cairn::base::GlobalMapRenderer scratch(options.grid, options.map_render);
+  for (const auto& [id, kf] : mapper.keyframes()) scratch.set_pose(kf, *mapper.global_pose(id));
+  const double area = scratch.render().known_area_m2();
+  const double tiled_ms = ms_since(t0), tiled_cpu_ms = cpu_ms() - c0;
+  // A plain full render: one grid, every keyframe once in id order (the former global_map()).
+  // Its grid grows 5 m at a time (a copy each time): skipped on large runs, it takes minutes.
+  if (total > 5000) {
+    std::printf("global map of %d keyframes from scratch: tiled %.0f ms (cpu %.0f, %.0f m2); incremental map "
+                "%.0f m2; peak rss %.0f MB\n", total, tiled_ms, tiled_cpu_ms, area, mapper.mapped_area_m2(),
+                memory_mb("VmHWM"));
+    return 0;
+  }
+  const auto t2 = std::chrono::steady_clock::now();
+  const double c2 = cpu_ms();
+  cairn::OccupancyGrid plain(options.grid);
+  for (const auto& [id, kf] : mapper.keyframes()) {
+    std::vector<Eigen::Vector2f> no_return;
+    for (size_t i = 0; i < kf.scan.ranges_m.size(); ++i) {
+      if (kf.scan.ranges_m[i] < kf.scan.range_max_m) continue;
+      const float a = cairn::beam_angle_rad(kf.scan, i), c = float(std::min<double>(kf.scan.range_max_m, 10.0));
+      no_return.emplace_back(c * std::cos(a), c * std::sin(a));
+    }
+    plain.insert_scan(*mapper.global_pose(id), cairn::scan_to_points(kf.scan), no_return);
+  }
+  const double plain_ms = ms_since(t2), plain_cpu_ms = cpu_ms() - c2;
+  std::printf("global map of %d keyframes from scratch: tiled %.0f ms (cpu %.0f, %.0f m2), plain full render "
+              "%.0f ms (cpu %.0f, %.0f m2); incremental map %.0f m2; peak rss %.0f MB\n",
+              total, tiled_ms, tiled_cpu_ms, area, plain_ms, plain_cpu_ms, plain.known_area_m2(),
+              mapper.mapped_area_m2(), memory_mb("VmHWM"));
   return 0;
 }

@@ -68,6 +68,7 @@ void OccupancyGrid::update_cell(int col, int row, float delta) {
     col = c.x();
     row = c.y();
   }
+  if (col < clip_lo_.x() || row < clip_lo_.y() || col >= clip_hi_.x() || row >= clip_hi_.y()) return;
   float& v = at(col, row);
   v = std::clamp(v + delta, options_.min_log_odds, options_.max_log_odds);
   if (v == 0.f) v = delta > 0 ? 1e-6f : -1e-6f;  // stays "known"
@@ -91,6 +92,34 @@ void OccupancyGrid::trace_ray(const Eigen::Vector2i& from, const Eigen::Vector2i
 
 void OccupancyGrid::insert_scan(const SE2& T_map_sensor, const std::vector<Eigen::Vector2f>& points,
                                 const std::vector<Eigen::Vector2f>& no_return_points) {
+  insert_scan_impl(T_map_sensor, points, no_return_points, nullptr, nullptr);
+}
+
+void OccupancyGrid::insert_scan_clipped(const SE2& T_map_sensor, const std::vector<Eigen::Vector2f>& points,
+                                        const std::vector<Eigen::Vector2f>& no_return_points,
+                                        const Eigen::Vector2d& clip_min_m, const Eigen::Vector2d& clip_max_m) {
+  insert_scan_impl(T_map_sensor, points, no_return_points, &clip_min_m, &clip_max_m);
+}
+
+void OccupancyGrid::cell_range(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m, Eigen::Vector2i* lo,
+                               Eigen::Vector2i* hi) const {
+  // Cell c's centre origin + (c + 0.5) res lies in [min, max) iff c in [ceil(a - 0.5), ceil(b - 0.5)).
+  const Eigen::Vector2d a = (min_m - origin_m_) / options_.resolution_m, b = (max_m - origin_m_) / options_.resolution_m;
+  *lo = Eigen::Vector2i(int(std::ceil(a.x() - 0.5)), int(std::ceil(a.y() - 0.5))).cwiseMax(Eigen::Vector2i(0, 0));
+  *hi = Eigen::Vector2i(int(std::ceil(b.x() - 0.5)), int(std::ceil(b.y() - 0.5))).cwiseMin(Eigen::Vector2i(width_, height_));
+}
+
+void OccupancyGrid::clear_region(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m) {
+  Eigen::Vector2i lo, hi;
+  cell_range(min_m, max_m, &lo, &hi);
+  for (int r = lo.y(); r < hi.y(); ++r) {
+    for (int c = lo.x(); c < hi.x(); ++c) at(c, r) = 0.f;
+  }
+}
+
+void OccupancyGrid::insert_scan_impl(const SE2& T_map_sensor, const std::vector<Eigen::Vector2f>& points,
+                                     const std::vector<Eigen::Vector2f>& no_return_points,
+                                     const Eigen::Vector2d* clip_min_m, const Eigen::Vector2d* clip_max_m) {
   const double max_r = options_.max_range_m;
   auto clip = [&](const Eigen::Vector2f& p, bool* clipped) {
     Eigen::Vector2d q = p.cast<double>();
@@ -116,8 +145,18 @@ void OccupancyGrid::insert_scan(const SE2& T_map_sensor, const std::vector<Eigen
     hi = hi.cwiseMax(e.first);
   }
   ensure_contains(lo, hi);
+  if (clip_min_m) {  // after growing: cell indices are final
+    cell_range(*clip_min_m, *clip_max_m, &clip_lo_, &clip_hi_);
+    if (clip_lo_.x() >= clip_hi_.x() || clip_lo_.y() >= clip_hi_.y()) {
+      clip_lo_ = {INT32_MIN, INT32_MIN};
+      clip_hi_ = {INT32_MAX, INT32_MAX};
+      return;  // nothing of the clip box lies in the grid
+    }
+  }
   const Eigen::Vector2i origin_cell = cell_of(T_map_sensor.translation());
   for (const auto& e : ends) trace_ray(origin_cell, cell_of(e.first), e.second);
+  clip_lo_ = {INT32_MIN, INT32_MIN};
+  clip_hi_ = {INT32_MAX, INT32_MAX};
 }
 
 double OccupancyGrid::known_area_m2() const {

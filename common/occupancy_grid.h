@@ -3,6 +3,7 @@
 // base station's global map and the simulator's floor plan. Rows grow with +y, columns with +x;
 // cell (0,0) has its lower-left corner at origin_m().
 #include <Eigen/Core>
+#include <climits>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -32,6 +33,16 @@ class OccupancyGrid {
   /// `no_return_points_sensor` (optional) clear free space along max-range beams without a hit.
   void insert_scan(const SE2& T_map_sensor, const std::vector<Eigen::Vector2f>& points_sensor,
                    const std::vector<Eigen::Vector2f>& no_return_points_sensor = {});
+  /// insert_scan restricted to the cells whose centres lie in [clip_min_m, clip_max_m): cells
+  /// outside are left untouched, cells inside get exactly the updates insert_scan would give them
+  /// (used to re-render one tile of a map).
+  void insert_scan_clipped(const SE2& T_map_sensor, const std::vector<Eigen::Vector2f>& points_sensor,
+                           const std::vector<Eigen::Vector2f>& no_return_points_sensor,
+                           const Eigen::Vector2d& clip_min_m, const Eigen::Vector2d& clip_max_m);
+  /// Grows the grid (once) to cover [min_m, max_m], e.g. before many insertions.
+  void reserve(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m) { ensure_contains(min_m, max_m); }
+  /// Sets the cells whose centres lie in [min_m, max_m) back to unknown (the grid does not grow).
+  void clear_region(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m);
   /// Marks a single cell (e.g. drawing a floor plan).
   void update_cell(int col, int row, float delta_log_odds);
 
@@ -60,6 +71,12 @@ class OccupancyGrid {
  private:
   void ensure_contains(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m);
   void trace_ray(const Eigen::Vector2i& from, const Eigen::Vector2i& to, bool hit_at_end);
+  void insert_scan_impl(const SE2& T_map_sensor, const std::vector<Eigen::Vector2f>& points,
+                        const std::vector<Eigen::Vector2f>& no_return_points, const Eigen::Vector2d* clip_min_m,
+                        const Eigen::Vector2d* clip_max_m);
+  /// Cell range [lo, hi) whose centres lie in [min_m, max_m), clamped to the grid.
+  void cell_range(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m, Eigen::Vector2i* lo,
+                  Eigen::Vector2i* hi) const;
   float& at(int col, int row) { return cells_[size_t(row) * width_ + col]; }
 
   OccupancyGridOptions options_;
@@ -67,6 +84,9 @@ class OccupancyGrid {
   int width_ = 0;
   int height_ = 0;
   std::vector<float> cells_;  ///< log odds, 0 = unknown
+  /// While insert_scan_clipped runs: only cells in [clip_lo_, clip_hi_) are updated.
+  Eigen::Vector2i clip_lo_{INT32_MIN, INT32_MIN};
+  Eigen::Vector2i clip_hi_{INT32_MAX, INT32_MAX};
 };
 
 }  // namespace cairn

@@ -172,6 +172,11 @@ void BaseNode::report_linking(const OptimizeResult& r) {
     }
     log_->info("{} linked into the global map through {} verified cross-robot closures", to_string(robot), closures);
   }
+  const auto& marker_events = mapper_.landmark_link_events();
+  for (; landmark_events_reported_ < marker_events.size(); ++landmark_events_reported_) {
+    const LinkEvent& e = marker_events[landmark_events_reported_];
+    log_->info("marker link {} <-> {}: {}", to_string(e.robot), to_string(e.other), e.reason);
+  }
   CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 10.0,
                         "graph: {} nodes, {} loop closures ({} between robots), {} candidates pending, "
                         "{} robots not linked yet",
@@ -235,6 +240,8 @@ int BaseNode::finish() {
                       {"converged", r.solve.converged},
                       {"final_cost", r.solve.final_cost}};
   summary["rejected_samples"] = rejected_samples_;
+  summary["landmarks"] = nlohmann::json::array();  // identified markers, global frame
+  for (const auto& [id, p] : mapper_.landmarks()) summary["landmarks"].push_back({{"id", id.value}, {"x_m", p.x()}, {"y_m", p.y()}});
   summary["export_ok"] = exported.ok();
   std::ofstream out(options_.out_dir + "/summary.json");
   out << summary.dump(2) << "\n";

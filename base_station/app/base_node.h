@@ -82,6 +82,7 @@ class BaseNode {
   uint64_t optimized_version_ = 0;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   int rejected_samples_ = 0;
+  size_t landmark_events_reported_ = 0;  ///< mapper_.landmark_link_events() already logged
 };
 
 }  // namespace cairn::base

@@ -1,7 +1,9 @@
 #pragma once
 // Options of the base station's MultiRobotMapper, with defaults that suit the simulator and
 // indoor rescue scenes.
+#include "base_station/core/global_map_renderer.h"
 #include "base_station/core/global_object.h"
+#include "base_station/core/landmarks.h"
 #include "base_station/core/loop_closer.h"
 #include "base_station/core/map_consistency.h"
 #include "base_station/core/pcm.h"
@@ -45,6 +47,15 @@ struct MapperOptions {
   /// Max Ceres iterations of an incremental update (warm-started); a full re-solve with LAGO
   /// initialisation (solve.max_iterations) runs when robots are first linked.
   int incremental_max_iterations = 10;
+  /// An incremental update solves a window only: the new keyframes plus this many placed
+  /// predecessors on their robot, and around each new loop edge's ends this many keyframes before
+  /// them to the end of their trajectories; the rest of the graph is held constant. Exact for new
+  /// odometry (a leaf does not move the optimum of the others); after loop closures, full
+  /// warm-started solves capped at refine_max_time_s follow on each update until one converges.
+  int incremental_window_keyframes = 10;
+  double refine_max_time_s = 0.04;
+  /// Incremental rendering of the global map (re-render tiles of moved keyframes).
+  GlobalMapRenderOptions map_render;
 
   /// Upper bound of the duplicate-merge candidate gate on centroid distance (same class).
   double merge_distance_m = 0.75;
@@ -53,6 +64,10 @@ struct MapperOptions {
   /// Duplicate merging: overlap candidates verified by RGB-ICP (global_object.h); its max_gate_m and
   /// object_voxel_m are taken from the two fields above.
   ObjectMergeOptions object_merge;
+
+  /// Identified landmarks (markers) in keyframes: landmark nodes with range-bearing residuals, and
+  /// marker-based link hypotheses for robot pairs not linked yet (landmarks.h).
+  LandmarkOptions landmarks;
 };
 
 }  // namespace cairn::base

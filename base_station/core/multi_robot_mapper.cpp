@@ -1,10 +1,12 @@
 #include "base_station/core/multi_robot_mapper.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <set>
 
+#include "base_station/core/lago_initializer.h"
 #include "common/laser_scan.h"
 
 namespace cairn::base {
@@ -42,19 +44,31 @@ std::string validate(const Keyframe& kf) {
   return {};
 }
 
-/// Adds the ray-cast of one keyframe's scan (hits and no-return beams) to `grid`.
-void insert_keyframe_scan(const Keyframe& kf, const SE2& T_global_base, double no_return_range_m,
-                          OccupancyGrid* grid) {
-  const std::vector<Eigen::Vector2f> hits = scan_to_points(kf.scan);
-  std::vector<Eigen::Vector2f> no_return;
-  const float clear_m = float(std::min<double>(kf.scan.range_max_m, no_return_range_m));
-  for (size_t i = 0; i < kf.scan.ranges_m.size(); ++i) {
-    const float r = kf.scan.ranges_m[i];
-    if (std::isnan(r) || r < kf.scan.range_max_m) continue;  // +inf and >= max: no return
-    const float a = beam_angle_rad(kf.scan, i);
-    no_return.emplace_back(clear_m * std::cos(a), clear_m * std::sin(a));
-  }
-  grid->insert_scan(T_global_base, hits, no_return);
+using KeyframeMap = std::map<KeyframeId, Keyframe>;
+
+/// The robot's first keyframe not in the graph yet (the end of its range when all are). Keyframes
+/// enter the graph in seq order (one arriving before a placed successor forces a rebuild), so this
+/// walks back over the new ones only: O(new keyframes), not O(trajectory).
+KeyframeMap::const_iterator first_unplaced(const KeyframeMap& keyframes, const PoseGraph2d& graph, RobotId robot) {
+  const auto begin = keyframes.lower_bound(KeyframeId{robot, 0});
+  auto it = keyframes.upper_bound(KeyframeId{robot, INT32_MAX});
+  while (it != begin && !graph.has_node(std::prev(it)->first)) --it;
+  return it;
+}
+
+/// Appends the keyframes of `robot` from `window` before `from` to the end of its trajectory
+/// (nothing when `from` is not one of its keyframes).
+void append_window(const KeyframeMap& keyframes, RobotId robot, KeyframeMap::const_iterator from, int window,
+                   std::vector<KeyframeId>* out) {
+  if (from == keyframes.end() || from->first.robot != robot) return;
+  for (int k = 0; k < window && from != keyframes.begin() && std::prev(from)->first.robot == robot; ++k) --from;
+  for (; from != keyframes.end() && from->first.robot == robot; ++from) out->push_back(from->first);
+}
+
+GlobalMapRenderOptions map_render_options(const MapperOptions& options) {
+  GlobalMapRenderOptions o = options.map_render;
+  o.no_return_clear_range_m = options.no_return_clear_range_m;
+  return o;
 }
 
 }  // namespace
@@ -70,7 +84,8 @@ const char* to_string(AddStatus status) {
 }
 
 MultiRobotMapper::MultiRobotMapper(const MapperOptions& options)
-    : options_(options), loop_closer_(options.loop_closer), graph_(options.graph), map_(options.grid) {}
+    : options_(options), loop_closer_(options.loop_closer), graph_(options.graph),
+      map_(options.grid, map_render_options(options)) {}
 
 void MultiRobotMapper::set_robot_start(RobotId robot, const SE2& T_global_local) {
   if (!robot.valid() || !finite(T_global_local)) return;
@@ -81,7 +96,8 @@ void MultiRobotMapper::set_robot_start(RobotId robot, const SE2& T_global_local)
   for (auto it = optimized_.begin(); it != optimized_.end();) {
     it = it->first.robot == robot ? optimized_.erase(it) : std::next(it);
   }
-  ++poses_version_;
+  map_all_moved_ = true;
+  note_poses_changed();
   ++version_;
 }
 
@@ -92,6 +108,7 @@ AddResult MultiRobotMapper::add_keyframe(const Keyframe& kf) {
   keyframes_.emplace(kf.id, kf);
   detect_queue_.push_back(kf.id);
   ++version_;
+  note_landmarks(kf);  // multi_robot_mapper_landmarks.cpp
   if (graph_.has_node(kf.id)) rebuild_graph_ = true;
   auto next = keyframes_.upper_bound(kf.id);
   if (next != keyframes_.end() && next->first.robot == kf.id.robot && graph_.has_node(next->first)) {
@@ -99,6 +116,7 @@ AddResult MultiRobotMapper::add_keyframe(const Keyframe& kf) {
   }
   if (!anchor_committed_ && hints_.empty() && (!anchor_ || kf.id.robot < *anchor_)) {
     if (anchor_) starts_.erase(*anchor_);
+    map_all_moved_ = true;
     anchor_ = kf.id.robot;
     starts_[kf.id.robot] = SE2();
   }
@@ -106,7 +124,8 @@ AddResult MultiRobotMapper::add_keyframe(const Keyframe& kf) {
     return {AddStatus::kPending, to_string(kf.id.robot) +
                                      " not linked to the others yet (waiting for verified inter-robot loop closures): kept, not placed"};
   }
-  ++poses_version_;
+  map_moved_.push_back(kf.id);
+  note_poses_changed();
   AddResult result{AddStatus::kAccepted, {}};
   if (kf.id.seq > 0 && !keyframes_.count(KeyframeId{kf.id.robot, kf.id.seq - 1})) {
     result.reason = "predecessor seq " + std::to_string(kf.id.seq - 1) +
@@ -133,8 +152,13 @@ void MultiRobotMapper::add_robot_chain(RobotId robot, OptimizeResult* result) {
   const SE2 T_global_local = correction(robot);
   const Keyframe* prev = nullptr;
   SE2 prev_initial;
-  for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0});
-       it != keyframes_.end() && it->first.robot == robot; ++it) {
+  bool placed_new = false;
+  auto it = first_unplaced(keyframes_, graph_, robot);
+  if (it != keyframes_.begin() && std::prev(it)->first.robot == robot) {
+    prev = &std::prev(it)->second;
+    prev_initial = *graph_.estimate(prev->id);
+  }
+  for (; it != keyframes_.end() && it->first.robot == robot; ++it) {
     const Keyframe& kf = it->second;
     if (graph_.has_node(kf.id)) {
       prev = &kf;
@@ -159,7 +183,7 @@ void MultiRobotMapper::add_robot_chain(RobotId robot, OptimizeResult* result) {
     const SE2 initial = opt != optimized_.end() ? opt->second
                         : prev                  ? prev_initial * edge.T_from_to
                                                 : T_global_local * kf.T_local_base;
-    graph_.add_node(kf.id, initial);
+    placed_new |= graph_.add_node(kf.id, initial);
     if (prev) {
       graph_.add_edge(edge);
     } else if (hints_.count(robot) || robot == anchor_) {
@@ -170,6 +194,8 @@ void MultiRobotMapper::add_robot_chain(RobotId robot, OptimizeResult* result) {
     prev = &kf;
     prev_initial = initial;
   }
+  // Only new nodes can lack landmark edges (a rebuilt graph makes every node new).
+  if (placed_new) add_landmark_edges(robot);  // multi_robot_mapper_landmarks.cpp
 }
 
 std::optional<SE2> MultiRobotMapper::global_pose(KeyframeId id) const {
@@ -221,20 +247,134 @@ std::vector<RobotSummary> MultiRobotMapper::robots() const {
   return list;
 }
 
+void MultiRobotMapper::update_graph(OptimizeResult* result) {
+  if (rebuild_graph_) {
+    graph_ = PoseGraph2d(options_.graph);
+    loop_in_graph_.assign(loops_.size(), false);
+    rebuild_graph_ = false;
+  }
+  // New keyframes of each linked robot (O(robots + new keyframes), not O(keyframes)).
+  const int window = std::max(0, options_.incremental_window_keyframes);
+  std::vector<KeyframeId> active;
+  for (auto it = keyframes_.begin(); it != keyframes_.end(); it = keyframes_.upper_bound(KeyframeId{it->first.robot, INT32_MAX})) {
+    const RobotId robot = it->first.robot;
+    if (!linked(robot)) {
+      ++result->unlinked_robots;
+      continue;
+    }
+    append_window(keyframes_, robot, first_unplaced(keyframes_, graph_, robot), window, &active);
+    add_robot_chain(robot, result);
+  }
+  const size_t edges_before = graph_.edges().size();
+  const size_t landmark_edges_before = graph_.landmark_edges().size();
+  add_loop_edges();
+  for (size_t i = edges_before; i < graph_.edges().size(); ++i) {  // new loop edges: their windows
+    for (KeyframeId end : {graph_.edges()[i].from, graph_.edges()[i].to}) {
+      append_window(keyframes_, end.robot, keyframes_.find(end), window, &active);
+    }
+  }
+  if (graph_.edges().size() > edges_before || graph_.landmark_edges().size() > landmark_edges_before) {
+    refine_pending_ = true;  // the window's solution is not the optimum of the whole graph yet
+  }
+  PoseGraphSolveOptions solve = options_.solve;
+  if (full_resolve_) {
+    if (const auto init = lago_initialize(graph_)) graph_.set_estimates(*init);
+    result->full_resolve = true;
+    full_resolve_ = false;
+    refine_pending_ = false;
+    result->full_solve = true;
+    result->solve = graph_.solve(solve);
+    return;
+  }
+  solve.max_iterations = std::min(solve.max_iterations, options_.incremental_max_iterations);
+  std::sort(active.begin(), active.end());
+  active.erase(std::unique(active.begin(), active.end()), active.end());
+  if (!active.empty()) {
+    PoseGraphSolveOptions local = solve;
+    local.active_nodes = active;
+    result->solve = graph_.solve(local);
+    for (KeyframeId id : active) optimized_[id] = *graph_.estimate(id);
+    map_moved_.insert(map_moved_.end(), active.begin(), active.end());
+  } else {
+    result->solve.converged = true;
+    result->solve.reason = "nothing new";
+  }
+  if (refine_pending_) {
+    solve.max_time_s = options_.refine_max_time_s;
+    result->solve = graph_.solve(solve);
+    result->full_solve = true;
+    refine_pending_ = !result->solve.converged;
+    for (const auto& [id, pose] : graph_.estimates()) optimized_[id] = pose;
+    map_all_moved_ = true;
+  }
+}
+
+OptimizeResult MultiRobotMapper::optimize() {
+  OptimizeResult result;
+  choose_anchor();
+  if (options_.detect_loops) {
+    detect_new_loops(&result);
+    link_robot_pairs(&result);
+  }
+  place_new_robots();
+  release_held_closures(&result);
+  update_graph(&result);
+  result.nodes = int(graph_.num_nodes());
+  result.edges = int(graph_.edges().size());
+  result.priors = int(graph_.priors().size());
+  for (size_t i = 0; i < loops_.size(); ++i) {
+    if (!loop_in_graph_[i]) continue;
+    ++result.loop_closures;
+    result.inter_robot_closures += loops_[i].a.robot != loops_[i].b.robot;
+  }
+  if (result.full_resolve) {
+    for (const auto& [id, pose] : graph_.estimates()) optimized_[id] = pose;
+    map_all_moved_ = true;
+  }
+  if (map_moved_.size() > keyframes_.size()) map_all_moved_ = true;  // never rendered: bound the list
+  if (map_all_moved_) map_moved_.clear();
+  note_poses_changed();
+  ++version_;
+  return result;
+}
+
+void MultiRobotMapper::note_poses_changed() {
+  if (tracked_poses_version_ == poses_version_) ++tracked_poses_version_;
+  ++poses_version_;
+}
+
 const OccupancyGrid& MultiRobotMapper::global_map() const {
-  if (map_version_ == poses_version_) return map_;
-  map_ = OccupancyGrid(options_.grid);
+  if (map_version_ == poses_version_) return map_.render();
+  // The renderer redraws only the tiles of keyframes that are new, gone or moved beyond its
+  // thresholds; here only keyframes whose pose may have changed are handed to it.
   std::map<RobotId, SE2> corrections;
   for (const auto& [id, start] : starts_) corrections[id] = correction(id);
-  for (const auto& [id, kf] : keyframes_) {
-    auto c = corrections.find(id.robot);
-    if (c == corrections.end()) continue;  // not linked: not placed
-    auto opt = optimized_.find(id);
-    const SE2 T_global_base = opt != optimized_.end() ? opt->second : c->second * kf.T_local_base;
-    insert_keyframe_scan(kf, T_global_base, options_.no_return_clear_range_m, &map_);
+  auto place = [&](const Keyframe& kf, const SE2* optimised) {
+    auto c = corrections.find(kf.id.robot);
+    if (c == corrections.end()) {  // not linked: not placed
+      map_.remove(kf.id);
+    } else {
+      map_.set_pose(kf, optimised ? *optimised : c->second * kf.T_local_base);
+    }
+  };
+  if (map_all_moved_ || tracked_poses_version_ != poses_version_) {
+    auto opt = optimized_.begin();  // one merge pass: both maps are in id order
+    for (const auto& [id, kf] : keyframes_) {
+      while (opt != optimized_.end() && opt->first < id) ++opt;
+      place(kf, opt != optimized_.end() && opt->first == id ? &opt->second : nullptr);
+    }
+  } else {
+    for (KeyframeId id : map_moved_) {
+      auto kf = keyframes_.find(id);
+      auto opt = optimized_.find(id);
+      if (kf != keyframes_.end()) place(kf->second, opt != optimized_.end() ? &opt->second : nullptr);
+    }
   }
+  map_moved_.clear();
+  map_all_moved_ = false;
+  tracked_poses_version_ = poses_version_;
   map_version_ = poses_version_;
-  return map_;
+  return map_.render();
 }
 
 }  // namespace cairn::base

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "base_station/core/global_map_renderer.h"
 #include "base_station/core/global_object.h"
 #include "base_station/core/map_consistency.h"
 #include "base_station/core/mapper_options.h"
@@ -52,6 +53,7 @@ struct LinkEvent {
   bool inconclusive = false;  ///< too little overlap to judge: candidates kept, judged again later
   double contradiction_ratio = 0.0;  ///< map check (0 when not run)
   std::string reason;       ///< why rejected / deferred, or "linked"
+  std::vector<LoopClosure> members;  ///< the judged closures (a link hypothesis' clique)
 };
 
 /// Counters of link decisions since construction.
@@ -78,6 +80,9 @@ struct OptimizeResult {
   int pending_candidates = 0;   ///< verified inter-robot closures waiting for PCM
   std::vector<RobotId> newly_linked;  ///< robots linked by this call
   bool full_resolve = false;    ///< LAGO initialisation + full solve happened
+  /// The whole graph was solved (link, or refinement after loop closures); otherwise only the
+  /// window of new keyframes / new loop edges (solve.variable_blocks nodes) moved.
+  bool full_solve = false;
   std::vector<LinkEvent> link_events;  ///< link decisions of this call (deduplicated per pair)
 };
 
@@ -128,6 +133,14 @@ class MultiRobotMapper {
   const std::vector<LoopClosure>& loop_closures() const { return loops_; }
   const LoopCloserStats& loop_closer_stats() const { return loop_closer_.stats(); }
   const LinkStats& link_stats() const { return link_stats_; }
+  // Landmarks (multi_robot_mapper_landmarks.cpp).
+  /// Optimised global positions of the landmarks seen by linked robots.
+  std::map<LandmarkId, Eigen::Vector2d> landmarks() const { return graph_.landmark_estimates(); }
+  /// Marker-based link decisions so far (accepted ones and the latest refusal per pair).
+  const std::vector<LinkEvent>& landmark_link_events() const { return landmark_link_events_; }
+  /// Each robot's own estimate of the landmarks it saw, in its local frame.
+  const std::map<RobotId, LocalLandmarks>& local_landmarks() const { return local_landmarks_; }
+
   /// Bumped whenever any global pose or object may have changed.
   uint64_t version() const { return version_; }
 
@@ -147,6 +160,13 @@ class MultiRobotMapper {
   RobotId component_of(RobotId robot) const;
   void update_graph(OptimizeResult* result);
   void add_loop_edges();
+  // Landmarks (multi_robot_mapper_landmarks.cpp).
+  /// Stores kf's observations in its robot's local landmarks and tries marker-based links.
+  void note_landmarks(const Keyframe& kf);
+  /// Links ra and rb on shared landmarks when the alignment and the map check allow; true if linked.
+  bool try_link_by_landmarks(RobotId ra, RobotId rb);
+  /// Range-bearing edges of the robot's keyframes in the graph that have none yet.
+  void add_landmark_edges(RobotId robot);
   // Link hypothesis checks (multi_robot_mapper_checks.cpp).
   /// Why the clique `closures` (a = ra, b = rb) covers too little of a trajectory; empty if not.
   std::string spread_deficit(const std::vector<LoopClosure>& closures) const;
@@ -178,6 +198,9 @@ class MultiRobotMapper {
   std::map<std::pair<RobotId, RobotId>, std::string> last_verdict_;  ///< dedupes link events
   bool rebuild_graph_ = true;
   bool full_resolve_ = false;
+  /// Loop closures were solved in their window only: full warm-started solves (time-capped) run
+  /// on the next updates until one converges.
+  bool refine_pending_ = false;
   std::map<KeyframeId, Keyframe> keyframes_;
   std::map<ObjectId, ObjectReport> reports_;
   std::map<KeyframeId, SE2> optimized_;  ///< global poses from the last optimize()
@@ -185,8 +208,21 @@ class MultiRobotMapper {
   uint64_t version_ = 1;        ///< anything changed
   uint64_t poses_version_ = 1;  ///< keyframes, starts or optimised poses changed
 
+  std::map<RobotId, LocalLandmarks> local_landmarks_;
+  std::map<RobotId, int> landmark_observations_;  ///< valid observations per robot
+  /// Per unlinked pair: observations of both robots when last judged (retry gate).
+  std::map<std::pair<RobotId, RobotId>, int> landmark_pair_judged_at_;
+  std::vector<LinkEvent> landmark_link_events_;
+
   mutable uint64_t map_version_ = 0;
-  mutable OccupancyGrid map_;
+  mutable GlobalMapRenderer map_;  ///< redraws only the tiles of moved keyframes
+  /// Keyframes whose global pose may have changed since the last global_map(); every keyframe is
+  /// re-checked when map_all_moved_ or when poses_version_ changed elsewhere (tracked_ behind).
+  mutable std::vector<KeyframeId> map_moved_;
+  mutable bool map_all_moved_ = true;
+  mutable uint64_t tracked_poses_version_ = 0;
+  /// ++poses_version_, keeping tracked_poses_version_ in step when it was (map_moved_ is updated by the caller).
+  void note_poses_changed();
   mutable uint64_t objects_version_ = 0;
   mutable std::vector<GlobalObject> objects_;
 };

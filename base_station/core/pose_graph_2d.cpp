@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <set>
+#include <unordered_set>
 
 namespace cairn::base {
 namespace {
@@ -105,6 +106,25 @@ struct PriorResidual {
   Eigen::Matrix3d sqrt_information_;
 };
 
+/// Range-bearing observation of a landmark point l from pose a.
+/// Residual (2): [ (|d| - range) / sigma_range ; wrap(atan2(d_y, d_x) - bearing) / sigma_bearing ],
+/// d = R_a^T (l - p_a) (the landmark in a's frame).
+struct RangeBearingResidual {
+  explicit RangeBearingResidual(const LandmarkEdge& e) : e_(e) {}
+
+  template <typename T>
+  bool operator()(const T* a, const T* l, T* residual) const {
+    const T c = ceres::cos(a[2]), s = ceres::sin(a[2]);
+    const T dx = l[0] - a[0], dy = l[1] - a[1];
+    const T x = c * dx + s * dy, y = -s * dx + c * dy;
+    residual[0] = (ceres::sqrt(x * x + y * y + T(1e-12)) - T(e_.range_m)) / T(e_.sigma_range_m);
+    residual[1] = normalize_angle_t(ceres::atan2(y, x) - T(e_.bearing_rad)) / T(e_.sigma_bearing_rad);
+    return true;
+  }
+
+  LandmarkEdge e_;
+};
+
 /// Upper-triangular R with R^T R = information (the example's LLT square root).
 std::optional<Eigen::Matrix3d> sqrt_information(const Eigen::Matrix3d& information) {
   if (!information.allFinite()) return std::nullopt;
@@ -149,10 +169,12 @@ struct PoseGraph2d::Problem {
   ceres::AutoDiffManifold<PoseManifold, 3, 3> manifold;
   ceres::Problem problem;
   size_t edges_added = 0;
-  std::set<KeyframeId> nodes_added;
+  std::vector<KeyframeId> new_nodes;  ///< added to the graph since the last sync
   std::vector<ceres::ResidualBlockId> prior_blocks;
   bool priors_dirty = true;
   std::optional<KeyframeId> gauge;  ///< node held constant when there is no prior
+  size_t landmark_edges_added = 0;
+  std::set<LandmarkId> landmarks_added;
 };
 
 PoseGraph2d::PoseGraph2d(const PoseGraphOptions& options) : options_(options) {}
@@ -160,7 +182,9 @@ PoseGraph2d::~PoseGraph2d() = default;
 PoseGraph2d::PoseGraph2d(PoseGraph2d&&) noexcept = default;
 PoseGraph2d& PoseGraph2d::operator=(PoseGraph2d&&) noexcept = default;
 PoseGraph2d::PoseGraph2d(const PoseGraph2d& o)
-    : options_(o.options_), nodes_(o.nodes_), edges_(o.edges_), priors_(o.priors_) {}
+    : options_(o.options_), nodes_(o.nodes_), edges_(o.edges_), priors_(o.priors_), landmarks_(o.landmarks_),
+      landmark_edges_(o.landmark_edges_), landmark_sources_(o.landmark_sources_),
+      landmarks_need_init_(o.landmarks_need_init_) {}
 PoseGraph2d& PoseGraph2d::operator=(const PoseGraph2d& o) {
   if (this != &o) {
     problem_.reset();
@@ -168,6 +192,10 @@ PoseGraph2d& PoseGraph2d::operator=(const PoseGraph2d& o) {
     nodes_ = o.nodes_;
     edges_ = o.edges_;
     priors_ = o.priors_;
+    landmarks_ = o.landmarks_;
+    landmark_edges_ = o.landmark_edges_;
+    landmark_sources_ = o.landmark_sources_;
+    landmarks_need_init_ = o.landmarks_need_init_;
   }
   return *this;
 }
@@ -175,6 +203,7 @@ PoseGraph2d& PoseGraph2d::operator=(const PoseGraph2d& o) {
 bool PoseGraph2d::add_node(KeyframeId id, const SE2& T) {
   if (nodes_.count(id) || !finite(T)) return false;
   nodes_[id] = NodeState{{T.x(), T.y(), T.yaw()}};
+  if (problem_) problem_->new_nodes.push_back(id);
   return true;
 }
 
@@ -187,6 +216,7 @@ bool PoseGraph2d::set_estimate(KeyframeId id, const SE2& T) {
 
 void PoseGraph2d::set_estimates(const std::map<KeyframeId, SE2>& estimates) {
   for (const auto& [id, T] : estimates) set_estimate(id, T);
+  landmarks_need_init_ = !landmarks_.empty();  // their old positions belong to the old poses
 }
 
 bool PoseGraph2d::add_edge(const PoseGraphEdge& edge) {
@@ -225,11 +255,13 @@ std::map<KeyframeId, SE2> PoseGraph2d::estimates() const {
 }
 
 void PoseGraph2d::sync_problem() {
-  if (!problem_) problem_ = std::make_unique<Problem>();
-  Problem& p = *problem_;
-  for (auto& [id, n] : nodes_) {
-    if (p.nodes_added.insert(id).second) p.problem.AddParameterBlock(n.pose, 3, &p.manifold);
+  if (!problem_) {
+    problem_ = std::make_unique<Problem>();
+    for (const auto& [id, n] : nodes_) problem_->new_nodes.push_back(id);
   }
+  Problem& p = *problem_;
+  for (KeyframeId id : p.new_nodes) p.problem.AddParameterBlock(nodes_.at(id).pose, 3, &p.manifold);
+  p.new_nodes.clear();
   for (; p.edges_added < edges_.size(); ++p.edges_added) {
     const PoseGraphEdge& e = edges_[p.edges_added];
     ceres::CostFunction* cost = nullptr;
@@ -252,6 +284,7 @@ void PoseGraph2d::sync_problem() {
     }
     p.priors_dirty = false;
   }
+  sync_landmarks();
   // Gauge: with no prior, hold the first node constant.
   const std::optional<KeyframeId> gauge =
       priors_.empty() ? std::optional<KeyframeId>(nodes_.begin()->first) : std::nullopt;
@@ -262,6 +295,63 @@ void PoseGraph2d::sync_problem() {
   }
 }
 
+namespace {
+
+/// A Ceres problem over the residual blocks of `main` that touch the variable blocks: the active
+/// pose blocks not constant in `main`, plus the manifold-free (landmark) blocks they observe. Every
+/// other block of those residuals is held constant. Shares cost, loss and manifold objects with
+/// `main` (which owns them), so building it costs O(window), not O(graph).
+struct LocalProblem {
+  explicit LocalProblem(const ceres::Problem& main, const std::vector<double*>& active) : problem(options()) {
+    std::unordered_set<double*> variable;
+    std::vector<double*> order;
+    std::vector<ceres::ResidualBlockId> residuals;
+    std::unordered_set<ceres::ResidualBlockId> seen;
+    auto add_variable = [&](double* block) {
+      if (main.IsParameterBlockConstant(block) || !variable.insert(block).second) return;
+      order.push_back(block);
+    };
+    for (double* block : active) add_variable(block);
+    for (size_t i = 0; i < order.size(); ++i) {  // grows while landmarks are found
+      std::vector<ceres::ResidualBlockId> blocks;
+      main.GetResidualBlocksForParameterBlock(order[i], &blocks);
+      for (ceres::ResidualBlockId r : blocks) {
+        if (!seen.insert(r).second) continue;
+        residuals.push_back(r);
+        std::vector<double*> params;
+        main.GetParameterBlocksForResidualBlock(r, &params);
+        const bool from_active_pose = main.GetManifold(order[i]) != nullptr;
+        for (double* q : params) {
+          if (from_active_pose && main.GetManifold(q) == nullptr) add_variable(q);
+        }
+      }
+    }
+    for (ceres::ResidualBlockId r : residuals) {
+      std::vector<double*> params;
+      main.GetParameterBlocksForResidualBlock(r, &params);
+      for (double* q : params) {
+        if (problem.HasParameterBlock(q)) continue;
+        problem.AddParameterBlock(q, main.ParameterBlockSize(q), const_cast<ceres::Manifold*>(main.GetManifold(q)));
+        if (!variable.count(q)) problem.SetParameterBlockConstant(q);
+      }
+      problem.AddResidualBlock(const_cast<ceres::CostFunction*>(main.GetCostFunctionForResidualBlock(r)),
+                               const_cast<ceres::LossFunction*>(main.GetLossFunctionForResidualBlock(r)), params);
+    }
+    num_variable = int(order.size());
+  }
+  static ceres::Problem::Options options() {
+    ceres::Problem::Options o;
+    o.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    o.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    o.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    return o;
+  }
+  ceres::Problem problem;
+  int num_variable = 0;
+};
+
+}  // namespace
+
 PoseGraphSolveResult PoseGraph2d::solve(const PoseGraphSolveOptions& options) {
   PoseGraphSolveResult result;
   if (nodes_.empty()) {
@@ -270,35 +360,53 @@ PoseGraphSolveResult PoseGraph2d::solve(const PoseGraphSolveOptions& options) {
     return result;
   }
   sync_problem();
-  ceres::Problem& problem = problem_->problem;
-  std::vector<double*> held;
-  if (!options.active_nodes.empty()) {
-    std::set<KeyframeId> active(options.active_nodes.begin(), options.active_nodes.end());
-    for (auto& [id, n] : nodes_) {
-      if (active.count(id) || problem.IsParameterBlockConstant(n.pose)) continue;
-      problem.SetParameterBlockConstant(n.pose);
-      held.push_back(n.pose);
-    }
-  }
   ceres::Solver::Options so;
   so.max_num_iterations = options.max_iterations;
   so.function_tolerance = options.function_tolerance;
   so.gradient_tolerance = options.gradient_tolerance;
   so.parameter_tolerance = options.parameter_tolerance;
+  if (options.max_time_s > 0.0) so.max_solver_time_in_seconds = options.max_time_s;
   so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   so.num_threads = 1;
   so.logging_type = ceres::SILENT;
   so.minimizer_progress_to_stdout = false;
   ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
-  for (double* block : held) problem.SetParameterBlockVariable(block);
-  for (auto& [id, n] : nodes_) n.pose[2] = normalize_angle(n.pose[2]);
+  std::vector<double*> moved;  // pose blocks to re-wrap after the solve
+  if (options.active_nodes.empty()) {
+    ceres::Solve(so, &problem_->problem, &summary);
+    for (auto& [id, n] : nodes_) moved.push_back(n.pose);
+    result.variable_blocks = problem_->problem.NumParameterBlocks();
+  } else {
+    // Bounded local update: only the active nodes (and landmarks they observe) move.
+    for (KeyframeId id : options.active_nodes) {
+      auto it = nodes_.find(id);
+      if (it != nodes_.end()) moved.push_back(it->second.pose);
+    }
+    LocalProblem local(problem_->problem, moved);
+    ceres::Solve(so, &local.problem, &summary);
+    result.variable_blocks = local.num_variable;
+  }
+  for (double* pose : moved) pose[2] = normalize_angle(pose[2]);
   result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.initial_cost = summary.initial_cost;
   result.final_cost = summary.final_cost;
   result.iterations = int(summary.iterations.size());
   result.reason = summary.message;
   return result;
+}
+
+void PoseGraph2d::sync_landmarks() {
+  if (landmarks_need_init_) initialize_landmarks();
+  Problem& p = *problem_;
+  for (auto& [id, l] : landmarks_) {
+    if (p.landmarks_added.insert(id).second) p.problem.AddParameterBlock(l.p, 2);
+  }
+  for (; p.landmark_edges_added < landmark_edges_.size(); ++p.landmark_edges_added) {
+    const LandmarkEdge& e = landmark_edges_[p.landmark_edges_added];
+    auto* cost = new ceres::AutoDiffCostFunction<RangeBearingResidual, 2, 3, 2>(new RangeBearingResidual(e));
+    p.problem.AddResidualBlock(cost, make_loss(options_.landmark_loss), nodes_.at(e.from).pose,
+                               landmarks_.at(e.landmark).p);
+  }
 }
 
 }  // namespace cairn::base

@@ -11,10 +11,12 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "common/ids.h"
+#include "common/landmark_observation.h"
 #include "common/se2.h"
 
 namespace cairn::base {
@@ -38,6 +40,16 @@ struct PosePrior {
   Eigen::Matrix3d information = Eigen::Matrix3d::Identity() * 1e4;
 };
 
+/// A range-bearing observation of landmark `landmark` (a 2D point node) from pose node `from`.
+struct LandmarkEdge {
+  KeyframeId from;
+  LandmarkId landmark;
+  double range_m = 0.0;
+  double bearing_rad = 0.0;
+  double sigma_range_m = 0.05;
+  double sigma_bearing_rad = 0.02;
+};
+
 enum class RobustLossType { kNone, kHuber, kCauchy };
 
 struct RobustLossOptions {
@@ -55,6 +67,8 @@ struct PoseGraphOptions {
   RobustLossOptions odometry_loss{RobustLossType::kNone, 1.0};
   RobustLossOptions loop_loss{RobustLossType::kCauchy, 1.0};
   RobustLossOptions prior_loss{RobustLossType::kNone, 1.0};
+  /// Range-bearing landmark residuals: a wrongly identified marker must not bend the map.
+  RobustLossOptions landmark_loss{RobustLossType::kCauchy, 2.0};
 };
 
 struct PoseGraphSolveOptions {
@@ -62,7 +76,11 @@ struct PoseGraphSolveOptions {
   double function_tolerance = 1e-10;
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-10;
-  /// Only these nodes move (others held constant) when non-empty: a bounded local update.
+  /// Stop after this much solver time (0: no limit); the next warm-started solve continues.
+  double max_time_s = 0.0;
+  /// Only these nodes (and the landmarks they observe) move when non-empty: a bounded local
+  /// update. It solves a problem built from their residual blocks only (every other node they
+  /// touch held constant), so it costs O(window), not O(graph).
   std::vector<KeyframeId> active_nodes;
 };
 
@@ -71,6 +89,7 @@ struct PoseGraphSolveResult {
   double initial_cost = 0.0;
   double final_cost = 0.0;
   int iterations = 0;
+  int variable_blocks = 0;  ///< parameter blocks of the solved problem that could move
   std::string reason;
 };
 
@@ -105,6 +124,21 @@ class PoseGraph2d {
   /// Replaces every estimate (e.g. by a LAGO initialisation); unknown ids are ignored.
   void set_estimates(const std::map<KeyframeId, SE2>& estimates);
 
+  // Landmarks (pose_graph_2d_landmarks.cpp): 2D point nodes with range-bearing residuals
+  // (robust loss landmark_loss). A landmark node is created by its first observation.
+  /// Adds an observation. False (graph unchanged) if the pose node is unknown or a value is not
+  /// finite / a sigma not positive / the range below 1 cm.
+  bool add_landmark_edge(const LandmarkEdge& edge);
+  /// Whether any landmark observation from `node` is in the graph.
+  bool has_landmark_edges_from(KeyframeId node) const { return landmark_sources_.count(node) > 0; }
+  std::optional<Eigen::Vector2d> landmark_estimate(LandmarkId id) const;
+  std::map<LandmarkId, Eigen::Vector2d> landmark_estimates() const;
+  const std::vector<LandmarkEdge>& landmark_edges() const { return landmark_edges_; }
+  size_t num_landmarks() const { return landmarks_.size(); }
+  /// Places every landmark at the mean of its observations from the current pose estimates
+  /// (done by solve() after set_estimates() moved the poses, e.g. a LAGO re-initialisation).
+  void initialize_landmarks();
+
   /// Solves from the current estimates and stores the result. With no prior the gauge is fixed
   /// by holding the first node constant. An empty graph "converges" trivially.
   PoseGraphSolveResult solve(const PoseGraphSolveOptions& options = {});
@@ -115,12 +149,20 @@ class PoseGraph2d {
   };
   struct Problem;  ///< the live Ceres problem (pose_graph_2d.cpp)
   void sync_problem();
+  void sync_landmarks();  ///< adds new landmark blocks to the live problem (pose_graph_2d.cpp)
 
   PoseGraphOptions options_;
   std::unique_ptr<Problem> problem_;
   std::map<KeyframeId, NodeState> nodes_;  ///< std::map: stable addresses for Ceres blocks
   std::vector<PoseGraphEdge> edges_;
   std::map<KeyframeId, PosePrior> priors_;
+  struct LandmarkState {
+    double p[2] = {0, 0};  ///< x_m, y_m: one Ceres parameter block
+  };
+  std::map<LandmarkId, LandmarkState> landmarks_;  ///< std::map: stable addresses for Ceres blocks
+  std::vector<LandmarkEdge> landmark_edges_;
+  std::set<KeyframeId> landmark_sources_;
+  bool landmarks_need_init_ = false;
 };
 
 }  // namespace cairn::base

@@ -98,5 +98,128 @@ TEST(PoseGraph2d, NoisyTwoRobotGraphGetsCloserToTruth) {
   EXPECT_LT(after, 0.1);
 }
 
+/// A noisy square walk of `n` nodes (one robot) with the loop edges that close it: truth, the
+/// odometry edges and the loop edges (noise-free measurements of the truth, so the optimum is tight).
+struct LoopWalk {
+  std::vector<SE2> truth, odometry;
+  std::vector<PoseGraphEdge> loops;
+};
+
+LoopWalk make_loop_walk(int n) {
+  LoopWalk w;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise_xy(0.0, 0.02), noise_yaw(0.0, 0.01);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * M_PI * i / (n / 2);  // two laps of a circle of radius 5 m
+    w.truth.push_back(SE2(5.0 * std::cos(a), 5.0 * std::sin(a), a + M_PI / 2));
+  }
+  for (int i = 1; i < n; ++i) {
+    w.odometry.push_back(w.truth[i - 1].between(w.truth[i]) * SE2(noise_xy(rng), noise_xy(rng), noise_yaw(rng)));
+  }
+  for (int i = n / 2; i < n; i += 5) {  // second lap sees the first
+    w.loops.push_back({kf(0, i - n / 2), kf(0, i), w.truth[i - n / 2].between(w.truth[i]),
+                       Eigen::Matrix3d::Identity() * 1e4, EdgeKind::kLoop});
+  }
+  return w;
+}
+
+TEST(PoseGraph2d, LocalSolveMovesOnlyTheActiveNodes) {
+  const LoopWalk w = make_loop_walk(40);
+  PoseGraph2d graph;
+  ASSERT_TRUE(graph.add_node(kf(0, 0), w.truth[0]));
+  ASSERT_TRUE(graph.set_prior({kf(0, 0), w.truth[0], Eigen::Matrix3d::Identity() * 1e6}));
+  for (int i = 1; i < 20; ++i) {
+    ASSERT_TRUE(graph.add_node(kf(0, i), *graph.estimate(kf(0, i - 1)) * w.odometry[i - 1]));
+    ASSERT_TRUE(graph.add_edge({kf(0, i - 1), kf(0, i), w.odometry[i - 1], Eigen::Matrix3d::Identity() * 1e3,
+                                EdgeKind::kOdometry}));
+  }
+  ASSERT_TRUE(graph.add_edge(
+      {kf(0, 2), kf(0, 17), w.truth[2].between(w.truth[17]), Eigen::Matrix3d::Identity() * 100.0, EdgeKind::kLoop}));
+  ASSERT_TRUE(graph.solve().converged);
+  const std::map<KeyframeId, SE2> before = graph.estimates();
+  // A new leaf far off its odometry: a local solve of {new, its predecessor} puts it at the
+  // composition and leaves every node outside the window bit-for-bit where it was.
+  ASSERT_TRUE(graph.add_node(kf(0, 20), SE2(50, 50, 1)));
+  ASSERT_TRUE(graph.add_edge({kf(0, 19), kf(0, 20), w.odometry[19], Eigen::Matrix3d::Identity() * 1e3, EdgeKind::kOdometry}));
+  PoseGraphSolveOptions local;
+  local.active_nodes = {kf(0, 19), kf(0, 20)};
+  const PoseGraphSolveResult r = graph.solve(local);
+  EXPECT_TRUE(r.converged) << r.reason;
+  EXPECT_EQ(r.variable_blocks, 2);
+  for (const auto& [id, T] : before) {
+    const SE2 now = *graph.estimate(id);
+    if (id == kf(0, 19)) {
+      EXPECT_NEAR((now.translation() - T.translation()).norm(), 0.0, 1e-6);  // a leaf does not pull it
+    } else {
+      EXPECT_EQ(now.vector(), T.vector()) << to_string(id);
+    }
+  }
+  const SE2 expected = *graph.estimate(kf(0, 19)) * w.odometry[19];
+  EXPECT_NEAR((graph.estimate(kf(0, 20))->translation() - expected.translation()).norm(), 0.0, 1e-6);
+  EXPECT_NEAR(normalize_angle(graph.estimate(kf(0, 20))->yaw() - expected.yaw()), 0.0, 1e-6);
+}
+
+/// The mapper's scheme (local windows per new node, then warm-started full solves after loop
+/// closures) must reach the optimum a batch solve of the same graph finds.
+TEST(PoseGraph2d, WindowedUpdatesThenFullSolveReachTheBatchOptimum) {
+  const int n = 60;
+  const LoopWalk w = make_loop_walk(n);
+  PoseGraph2d graph;
+  ASSERT_TRUE(graph.add_node(kf(0, 0), w.truth[0]));
+  ASSERT_TRUE(graph.set_prior({kf(0, 0), w.truth[0], Eigen::Matrix3d::Identity() * 1e6}));
+  size_t next_loop = 0;
+  bool refine = false;
+  int full_solves = 0;
+  for (int i = 1; i < n; ++i) {
+    ASSERT_TRUE(graph.add_node(kf(0, i), *graph.estimate(kf(0, i - 1)) * w.odometry[i - 1]));
+    ASSERT_TRUE(graph.add_edge({kf(0, i - 1), kf(0, i), w.odometry[i - 1], Eigen::Matrix3d::Identity() * 1e3,
+                                EdgeKind::kOdometry}));
+    PoseGraphSolveOptions local;
+    local.max_iterations = 10;
+    for (int j = std::max(0, i - 5); j <= i; ++j) local.active_nodes.push_back(kf(0, j));
+    for (; next_loop < w.loops.size() && w.loops[next_loop].to.seq == i; ++next_loop) {
+      ASSERT_TRUE(graph.add_edge(w.loops[next_loop]));
+      for (int j = std::max(0, w.loops[next_loop].from.seq - 5); j <= i; ++j) local.active_nodes.push_back(kf(0, j));
+      refine = true;
+    }
+    EXPECT_TRUE(graph.solve(local).variable_blocks <= i + 1);
+    if (refine) {  // one bounded full solve per update until one converges
+      PoseGraphSolveOptions full;
+      full.max_iterations = 3;
+      refine = !graph.solve(full).converged;
+      ++full_solves;
+    }
+  }
+  for (int k = 0; k < 20 && refine; ++k) refine = !graph.solve(PoseGraphSolveOptions{}).converged;
+  EXPECT_FALSE(refine);
+  EXPECT_GT(full_solves, 0);
+  // Batch: the same graph from odometry, one full solve.
+  PoseGraph2d batch;
+  batch.add_node(kf(0, 0), w.truth[0]);
+  batch.set_prior({kf(0, 0), w.truth[0], Eigen::Matrix3d::Identity() * 1e6});
+  for (int i = 1; i < n; ++i) batch.add_node(kf(0, i), *batch.estimate(kf(0, i - 1)) * w.odometry[i - 1]);
+  const std::map<KeyframeId, SE2> batch_init = batch.estimates();
+  for (const PoseGraphEdge& e : graph.edges()) ASSERT_TRUE(batch.add_edge(e));
+  ASSERT_TRUE(batch.solve().converged);
+  double worst_m = 0, worst_rad = 0;
+  for (int i = 0; i < n; ++i) {
+    const SE2 a = *graph.estimate(kf(0, i)), b = *batch.estimate(kf(0, i));
+    worst_m = std::max(worst_m, (a.translation() - b.translation()).norm());
+    worst_rad = std::max(worst_rad, std::abs(normalize_angle(a.yaw() - b.yaw())));
+  }
+  EXPECT_LT(worst_m, 1e-4);
+  EXPECT_LT(worst_rad, 1e-5);
+  // And the loops did something: the laps agree where dead reckoning had them apart.
+  double worst_loop_m = 0, worst_dead_reckoning_m = 0;
+  for (const PoseGraphEdge& e : w.loops) {
+    const SE2 est = graph.estimate(e.from)->between(*graph.estimate(e.to));
+    const SE2 dr = batch_init.at(e.from).between(batch_init.at(e.to));
+    worst_loop_m = std::max(worst_loop_m, (est.translation() - e.T_from_to.translation()).norm());
+    worst_dead_reckoning_m = std::max(worst_dead_reckoning_m, (dr.translation() - e.T_from_to.translation()).norm());
+  }
+  EXPECT_LT(worst_loop_m, 0.05);
+  EXPECT_GT(worst_dead_reckoning_m, 0.1);
+}
+
 }  // namespace
 }  // namespace cairn::base

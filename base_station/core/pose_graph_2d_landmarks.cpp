@@ -1,0 +1,58 @@
+// PoseGraph2d: landmark point nodes and their range-bearing observations (see pose_graph_2d.h).
+// The Ceres blocks are added by PoseGraph2d::sync_landmarks() in pose_graph_2d.cpp.
+#include <cmath>
+
+#include "base_station/core/pose_graph_2d.h"
+
+namespace cairn::base {
+namespace {
+
+Eigen::Vector2d observed_point(const SE2& T_world_node, const LandmarkEdge& e) {
+  return T_world_node * Eigen::Vector2d(e.range_m * std::cos(e.bearing_rad), e.range_m * std::sin(e.bearing_rad));
+}
+
+}  // namespace
+
+bool PoseGraph2d::add_landmark_edge(const LandmarkEdge& e) {
+  if (!e.landmark.valid() || !nodes_.count(e.from)) return false;
+  if (!std::isfinite(e.range_m) || !std::isfinite(e.bearing_rad) || e.range_m < 0.01) return false;
+  if (!(e.sigma_range_m > 0) || !(e.sigma_bearing_rad > 0) || !std::isfinite(e.sigma_range_m) ||
+      !std::isfinite(e.sigma_bearing_rad)) {
+    return false;
+  }
+  if (!landmarks_.count(e.landmark)) {
+    const Eigen::Vector2d p = observed_point(*estimate(e.from), e);
+    landmarks_[e.landmark] = LandmarkState{{p.x(), p.y()}};
+  }
+  landmark_edges_.push_back(e);
+  landmark_sources_.insert(e.from);
+  return true;
+}
+
+std::optional<Eigen::Vector2d> PoseGraph2d::landmark_estimate(LandmarkId id) const {
+  auto it = landmarks_.find(id);
+  if (it == landmarks_.end()) return std::nullopt;
+  return Eigen::Vector2d(it->second.p[0], it->second.p[1]);
+}
+
+std::map<LandmarkId, Eigen::Vector2d> PoseGraph2d::landmark_estimates() const {
+  std::map<LandmarkId, Eigen::Vector2d> out;
+  for (const auto& [id, l] : landmarks_) out.emplace_hint(out.end(), id, Eigen::Vector2d(l.p[0], l.p[1]));
+  return out;
+}
+
+void PoseGraph2d::initialize_landmarks() {
+  std::map<LandmarkId, std::pair<Eigen::Vector2d, int>> sums;
+  for (const LandmarkEdge& e : landmark_edges_) {
+    auto& [sum, n] = sums.try_emplace(e.landmark, Eigen::Vector2d::Zero(), 0).first->second;
+    sum += observed_point(*estimate(e.from), e);
+    ++n;
+  }
+  for (const auto& [id, sn] : sums) {
+    const Eigen::Vector2d mean = sn.first / double(sn.second);
+    landmarks_.at(id) = LandmarkState{{mean.x(), mean.y()}};
+  }
+  landmarks_need_init_ = false;
+}
+
+}  // namespace cairn::base
