@@ -69,8 +69,10 @@ TEST(ScanContext, KeyframeDescriptorMergesRecentPredecessorsInItsFrame) {
     const SE2 T = k2.T_local_base.between(k->T_local_base);
     for (const Eigen::Vector2f& p : scan_to_points(k->scan)) expected.push_back((T * p.cast<double>()).cast<float>());
   }
-  const std::vector<float> d = compute_keyframe_scan_context(k2, {&old, &k0, &other, &k1});
-  EXPECT_EQ(d, compute_scan_context(expected));
+  ScanContextOptions three;
+  three.descriptor_keyframes = 3;
+  const std::vector<float> d = compute_keyframe_scan_context(k2, {&old, &k0, &other, &k1}, three);
+  EXPECT_EQ(d, compute_scan_context(expected, three));
   EXPECT_TRUE(scan_context_size_ok(d));
   EXPECT_EQ(compute_keyframe_scan_context(k2, {}), compute_scan_context(k2.scan));
 }

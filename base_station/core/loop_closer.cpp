@@ -43,6 +43,7 @@ std::vector<Eigen::Vector2f> LoopCloser::local_map(KeyframeId center, const std:
 
 std::vector<LoopClosure> LoopCloser::add_and_detect(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes) {
   std::vector<LoopClosure> out;
+  last_candidates_.clear();
   Entry entry;
   entry.descriptor = descriptor_of(kf, keyframes);
   entry.ring_key = scan_context_ring_key(entry.descriptor, options_.scan_context);
@@ -58,20 +59,32 @@ std::vector<LoopClosure> LoopCloser::add_and_detect(const Keyframe& kf, const st
   }
   const size_t k = std::min(near.size(), size_t(options_.ring_key_candidates));
   std::partial_sort(near.begin(), near.begin() + long(k), near.end());
-  std::vector<std::pair<ScanContextMatch, KeyframeId>> matches;
+  std::vector<std::pair<ScanContextMatch, size_t>> matches;  // second: index in last_candidates_
   for (size_t i = 0; i < k; ++i) {
+    LoopCandidate cand{near[i].second, near[i].first};
     const ScanContextMatch m = scan_context_distance(database_.at(near[i].second).descriptor, entry.descriptor, options_.scan_context);
-    if (m.valid && m.distance < options_.max_descriptor_distance) matches.push_back({m, near[i].second});
+    if (m.valid) cand.descriptor_distance = m.distance;
+    cand.descriptor_passed = m.valid && m.distance < options_.max_descriptor_distance;
+    if (cand.descriptor_passed) matches.push_back({m, last_candidates_.size()});
+    last_candidates_.push_back(cand);
   }
   std::sort(matches.begin(), matches.end(), [](const auto& a, const auto& b) { return a.first.distance < b.first.distance; });
   stats_.descriptor_matches += int(matches.size());
-  const std::vector<Eigen::Vector2f> query = scan_to_points(kf.scan);
+  std::vector<Eigen::Vector2f> query = scan_to_points(kf.scan);
+  for (int back = 1; back <= options_.query_submap_keyframes; ++back) {
+    auto it = keyframes.find(KeyframeId{kf.id.robot, kf.id.seq - back});
+    if (it != keyframes.end()) append_points(kf, it->second, &query);
+  }
   std::map<RobotId, LoopClosure> best_per_robot;
   for (size_t i = 0; i < matches.size() && int(i) < options_.max_verifications; ++i) {
     ++stats_.verifications;
-    const KeyframeId cand = matches[i].second;
+    LoopCandidate& record = last_candidates_[matches[i].second];
+    record.verification_tried = true;
+    const KeyframeId cand = record.candidate;
     const LoopVerification v = verify_loop(local_map(cand, keyframes), query, SE2(0, 0, matches[i].first.yaw_rad), options_.verifier);
     if (!v.accepted) continue;
+    record.verified = true;
+    record.T_candidate_query = v.T_map_query;
     auto it = best_per_robot.find(cand.robot);
     if (it == best_per_robot.end() || it->second.score < v.score) {
       best_per_robot[cand.robot] = LoopClosure{cand, kf.id, v.T_map_query, v.covariance, v.score};

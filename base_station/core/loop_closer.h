@@ -23,8 +23,26 @@ struct LoopCloserOptions {
   double max_descriptor_distance = 0.35;
   int max_verifications = 2;            ///< per query, best descriptor distances first
   int min_intra_seq_gap = 15;           ///< own-robot candidates at least this many keyframes back
-  int local_map_half_keyframes = 4;     ///< candidate's local map: seq - n .. seq + n
+  int local_map_half_keyframes = 4;    ///< candidate's local map: seq - n .. seq + n
+  /// The query side of a verification: the query keyframe's scan and those of its predecessors
+  /// seq - 1 .. seq - n in its frame (a narrow laser sees too little alone to tell places apart).
+  /// MIT CSAIL split (180-deg laser): 10 (with a 10-keyframe local map) doubled the correctly
+  /// verified inter-robot candidates (10 -> 19) and cut the wrong ones (89 -> 58) against 0 / 4,
+  /// but made optimize() 3-4x slower and linked fewer robots in the 360-degree simulated worlds,
+  /// so the defaults stay 0 / 4 (see tests/multirobot/multirobot_split_test.cpp).
+  int query_submap_keyframes = 0;
   LoopVerifierOptions verifier{0.05, 0.08, 6, 4.0, 0.4};
+};
+
+/// One candidate of the last query, for diagnostics (how far each true place got).
+struct LoopCandidate {
+  KeyframeId candidate;
+  double ring_key_distance2 = 0.0;
+  double descriptor_distance = 1.0;  ///< 1 when not compared
+  bool descriptor_passed = false;    ///< below max_descriptor_distance
+  bool verification_tried = false;
+  bool verified = false;
+  SE2 T_candidate_query;             ///< when verified
 };
 
 struct LoopCloserStats {
@@ -43,6 +61,8 @@ class LoopCloser {
   std::vector<LoopClosure> add_and_detect(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes);
   const LoopCloserStats& stats() const { return stats_; }
   const std::vector<float>* descriptor(KeyframeId id) const;
+  /// The ring-key candidates of the last add_and_detect call, best ring key first.
+  const std::vector<LoopCandidate>& last_candidates() const { return last_candidates_; }
 
  private:
   struct Entry {
@@ -54,6 +74,7 @@ class LoopCloser {
   LoopCloserOptions options_;
   std::map<KeyframeId, Entry> database_;
   LoopCloserStats stats_;
+  std::vector<LoopCandidate> last_candidates_;
 };
 
 }  // namespace cairn::base

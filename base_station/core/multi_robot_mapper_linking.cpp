@@ -4,7 +4,6 @@
 #include <deque>
 #include <set>
 
-#include "base_station/core/lago_initializer.h"
 #include "base_station/core/multi_robot_mapper.h"
 
 namespace cairn::base {
@@ -97,11 +96,12 @@ bool MultiRobotMapper::try_link_pair(RobotId ra, RobotId rb, std::vector<LoopClo
       if (last_verdict_[key] != deficit) {
         last_verdict_[key] = deficit;
         ++link_stats_.deferred_spread;
-        result->link_events.push_back(LinkEvent{rb, ra, int(members.size()), false, false, 0.0, deficit});
+        result->link_events.push_back(LinkEvent{rb, ra, int(members.size()), false, false, 0.0, deficit, members});
       }
       return false;
     }
     LinkEvent ev = judge_link(ra, rb, members);
+    ev.members = members;
     ev.robot = linked(ra) || !linked(rb) ? rb : ra;
     ev.other = ev.robot == rb ? ra : rb;
     if (ev.inconclusive) {  // not refuted, not confirmed: wait for more keyframes
@@ -167,55 +167,6 @@ void MultiRobotMapper::add_loop_edges() {
   }
 }
 
-void MultiRobotMapper::update_graph(OptimizeResult* result) {
-  if (rebuild_graph_) {
-    graph_ = PoseGraph2d(options_.graph);
-    loop_in_graph_.assign(loops_.size(), false);
-    rebuild_graph_ = false;
-  }
-  std::set<RobotId> robots_seen;
-  for (const auto& [id, kf] : keyframes_) robots_seen.insert(id.robot);
-  for (RobotId robot : robots_seen) {
-    if (linked(robot)) {
-      add_robot_chain(robot, result);
-    } else {
-      ++result->unlinked_robots;
-    }
-  }
-  add_loop_edges();
-  PoseGraphSolveOptions solve = options_.solve;
-  if (full_resolve_) {
-    if (const auto init = lago_initialize(graph_)) graph_.set_estimates(*init);
-    result->full_resolve = true;
-    full_resolve_ = false;
-  } else {
-    solve.max_iterations = std::min(solve.max_iterations, options_.incremental_max_iterations);
-  }
-  result->solve = graph_.solve(solve);
-}
-
-OptimizeResult MultiRobotMapper::optimize() {
-  OptimizeResult result;
-  choose_anchor();
-  if (options_.detect_loops) {
-    detect_new_loops(&result);
-    link_robot_pairs(&result);
-  }
-  place_new_robots();
-  release_held_closures(&result);
-  update_graph(&result);
-  result.nodes = int(graph_.num_nodes());
-  result.edges = int(graph_.edges().size());
-  result.priors = int(graph_.priors().size());
-  for (size_t i = 0; i < loops_.size(); ++i) {
-    if (!loop_in_graph_[i]) continue;
-    ++result.loop_closures;
-    result.inter_robot_closures += loops_[i].a.robot != loops_[i].b.robot;
-  }
-  for (const auto& [id, pose] : graph_.estimates()) optimized_[id] = pose;
-  ++poses_version_;
-  ++version_;
-  return result;
-}
+// update_graph() and optimize() live in multi_robot_mapper.cpp (the incremental solve).
 
 }  // namespace cairn::base

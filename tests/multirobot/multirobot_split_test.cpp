@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 
+#include "tests/multirobot/loop_funnel.h"
 #include "tests/multirobot/split_run.h"
 
 namespace cairn::multirobot {
@@ -39,8 +41,24 @@ void check_split(const ReplayLog& log, int robots, const char* name) {
                       .between(runs[size_t(k)].reference[0] * runs[size_t(k)].keyframes[0].T_local_base.inverse());
     std::printf("[%s] truth: robot %d local frame in robot 0's: (%.2f %.2f %.2f)\n", name, k, T.x(), T.y(), T.yaw());
   }
+  // Optional diagnostics (CAIRN_MULTIROBOT_FUNNEL=1): true inter-robot candidates at each stage.
+  if (std::getenv("CAIRN_MULTIROBOT_FUNNEL")) {
+    for (const FunnelRow& row : loop_funnel(runs, base::MapperOptions().loop_closer)) {
+      std::printf("[%s] funnel %s\n", name, to_string(row).c_str());
+    }
+    if (std::string(std::getenv("CAIRN_MULTIROBOT_FUNNEL")) == "only") GTEST_SKIP() << "funnel only";
+  }
   base::MultiRobotMapper mapper;
   const MergeStats stats = merge(runs, &mapper);
+  for (const base::LinkEvent& e : stats.link_events) {
+    int true_members = 0;  // members agreeing with the reference (0.3 m / 5 deg)
+    for (const base::LoopClosure& c : e.members) {
+      const ClosureError err = closure_error(c, runs);
+      true_members += err.translation_m <= kMaxClosureErrorM && err.rotation_rad <= kMaxClosureErrorRad;
+    }
+    std::printf("[%s] link event: robot %d - robot %d, %d closures (%d true), %s\n", name, e.robot.value,
+                e.other.value, e.closures, true_members, e.reason.c_str());
+  }
   for (int k = 0; k < robots; ++k) EXPECT_TRUE(mapper.linked(RobotId(k))) << name << ": robot " << k << " not linked";
 
   int inter = 0;
@@ -70,11 +88,12 @@ void check_split(const ReplayLog& log, int robots, const char* name) {
   EXPECT_LE(ate, 1.5 * single_ate) << name;
 }
 
-// KNOWN GAP (disabled, not deleted): on the raw MIT CSAIL log split into 3 robots the merger finds no
-// correct inter-robot closure; its 4 wrong hypotheses are refuted by the map check (no wrong merge),
-// but robots 1 and 2 stay unlinked, so the "every robot merged" does not hold yet. Suspects:
-// Scan Context ring keys of 180-degree scans dominated by the empty rear half, 20 m max range in
-// long corridors, and the verifier's inlier fraction on 3-keyframe local maps. Run it with
+// KNOWN GAP (disabled, not deleted): on the raw MIT CSAIL log split into 3 robots no robot links yet.
+// Measured with CAIRN_MULTIROBOT_FUNNEL=1 (true inter-robot candidates per stage): robot 1 barely
+// overlaps the others (7 and 4 queries with a true neighbour within 2 m); robots 0-2 have 89, of
+// which 19 are verified correctly (33 wrong verified). PCM then forms a clique of 6 closures that are
+// ALL correct (per reference) and the map check refutes it (11 % contradiction, 22-cell wall piece):
+// the next suspect is the map check on raw-odometry local maps, not place recognition. Run it with
 // --gtest_also_run_disabled_tests.
 TEST(MultiRobotSplit, DISABLED_MitCsailRawInThreeRobots) {
   const std::string raw_path = kData + "mit-csail/mit-csail.clf", ref_path = kData + "mit-csail/csail.corrected.log";

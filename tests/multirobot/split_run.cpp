@@ -103,7 +103,8 @@ MergeStats merge(const std::vector<RobotRun>& runs, base::MultiRobotMapper* mapp
   for (const RobotRun& r : runs) longest = std::max(longest, r.keyframes.size());
   auto optimize = [&] {
     const auto t0 = std::chrono::steady_clock::now();
-    mapper->optimize();
+    base::OptimizeResult result = mapper->optimize();
+    for (base::LinkEvent& e : result.link_events) stats.link_events.push_back(std::move(e));
     ++stats.optimizations;
     stats.max_optimize_s = std::max(stats.max_optimize_s, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   };

@@ -38,6 +38,7 @@ std::vector<RobotRun> run_split(const ReplayLog& log, int robots);
 struct MergeStats {
   int optimizations = 0;
   double max_optimize_s = 0;
+  std::vector<base::LinkEvent> link_events;  ///< every link decision, in order
 };
 /// Feeds the robots' keyframes interleaved by their position in each run (robots explore at the
 /// same time), optimising every `optimize_every` keyframes; robot 0's start is the only hint.
