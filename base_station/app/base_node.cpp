@@ -208,7 +208,9 @@ int BaseNode::run() {
 }
 
 int BaseNode::finish() {
-  const OptimizeResult r = mapper_.optimize();
+  OptimizeResult r = mapper_.optimize();
+  // The final map: solve the last loop closures to convergence (bounded, each call iterates a few).
+  for (int i = 0; i < 50 && mapper_.refinement_pending(); ++i) r = mapper_.optimize();
   refresh_snapshot();
   const ExportSummary exported = export_all(mapper_, options_.out_dir);
   for (const auto& f : exported.files) {

@@ -248,6 +248,7 @@ std::vector<RobotSummary> MultiRobotMapper::robots() const {
 }
 
 void MultiRobotMapper::update_graph(OptimizeResult* result) {
+  if (!options_.incremental_graph) rebuild_graph_ = true;  // mapper_options.h: why
   if (rebuild_graph_) {
     graph_ = PoseGraph2d(options_.graph);
     loop_in_graph_.assign(loops_.size(), false);
@@ -268,14 +269,13 @@ void MultiRobotMapper::update_graph(OptimizeResult* result) {
   const size_t edges_before = graph_.edges().size();
   const size_t landmark_edges_before = graph_.landmark_edges().size();
   add_loop_edges();
-  for (size_t i = edges_before; i < graph_.edges().size(); ++i) {  // new loop edges: their windows
-    for (KeyframeId end : {graph_.edges()[i].from, graph_.edges()[i].to}) {
-      append_window(keyframes_, end.robot, keyframes_.find(end), window, &active);
-    }
-  }
   if (graph_.edges().size() > edges_before || graph_.landmark_edges().size() > landmark_edges_before) {
-    refine_pending_ = true;  // the window's solution is not the optimum of the whole graph yet
+    // A new loop moves the optimum of the whole graph: solving only a window around it first
+    // bends the held-constant rest into the window (metres after a fresh inter-robot link) and
+    // leaves the full solves a worse start, so loops go straight to the full warm-started solves.
+    refine_pending_ = true;
   }
+  if (!options_.windowed_updates) refine_pending_ = true;  // every update: the whole graph
   PoseGraphSolveOptions solve = options_.solve;
   if (full_resolve_) {
     if (const auto init = lago_initialize(graph_)) graph_.set_estimates(*init);
@@ -289,13 +289,13 @@ void MultiRobotMapper::update_graph(OptimizeResult* result) {
   solve.max_iterations = std::min(solve.max_iterations, options_.incremental_max_iterations);
   std::sort(active.begin(), active.end());
   active.erase(std::unique(active.begin(), active.end()), active.end());
-  if (!active.empty()) {
+  if (!active.empty() && !refine_pending_) {  // odometry only: the window is exact
     PoseGraphSolveOptions local = solve;
     local.active_nodes = active;
     result->solve = graph_.solve(local);
     for (KeyframeId id : active) optimized_[id] = *graph_.estimate(id);
     map_moved_.insert(map_moved_.end(), active.begin(), active.end());
-  } else {
+  } else if (!refine_pending_) {
     result->solve.converged = true;
     result->solve.reason = "nothing new";
   }

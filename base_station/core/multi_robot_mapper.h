@@ -141,6 +141,10 @@ class MultiRobotMapper {
   /// Each robot's own estimate of the landmarks it saw, in its local frame.
   const std::map<RobotId, LocalLandmarks>& local_landmarks() const { return local_landmarks_; }
 
+  /// True while the last loop closures have not been solved to convergence over the whole graph
+  /// (each optimize() runs incremental_max_iterations more): call optimize() until false before
+  /// exporting a final map.
+  bool refinement_pending() const { return refine_pending_; }
   /// Bumped whenever any global pose or object may have changed.
   uint64_t version() const { return version_; }
 

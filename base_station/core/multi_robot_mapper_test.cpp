@@ -265,6 +265,7 @@ double gap_to_batch_optimum_m(const MultiRobotMapper& mapper) {
 
 TEST(MultiRobotMapper, IncrementalUpdatesSolveOnlyTheirWindow) {
   MapperOptions options = hint_only_options();
+  options.incremental_graph = true;
   MultiRobotMapper mapper(options);
   mapper.set_robot_start(kR0, two_laps(16)[0]);
   mapper.set_robot_start(kR1, right_path()[0]);
@@ -304,6 +305,7 @@ TEST(MultiRobotMapper, IncrementalUpdatesSolveOnlyTheirWindow) {
 
 TEST(MultiRobotMapper, AfterLoopClosuresUpdatesReachTheFullSolveOptimum) {
   MapperOptions options;  // loop detection on
+  options.incremental_graph = true;
   MultiRobotMapper mapper(options);
   const std::vector<SE2> path = two_laps(24);
   mapper.set_robot_start(kR0, path[0]);
