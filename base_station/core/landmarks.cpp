@@ -7,11 +7,6 @@
 namespace cairn::base {
 namespace {
 
-std::string fmt(const char* f, double v) {
-  char buf[48];
-  std::snprintf(buf, sizeof(buf), f, v);
-  return buf;
-}
 
 double spread_of(const Eigen::Matrix2Xd& p) {
   double best = 0;
@@ -22,6 +17,12 @@ double spread_of(const Eigen::Matrix2Xd& p) {
 }
 
 }  // namespace
+
+std::string format_number(const char* format, double value) {
+  char buf[48];
+  std::snprintf(buf, sizeof(buf), format, value);
+  return buf;
+}
 
 int accumulate_landmarks(const Keyframe& kf, double min_range_m, LocalLandmarks* landmarks, int* invalid) {
   int used = 0;
@@ -81,7 +82,7 @@ LandmarkAlignment align_landmarks(const LocalLandmarks& a, const LocalLandmarks&
     out.used.erase(out.used.begin() + worst);
   }
   if (out.spread_m < min_spread_m) {
-    out.reason = "shared landmarks span " + fmt("%.2f", out.spread_m) + " m (< " + fmt("%.2f", min_spread_m) +
+    out.reason = "shared landmarks span " + format_number("%.2f", out.spread_m) + " m (< " + format_number("%.2f", min_spread_m) +
                  " m): rotation too uncertain";
     return out;
   }

@@ -72,4 +72,7 @@ LandmarkAlignment align_landmarks(const LocalLandmarks& a, const LocalLandmarks&
 /// Number of landmark ids present in both.
 int shared_landmarks(const LocalLandmarks& a, const LocalLandmarks& b);
 
+/// printf-formats one number (for the reasons in link decisions).
+std::string format_number(const char* format, double value);
+
 }  // namespace cairn::base

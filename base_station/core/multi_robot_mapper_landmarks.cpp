@@ -9,20 +9,10 @@
 // - Once robots are linked, each landmark is a 2D point node of the pose graph with a range-bearing
 //   residual (robust loss) per observation, so a landmark seen by two robots (or twice by one)
 //   constrains their keyframes.
-#include <cstdio>
-
+#include "base_station/core/landmarks.h"
 #include "base_station/core/multi_robot_mapper.h"
 
 namespace cairn::base {
-namespace {
-
-std::string fmt(const char* f, double v) {
-  char buf[48];
-  std::snprintf(buf, sizeof(buf), f, v);
-  return buf;
-}
-
-}  // namespace
 
 void MultiRobotMapper::note_landmarks(const Keyframe& kf) {
   const LandmarkOptions& o = options_.landmarks;
@@ -81,7 +71,7 @@ bool MultiRobotMapper::try_link_by_landmarks(RobotId ra, RobotId rb) {
   LinkEvent map = judge_link(ra, rb, closures);
   ev.contradiction_ratio = map.contradiction_ratio;
   const int n = int(al.used.size());
-  const std::string what = std::to_string(n) + " shared markers (rms " + fmt("%.2f", al.rms_m) + " m, " +
+  const std::string what = std::to_string(n) + " shared markers (rms " + format_number("%.2f", al.rms_m) + " m, " +
                            std::to_string(al.dropped.size()) + " dropped)";
   if (!map.accepted && !map.inconclusive) {
     ev.reason = "markers: " + what + " refuted by the map: " + map.reason;
