@@ -44,6 +44,17 @@ struct ObjectId {
   }
 };
 
+/// A landmark's identity (marker id). Small non-negative integers; the same for every robot.
+struct LandmarkId {
+  int32_t value = -1;
+  constexpr LandmarkId() = default;
+  constexpr explicit LandmarkId(int32_t v) : value(v) {}
+  constexpr bool valid() const { return value >= 0; }
+  friend constexpr bool operator==(LandmarkId a, LandmarkId b) { return a.value == b.value; }
+  friend constexpr bool operator!=(LandmarkId a, LandmarkId b) { return a.value != b.value; }
+  friend constexpr bool operator<(LandmarkId a, LandmarkId b) { return a.value < b.value; }
+};
+
 inline std::string to_string(RobotId id) { return "robot" + std::to_string(id.value); }
 inline std::string to_string(KeyframeId id) {
   return to_string(id.robot) + "/kf" + std::to_string(id.seq);
@@ -51,6 +62,7 @@ inline std::string to_string(KeyframeId id) {
 inline std::string to_string(ObjectId id) {
   return to_string(id.robot) + "/obj" + std::to_string(id.seq);
 }
+inline std::string to_string(LandmarkId id) { return "landmark" + std::to_string(id.value); }
 inline std::ostream& operator<<(std::ostream& os, RobotId id) { return os << to_string(id); }
 inline std::ostream& operator<<(std::ostream& os, KeyframeId id) { return os << to_string(id); }
 inline std::ostream& operator<<(std::ostream& os, ObjectId id) { return os << to_string(id); }
@@ -72,4 +84,8 @@ struct std::hash<cairn::ObjectId> {
   size_t operator()(cairn::ObjectId id) const noexcept {
     return std::hash<int64_t>()((int64_t(id.robot.value) << 32) ^ uint32_t(id.seq));
   }
+};
+template <>
+struct std::hash<cairn::LandmarkId> {
+  size_t operator()(cairn::LandmarkId id) const noexcept { return std::hash<int32_t>()(id.value); }
 };

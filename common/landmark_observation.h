@@ -5,26 +5,13 @@
 // physical thing, which the base station turns into constraints (base_station/core/landmarks.h).
 #include <Eigen/Core>
 #include <cmath>
-#include <cstdint>
-#include <functional>
 #include <string>
 
+#include "common/ids.h"
 #include "common/se2.h"
 #include "common/time.h"
 
 namespace cairn {
-
-/// A landmark's identity (marker id). Small non-negative integers; the same for every robot.
-struct LandmarkId {
-  int32_t value = -1;
-  constexpr LandmarkId() = default;
-  constexpr explicit LandmarkId(int32_t v) : value(v) {}
-  constexpr bool valid() const { return value >= 0; }
-  friend constexpr bool operator==(LandmarkId a, LandmarkId b) { return a.value == b.value; }
-  friend constexpr bool operator!=(LandmarkId a, LandmarkId b) { return a.value != b.value; }
-  friend constexpr bool operator<(LandmarkId a, LandmarkId b) { return a.value < b.value; }
-};
-inline std::string to_string(LandmarkId id) { return "landmark" + std::to_string(id.value); }
 
 /// Range and bearing of a landmark in a robot's base frame (x forward, y left; bearing CCW from x).
 /// In a Keyframe the observation is expressed from that keyframe's base frame (the agent re-expresses
@@ -84,7 +71,3 @@ inline LandmarkObservation reexpress_landmark(const LandmarkObservation& o, cons
 
 }  // namespace cairn
 
-template <>
-struct std::hash<cairn::LandmarkId> {
-  size_t operator()(cairn::LandmarkId id) const noexcept { return std::hash<int32_t>()(id.value); }
-};
