@@ -214,7 +214,7 @@ int main(int argc, char** argv) {
   constexpr int kWindow = 1000;
   cairn::base::MapperOptions options;
   options.detect_loops = loops;
-  options.incremental_graph = true;  // the live graph + window solves (mapper_options.h)
+  options.incremental_graph = true;  // the live graph + window solves (the default; mapper_options.h)
   options.check_map_consistency = map_check;
   cairn::base::MultiRobotMapper mapper(options);
   std::mt19937 rng(42);

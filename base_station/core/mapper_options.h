@@ -44,6 +44,16 @@ struct MapperOptions {
   MapConsistencyOptions map_check;
   double linked_closure_gate_m = 0.3;
   double linked_closure_gate_rad = 0.1;
+  /// A closure within one robot's trajectory must agree with the robot's own (already loop-closed)
+  /// local poses up to the drift its SLAM can have accumulated between the two keyframes:
+  /// base + per metre of path travelled between them. Look-alike rooms otherwise give verified
+  /// closures that are metres off and all agree with each other, and the robust loss alone then
+  /// decides by the start of the solve which cluster wins (the two-robot mission under CPU load:
+  /// 26 closures 5 m off, robots placed 4-5 m wrong).
+  double intra_closure_gate_m = 0.5;
+  double intra_closure_gate_m_per_m = 0.03;
+  double intra_closure_gate_rad = 0.1;
+  double intra_closure_gate_rad_per_m = 0.005;
   /// Max Ceres iterations of an incremental update (warm-started); a full re-solve with LAGO
   /// initialisation (solve.max_iterations) runs when robots are first linked.
   int incremental_max_iterations = 10;
@@ -53,12 +63,11 @@ struct MapperOptions {
   /// odometry (a leaf does not move the optimum of the others); after loop closures, full
   /// warm-started solves of incremental_max_iterations follow on each update until one converges.
   int incremental_window_keyframes = 10;
-  /// Keep the pose graph and its Ceres problem alive between updates (the scale benchmark's mode:
-  /// 0.3 ms per update at 10,000 keyframes). Off by default: under CPU load (the base's updates
-  /// then take larger batches) the two-robot mission test bent the anchor robot's chain by metres
-  /// with it on and not with the graph rebuilt each update; the cause is not found yet. Off =
-  /// the graph is rebuilt every update from the last solution (O(keyframes) per update).
-  bool incremental_graph = false;
+  /// Keep the pose graph and its Ceres problem alive between updates (0.3 ms per update at 10,000
+  /// keyframes, bench_merger_scale). Off = the graph is rebuilt every update from the last solution
+  /// (O(keyframes) per update; ~45 ms at 5,000). Both give the same maps: the load-dependent
+  /// 4-5 m error once blamed on the live graph was wrong intra-robot closures (intra_closure_gate_m).
+  bool incremental_graph = true;
   /// Window solves for odometry-only updates (above). When false every update is a warm-started
   /// solve of the whole graph (incremental_max_iterations).
   bool windowed_updates = true;

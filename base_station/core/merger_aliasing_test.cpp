@@ -104,6 +104,52 @@ TEST(MergerAliasing, OverlappingRobotsAreLinkedPrecisely) {
   EXPECT_LT(worst, 0.05);
 }
 
+/// Worst disagreement of the accepted intra-robot closures of robot 0 with the true path.
+double worst_intra_closure_error_m(const MultiRobotMapper& mapper, const std::vector<SE2>& path) {
+  double worst = 0;
+  for (const LoopClosure& c : mapper.loop_closures()) {
+    if (c.a.robot != c.b.robot) continue;
+    const SE2 truth = path[size_t(c.a.seq)].between(path[size_t(c.b.seq)]);
+    worst = std::max(worst, truth.between(c.T_a_b).translation().norm());
+  }
+  return worst;
+}
+
+TEST(MergerAliasing, OneRobotThroughIdenticalWingsKeepsOnlyTrueClosures) {
+  // One robot explores wing W, then wing E: its scans in E verify against W's identical rooms
+  // 12 m back. Those closures agree with each other, so only the robot's own poses (loop-closed
+  // by its SLAM) can tell them wrong.
+  std::vector<Eigen::Vector2d> route = west_route(0);
+  for (const auto& p : west_route(12)) route.push_back(p);
+  const std::vector<SE2> path = along(route);
+  const auto keyframes = testing::make_keyframes(RobotId(0), path, two_wing_building());
+  auto run_one = [&](const MapperOptions& options) {
+    MultiRobotMapper mapper(options);
+    for (size_t i = 0; i < keyframes.size(); ++i) {
+      mapper.add_keyframe(keyframes[i]);
+      if (i % 10 == 9) mapper.optimize();
+    }
+    mapper.optimize();
+    return mapper;
+  };
+  MapperOptions ungated;
+  ungated.intra_closure_gate_m = 1e9;
+  ungated.intra_closure_gate_rad = 1e9;
+  const MultiRobotMapper wrong = run_one(ungated);
+  ASSERT_GT(worst_intra_closure_error_m(wrong, path), 10.0) << "the wings no longer alias: the test lost its point";
+
+  const MultiRobotMapper mapper = run_one(MapperOptions{});
+  EXPECT_GE(mapper.link_stats().intra_rejected, 1);
+  EXPECT_LT(worst_intra_closure_error_m(mapper, path), 0.1);
+  const SE2 T_global_world = path[0].inverse();
+  double worst = 0;
+  for (size_t i = 0; i < path.size(); ++i) {
+    const SE2 est = *mapper.global_pose({RobotId(0), int32_t(i)});
+    worst = std::max(worst, (est.translation() - (T_global_world * path[i]).translation()).norm());
+  }
+  EXPECT_LT(worst, 0.05);
+}
+
 TEST(MapConsistency, ShiftedCopyContradictsAndTruthAgrees) {
   const auto walls = two_wing_building();
   const std::vector<SE2> p0 = along(west_route(0)), p1 = along(west_route(12));

@@ -66,6 +66,8 @@ struct LinkStats {
   int linked_pair_closures = 0;    ///< inter-robot closures into already linked pairs
   int linked_pair_checked = 0;     ///< of those, disagreeing with the estimate: map-checked
   int linked_pair_rejected = 0;    ///< of those, refuted and dropped
+  int intra_closures = 0;          ///< verified closures within one robot's trajectory
+  int intra_rejected = 0;          ///< of those, contradicting the robot's own map beyond its drift
 };
 
 struct OptimizeResult {
@@ -178,6 +180,8 @@ class MultiRobotMapper {
   LinkEvent judge_link(RobotId ra, RobotId rb, const std::vector<LoopClosure>& closures) const;
   /// Whether an inter-robot closure between two robots of one component may join the graph.
   bool accept_linked_pair_closure(const LoopClosure& c, OptimizeResult* result);
+  /// Whether a closure within one robot agrees with its own local poses up to its possible drift.
+  bool accept_intra_robot_closure(const LoopClosure& c);
   /// Judges the held closures whose robots are now placed.
   void release_held_closures(OptimizeResult* result);
   /// Every linked robot's keyframes (but `exclude`'s) at T_frame_global * global pose.

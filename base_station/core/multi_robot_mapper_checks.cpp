@@ -99,8 +99,26 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
   return ev;
 }
 
+bool MultiRobotMapper::accept_intra_robot_closure(const LoopClosure& c) {
+  ++link_stats_.intra_closures;
+  // Path length between the two keyframes, over the stored ones (a gap counts its straight line).
+  double path_m = 0.0;
+  const Keyframe* prev = nullptr;
+  for (auto it = keyframes_.lower_bound(std::min(c.a, c.b)); it != keyframes_.end() && !(std::max(c.a, c.b) < it->first); ++it) {
+    if (prev) path_m += prev->T_local_base.between(it->second.T_local_base).translation().norm();
+    prev = &it->second;
+  }
+  const SE2 E = keyframes_.at(c.a).T_local_base.between(keyframes_.at(c.b).T_local_base).between(c.T_a_b);
+  if (E.translation().norm() <= options_.intra_closure_gate_m + options_.intra_closure_gate_m_per_m * path_m &&
+      std::abs(E.yaw()) <= options_.intra_closure_gate_rad + options_.intra_closure_gate_rad_per_m * path_m) {
+    return true;
+  }
+  ++link_stats_.intra_rejected;
+  return false;
+}
+
 bool MultiRobotMapper::accept_linked_pair_closure(const LoopClosure& c, OptimizeResult* result) {
-  if (c.a.robot == c.b.robot) return true;
+  if (c.a.robot == c.b.robot) return accept_intra_robot_closure(c);
   if (!linked(c.a.robot) || !linked(c.b.robot)) {  // no placement to check against yet: hold it
     held_closures_.push_back(c);
     return false;

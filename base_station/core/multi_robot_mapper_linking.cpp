@@ -43,8 +43,8 @@ void MultiRobotMapper::detect_new_loops(OptimizeResult* result) {
   for (KeyframeId id : detect_queue_) {
     for (const LoopClosure& c : loop_closer_.add_and_detect(keyframes_.at(id), keyframes_)) {
       if (c.a.robot == c.b.robot || component_of(c.a.robot) == component_of(c.b.robot)) {
-        // Intra-robot, or a pair already linked: the robust loss guards it, and a closure that
-        // would move a linked robot must pass the map check first.
+        // Intra-robot: must agree with the robot's own poses up to its drift; a pair already
+        // linked: a closure that would move a linked robot must pass the map check first.
         if (accept_linked_pair_closure(c, result)) loops_.push_back(c);
       } else {
         const auto key = std::minmax(c.a.robot, c.b.robot);
