@@ -169,7 +169,10 @@ Covariance3 hessian_covariance(ceres::Problem* problem, ceres::ResidualBlockId b
   double ss = 0.0;
   for (double v : residuals) ss += (v / scale) * (v / scale);
   const double sigma2 = ss / double(jac.num_rows - 3);
-  const Eigen::Matrix3d H = J.transpose() * J;
+  Eigen::Matrix3d H = J.transpose() * J;
+  // A degenerate direction (a straight corridor: no gradient along it) makes H singular; a tiny
+  // ridge keeps that direction's variance large instead of failing over to an isotropic guess.
+  H.diagonal().array() += 1e-9 * std::max(1e-12, H.trace());
   Eigen::FullPivLU<Eigen::Matrix3d> lu(H);
   if (!lu.isInvertible()) return floor * 100.0;
   Covariance3 cov = sigma2 * lu.inverse();

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace cairn::agent {
 namespace {
@@ -11,6 +14,31 @@ double max_range_m(const std::vector<Eigen::Vector2f>& points) {
   double r = 0.0;
   for (const auto& p : points) r = std::max(r, double(p.norm()));
   return r;
+}
+
+// out[k] += in[k] for k < n (SSE2: 16 or 8 cells per step; the same integer sums as the scalar loop).
+inline void add_row(const uint8_t* in, uint32_t* out, int n) {
+  int k = 0;
+#if defined(__SSE2__)
+  const __m128i zero = _mm_setzero_si128();
+  for (; k + 16 <= n; k += 16) {
+    const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(in + k));
+    const __m128i lo = _mm_unpacklo_epi8(v, zero), hi = _mm_unpackhi_epi8(v, zero);
+    __m128i* o = reinterpret_cast<__m128i*>(out + k);
+    _mm_storeu_si128(o + 0, _mm_add_epi32(_mm_loadu_si128(o + 0), _mm_unpacklo_epi16(lo, zero)));
+    _mm_storeu_si128(o + 1, _mm_add_epi32(_mm_loadu_si128(o + 1), _mm_unpackhi_epi16(lo, zero)));
+    _mm_storeu_si128(o + 2, _mm_add_epi32(_mm_loadu_si128(o + 2), _mm_unpacklo_epi16(hi, zero)));
+    _mm_storeu_si128(o + 3, _mm_add_epi32(_mm_loadu_si128(o + 3), _mm_unpackhi_epi16(hi, zero)));
+  }
+  if (k + 8 <= n) {
+    const __m128i lo = _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(in + k)), zero);
+    __m128i* o = reinterpret_cast<__m128i*>(out + k);
+    _mm_storeu_si128(o + 0, _mm_add_epi32(_mm_loadu_si128(o + 0), _mm_unpacklo_epi16(lo, zero)));
+    _mm_storeu_si128(o + 1, _mm_add_epi32(_mm_loadu_si128(o + 1), _mm_unpackhi_epi16(lo, zero)));
+    k += 8;
+  }
+#endif
+  for (; k < n; ++k) out[k] += in[k];
 }
 
 // Adds, for every translation offset (dx, dy) in [-n, n]^2, the field value at cell + offset of each
@@ -26,9 +54,7 @@ void accumulate(const std::vector<Eigen::Vector2i>& cells, int n, const Probabil
     if (inside) {
       const uint8_t* row = values + size_t(c.y() - n) * w + (c.x() - n);
       uint32_t* out = base;
-      for (int dy = 0; dy < side; ++dy, row += w, out += side) {
-        for (int k = 0; k < side; ++k) out[k] += row[k];
-      }
+      for (int dy = 0; dy < side; ++dy, row += w, out += side) add_row(row, out, side);
       continue;
     }
     // Clip the window to the grid.
@@ -37,7 +63,7 @@ void accumulate(const std::vector<Eigen::Vector2i>& cells, int n, const Probabil
     for (int dy = d0; dy < d1; ++dy) {
       const uint8_t* row = values + size_t(c.y() - n + dy) * w + (c.x() - n);
       uint32_t* out = base + size_t(dy) * side;
-      for (int k = k0; k < k1; ++k) out[k] += row[k];
+      if (k1 > k0) add_row(row + k0, out + k0, k1 - k0);
     }
   }
 }
@@ -46,6 +72,49 @@ void accumulate(const std::vector<Eigen::Vector2i>& cells, int n, const Probabil
 
 CorrelativeScanMatcher::CorrelativeScanMatcher(const CorrelativeScanMatcherOptions& options)
     : options_(options) {}
+
+Eigen::Matrix2d score_surface_covariance(const ProbabilityGrid& grid, const SE2& T, const std::vector<Eigen::Vector2f>& points,
+                                         const ScoreSurfaceOptions& options) {
+  const double res = grid.resolution_m();
+  const int step = std::max(1, int(std::lround(options.step_m / res)));
+  const int k = std::max(1, int(std::lround(options.window_m / (step * res))));
+  if (points.empty() || grid.width() == 0) return Eigen::Matrix2d::Identity() * (k * step * res) * (k * step * res);
+  std::vector<Eigen::Vector2i> cells;
+  const size_t stride = options.max_points > 0 ? (points.size() + options.max_points - 1) / size_t(options.max_points) : 1;
+  cells.reserve(points.size() / stride + 1);
+  for (size_t i = 0; i < points.size(); i += stride) cells.push_back(grid.cell_of(T * points[i].cast<double>()));
+  const int side = 2 * k + 1;
+  std::vector<double> score(size_t(side) * side, 0.0);
+  const uint8_t* field = grid.field().data();
+  const int w = grid.width(), h = grid.height();
+  for (int iy = 0; iy < side; ++iy) {
+    for (int ix = 0; ix < side; ++ix) {
+      const int dx = (ix - k) * step, dy = (iy - k) * step;
+      int sum = 0;
+      for (const auto& c : cells) {
+        const unsigned col = unsigned(c.x() + dx), row = unsigned(c.y() + dy);
+        if (col < unsigned(w) && row < unsigned(h)) sum += field[size_t(row) * w + col];
+      }
+      score[size_t(iy) * side + ix] = sum / (255.0 * double(cells.size()));
+    }
+  }
+  const double best = *std::max_element(score.begin(), score.end());
+  double s = 0.0;
+  Eigen::Vector2d u = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d K = Eigen::Matrix2d::Zero();
+  for (int iy = 0; iy < side; ++iy) {
+    for (int ix = 0; ix < side; ++ix) {
+      const double p = std::exp((score[size_t(iy) * side + ix] - best) / options.temperature);
+      const Eigen::Vector2d d = res * step * Eigen::Vector2d(ix - k, iy - k);
+      s += p;
+      u += p * d;
+      K += p * d * d.transpose();
+    }
+  }
+  // The lattice cannot resolve less than its step: add the variance of a uniform step-wide cell.
+  const double floor = (step * res) * (step * res) / 12.0;
+  return K / s - (u / s) * (u / s).transpose() + Eigen::Matrix2d::Identity() * floor;
+}
 
 double CorrelativeScanMatcher::angular_step_rad(double range_m, double resolution_m) {
   range_m = std::max(range_m, 2.0 * resolution_m);

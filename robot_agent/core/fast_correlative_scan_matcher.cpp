@@ -2,13 +2,36 @@
 
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "robot_agent/core/correlative_scan_matcher.h"
 
 namespace cairn::agent {
 namespace {
 
+// out[k] = max(a[k], b[k]) for k < n (SSE2: 16 cells per step).
+inline void max_row(const uint8_t* a, const uint8_t* b, uint8_t* out, int n) {
+  int k = 0;
+#if defined(__SSE2__)
+  for (; k + 16 <= n; k += 16) {
+    const __m128i va = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a + k));
+    const __m128i vb = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b + k));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + k), _mm_max_epu8(va, vb));
+  }
+#endif
+  for (; k < n; ++k) out[k] = std::max(a[k], b[k]);
+}
+
 }  // namespace
+
+void PrecomputationGrid::allocate(int width, int height) {
+  width_ = width;
+  height_ = height;
+  num_cells_ = size_t(width) * size_t(height);
+  cells_.reset(new uint8_t[num_cells_]);  // default-initialised: no memset, filled by the caller
+}
 
 PrecomputationGrid PrecomputationGrid::from_grid(const ProbabilityGrid& grid) {
   // Only cells near hits have a non-zero field: crop to their bounding box (a finished submap's
@@ -33,11 +56,9 @@ PrecomputationGrid PrecomputationGrid::from_grid(const ProbabilityGrid& grid) {
   if (x1 < 0) return g;
   g.x0_ = x0;
   g.y0_ = y0;
-  g.width_ = x1 - x0 + 1;
-  g.height_ = y1 - y0 + 1;
-  g.cells_.resize(size_t(g.width_) * g.height_);
+  g.allocate(x1 - x0 + 1, y1 - y0 + 1);
   for (int r = 0; r < g.height_; ++r) {
-    std::copy_n(field.data() + size_t(r + y0) * grid.width() + x0, g.width_, g.cells_.data() + size_t(r) * g.width_);
+    std::copy_n(field.data() + size_t(r + y0) * grid.width() + x0, g.width_, g.cells_.get() + size_t(r) * g.width_);
   }
   return g;
 }
@@ -51,31 +72,33 @@ PrecomputationGrid PrecomputationGrid::from_previous(const PrecomputationGrid& p
   if (prev.width_ == 0) return g;
   g.x0_ = prev.x0_ - half;
   g.y0_ = prev.y0_ - half;
-  g.width_ = prev.width_ + half;
-  g.height_ = prev.height_ + half;
-  g.cells_.assign(size_t(g.width_) * g.height_, 0);
+  g.allocate(prev.width_ + half, prev.height_ + half);
   // Separable: horizontal max of the two b-blocks (previous rows), then vertical max of that.
-  // New column c <-> previous columns c - half and c (previous index space: col - prev.x0_).
-  std::vector<uint8_t> horizontal(size_t(g.width_) * prev.height_);
+  // New column c <-> previous columns c - half and c (previous index space: col - prev.x0_), with
+  // in[] zero outside [0, prev.width_): c < half reads in[c] only, c >= prev.width_ in[c - half] only.
+  const int w = g.width_, pw = prev.width_;
+  std::unique_ptr<uint8_t[]> horizontal(new uint8_t[size_t(w) * prev.height_]);
   for (int pr = 0; pr < prev.height_; ++pr) {
-    const uint8_t* in = prev.cells_.data() + size_t(pr) * prev.width_;
-    uint8_t* out = horizontal.data() + size_t(pr) * g.width_;
-    // out[c] = max(in[c - half], in[c]) with in[] zero outside [0, prev.width_).
-    for (int c = 0; c < g.width_; ++c) {
-      const uint8_t a = (c - half >= 0 && c - half < prev.width_) ? in[c - half] : 0;
-      const uint8_t b = c < prev.width_ ? in[c] : 0;
-      out[c] = std::max(a, b);
-    }
+    const uint8_t* in = prev.cells_.get() + size_t(pr) * pw;
+    uint8_t* out = horizontal.get() + size_t(pr) * w;
+    const int lo = std::min(half, pw);  // [0, lo): in[c]; [lo, half): 0
+    std::copy_n(in, lo, out);
+    std::fill(out + lo, out + half, uint8_t(0));
+    if (pw > half) max_row(in, in + half, out + half, pw - half);  // [half, pw): both
+    const int tail0 = std::max(half, pw);                          // [tail0, w): in[c - half]
+    std::copy_n(in + (tail0 - half), w - tail0, out + tail0);
   }
   for (int r = 0; r < g.height_; ++r) {
-    uint8_t* out = g.cells_.data() + size_t(r) * g.width_;
+    uint8_t* out = g.cells_.get() + size_t(r) * w;
     const int ra = r - half, rb = r;  // previous rows
-    const uint8_t* a = (ra >= 0 && ra < prev.height_) ? horizontal.data() + size_t(ra) * g.width_ : nullptr;
-    const uint8_t* b = rb < prev.height_ ? horizontal.data() + size_t(rb) * g.width_ : nullptr;
+    const uint8_t* a = (ra >= 0 && ra < prev.height_) ? horizontal.get() + size_t(ra) * w : nullptr;
+    const uint8_t* b = rb < prev.height_ ? horizontal.get() + size_t(rb) * w : nullptr;
     if (a && b) {
-      for (int c = 0; c < g.width_; ++c) out[c] = std::max(a[c], b[c]);
+      max_row(a, b, out, w);
     } else if (a || b) {
-      std::copy_n(a ? a : b, g.width_, out);
+      std::copy_n(a ? a : b, w, out);
+    } else {
+      std::fill(out, out + w, uint8_t(0));
     }
   }
   return g;

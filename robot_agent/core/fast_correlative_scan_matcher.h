@@ -9,6 +9,7 @@
 // exactly (at the grid resolution) in milliseconds.
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -43,20 +44,22 @@ class PrecomputationGrid {
   int sum(const std::vector<Eigen::Vector2i>& cells, int dx, int dy) const {
     int total = 0;
     const int ox = dx - x0_, oy = dy - y0_;
-    const uint8_t* data = cells_.data();
+    const uint8_t* data = cells_.get();
     for (const auto& c : cells) {
       const unsigned col = unsigned(c.x() + ox), row = unsigned(c.y() + oy);
       if (col < unsigned(width_) && row < unsigned(height_)) total += data[size_t(row) * width_ + col];
     }
     return total;
   }
-  size_t bytes() const { return cells_.size(); }
+  size_t bytes() const { return num_cells_; }
 
  private:
   int block_ = 1;
   int x0_ = 0, y0_ = 0;  ///< grid cell of the first column / row (blocks straddling the lower edge are kept)
   int width_ = 0, height_ = 0;
-  std::vector<uint8_t> cells_;
+  std::unique_ptr<uint8_t[]> cells_;  ///< not value-initialised: every cell is written once
+  size_t num_cells_ = 0;
+  void allocate(int width, int height);
 };
 
 struct FastMatch {

@@ -102,6 +102,7 @@ LocalSlamResult LocalSlam::add_scan(const LaserScan& scan, const std::optional<S
     record_scan(scan.stamp_ns, predicted);
     return out;
   }
+  std::vector<Eigen::Vector2f> matched_points;
   if (submaps_.empty()) {
     out.status = LocalSlamResult::Status::kFirstScan;
     out.covariance = Covariance3::Identity() * 1e-6;
@@ -112,8 +113,9 @@ LocalSlamResult LocalSlam::add_scan(const LaserScan& scan, const std::optional<S
     const double extra_angular_rad =
         std::min(options_.window_max_extra_angular_rad,
                  options_.window_angular_per_m_rad * dist_m + options_.window_angular_per_rad * std::abs(motion.yaw()));
-    out.match = matcher_.match(predicted, voxel_filter_2d(points, options_.match_voxel_m),
-                               submaps_.matching_submap().grid, extra_linear_m, extra_angular_rad);
+    matched_points = voxel_filter_2d(points, options_.match_voxel_m);
+    out.match = matcher_.match(predicted, matched_points, submaps_.matching_submap().grid, extra_linear_m,
+                               extra_angular_rad);
     if (!out.match.converged) {
       out.status = LocalSlamResult::Status::kMatchFailed;
       record_tracked(scan.stamp_ns, predicted, T_odom_base);
@@ -128,7 +130,13 @@ LocalSlamResult LocalSlam::add_scan(const LaserScan& scan, const std::optional<S
   record_matched(scan.stamp_ns, out.pose);
   if (has_odometry || !motion_filtered(scan.stamp_ns, out.pose)) {
     const SubmapInsertion insertion = submaps_.insert(out.pose, points);
-    loop_closure_.add_node(out.pose, points, insertion, submaps_);
+    // Covariance weighting of the local constraints: the match's score surface in the submap it was
+    // matched against (before insertion changed it little; computed only when enabled).
+    Covariance3 shape = Covariance3::Identity();
+    const bool shaped = options_.loop_closure.local_covariance_weighting && out.status == LocalSlamResult::Status::kMatched;
+    if (shaped) shape.topLeftCorner<2, 2>() = score_surface_covariance(submaps_.matching_submap().grid, out.pose,
+                                                                        matched_points, options_.loop_closure.score_surface);
+    loop_closure_.add_node(out.pose, points, insertion, submaps_, shaped ? &shape : nullptr);
     out.inserted = true;
     has_inserted_ = true;
     inserted_stamp_ns_ = scan.stamp_ns;

@@ -1,10 +1,20 @@
 #include "robot_agent/core/loop_closure.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 
 #include "robot_agent/core/local_slam.h"
 
 namespace cairn::agent {
+namespace {
+
+// Weakest over strongest translation weight of a square-root information.
+double weight_ratio(const Eigen::Matrix3d& L) {
+  const Eigen::Vector2d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(L.topLeftCorner<2, 2>()).eigenvalues();
+  return ev(1) > 0.0 ? ev(0) / ev(1) : 1.0;
+}
+
+}  // namespace
 
 LoopClosure::LoopClosure(const LoopClosureOptions& options)
     : options_(options), graph_(options.graph), refiner_(options.refine) {}
@@ -16,14 +26,25 @@ SE2 LoopClosure::T_global_local() const {
 }
 
 int LoopClosure::add_node(const SE2& T_local_node, const std::vector<Eigen::Vector2f>& points_base,
-                          const SubmapInsertion& insertion, const ActiveSubmaps& submaps) {
+                          const SubmapInsertion& insertion, const ActiveSubmaps& submaps,
+                          const Covariance3* covariance) {
   const SE2 correction = T_global_local();
   if (insertion.created) {
     const auto& s = *submaps.active().back();
     submaps_.push_back(SubmapEntry{s.T_local_submap, nullptr, nullptr, -1});
     graph_.add_submap(correction * s.T_local_submap);
   }
-  const int node = graph_.add_node(correction * T_local_node, T_local_node);
+  const LoopClosureOptions& o = options_;
+  const bool shaped = o.local_covariance_weighting && covariance != nullptr;
+  Eigen::Matrix3d successive;
+  if (shaped && !local_nodes_.empty()) {
+    successive = anisotropic_sqrt_information(*covariance, -local_nodes_.back().yaw(),
+                                              o.graph.successive_translation_weight,
+                                              o.graph.successive_rotation_weight, o.local_covariance_min_weight_ratio);
+    if (weight_ratio(successive) < 0.5) ++stats_.anisotropic_local_nodes;
+  }
+  const int node = graph_.add_node(correction * T_local_node, T_local_node,
+                                   shaped && !local_nodes_.empty() ? &successive : nullptr);
   travel_m_.push_back(local_nodes_.empty() ? 0.0
                                            : travel_m_.back() + (T_local_node.translation() -
                                                                  local_nodes_.back().translation()).norm());
@@ -31,7 +52,14 @@ int LoopClosure::add_node(const SE2& T_local_node, const std::vector<Eigen::Vect
   for (int id : insertion.inserted_into) {
     SubmapEntry& e = submaps_[size_t(id)];
     e.last_node = node;
-    graph_.add_constraint({id, node, e.T_local_submap.between(T_local_node), PoseGraphConstraint::Kind::kIntraSubmap, 1.0});
+    PoseGraphConstraint c{id, node, e.T_local_submap.between(T_local_node), PoseGraphConstraint::Kind::kIntraSubmap, 1.0};
+    if (shaped) {
+      c.has_sqrt_information = true;
+      c.sqrt_information =
+          anisotropic_sqrt_information(*covariance, -e.T_local_submap.yaw(), o.graph.intra_translation_weight,
+                                       o.graph.intra_rotation_weight, o.local_covariance_min_weight_ratio);
+    }
+    graph_.add_constraint(c);
   }
   if (!options_.enabled) return node;
   if (insertion.finished) {
@@ -153,8 +181,19 @@ bool LoopClosure::try_submap(int node, SubmapEntry& e, int id, const std::vector
     return fail();
   }
   e.failures = 0;
-  graph_.add_constraint({id, node, e.T_local_submap.between(refined.pose), PoseGraphConstraint::Kind::kLoopClosure,
-                         refined.score});
+  PoseGraphConstraint c{id, node, e.T_local_submap.between(refined.pose), PoseGraphConstraint::Kind::kLoopClosure,
+                        refined.score};
+  if (o.covariance_weighting) {
+    // The covariance is over the pose in the grid (local) frame; the residual is in the submap's.
+    c.has_sqrt_information = true;
+    Covariance3 cov = Covariance3::Identity();
+    cov.topLeftCorner<2, 2>() = score_surface_covariance(e.submap->grid, refined.pose, points, o.score_surface);
+    c.sqrt_information = anisotropic_sqrt_information(cov, -e.T_local_submap.yaw(),
+                                                      o.graph.loop_translation_weight, o.graph.loop_rotation_weight,
+                                                      o.covariance_min_weight_ratio);
+    if (weight_ratio(c.sqrt_information) < 0.5) ++stats_.anisotropic_loop_closures;
+  }
+  graph_.add_constraint(c);
   e.loop_node = node;
   e.T_grid_loop_node = refined.pose;
   return true;

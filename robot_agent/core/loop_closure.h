@@ -16,6 +16,7 @@
 #include "common/se2.h"
 #include "common/time.h"
 #include "robot_agent/core/ceres_scan_matcher.h"
+#include "robot_agent/core/correlative_scan_matcher.h"
 #include "robot_agent/core/fast_correlative_scan_matcher.h"
 #include "robot_agent/core/pose_graph_2d.h"
 #include "robot_agent/core/submap.h"
@@ -67,6 +68,20 @@ struct LoopClosureOptions {
   /// Periodic optimisations start from the previous solution and only need to be close (they seed
   /// the loop search); the final one (finish()) runs graph.max_num_iterations.
   int periodic_max_num_iterations = 10;
+  /// Covariance-weighted loop closures: the match's score-surface covariance
+  /// (correlative_scan_matcher.h score_surface_covariance) shapes the constraint's translation weight
+  /// (pose_graph_2d.h anisotropic_sqrt_information), so a match along a featureless corridor only
+  /// constrains the across-corridor position. (The Ceres refinement's Gauss-Newton covariance cannot
+  /// be used: J^T J of the likelihood-field residuals vanishes across a wall at the optimum, where
+  /// the field peaks, and is dominated by rasterisation ripples along it; loop_closure_test.cpp.)
+  bool covariance_weighting = true;
+  ScoreSurfaceOptions score_surface;
+  double covariance_min_weight_ratio = 0.05;  ///< along the worst direction, of the fixed weight
+  /// The same for the local SLAM's constraints (intra-submap and successive nodes), shaped by the
+  /// node's scan-to-submap match covariance: in a corridor the local SLAM's along-corridor motion is
+  /// odometry only, so loop closures at the corridor's ends may correct it.
+  bool local_covariance_weighting = true;
+  double local_covariance_min_weight_ratio = 0.05;
   double search_voxel_m = 0.15;            ///< points used for the branch-and-bound search
   double refine_voxel_m = 0.08;            ///< points used for the Ceres refinement
 };
@@ -79,6 +94,9 @@ struct LoopClosureStats {
   size_t matcher_bytes = 0;
   int64_t scored_candidates = 0;         ///< branch-and-bound work, all searches
   int64_t scored_candidates_failed = 0;  ///< ... of searches that found no match
+  /// Covariance weighting: constraints whose weakest translation direction got < 1/2 of the weight.
+  int anisotropic_loop_closures = 0;
+  int anisotropic_local_nodes = 0;
 };
 
 class LoopClosure {
@@ -86,9 +104,12 @@ class LoopClosure {
   explicit LoopClosure(const LoopClosureOptions& options = {});
 
   /// Adds the node of a scan inserted at `T_local_node` (`insertion` from ActiveSubmaps::insert,
-  /// `submaps` after it). Returns the node index.
+  /// `submaps` after it; `covariance`: of the node's scan-to-submap match, local frame, when matched
+  /// and local_covariance_weighting is on: score_surface_covariance in the upper-left block).
+  /// Returns the node index.
   int add_node(const SE2& T_local_node, const std::vector<Eigen::Vector2f>& points_base,
-               const SubmapInsertion& insertion, const ActiveSubmaps& submaps);
+               const SubmapInsertion& insertion, const ActiveSubmaps& submaps,
+               const Covariance3* covariance = nullptr);
   /// Final optimisation (call at the end of a run).
   void finish();
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <iostream>
 #include <random>
 
@@ -92,6 +93,81 @@ TEST(FastCorrelativeScanMatcher, FindsALargeOffsetAndCeresRefinesIt) {
     // A score threshold nothing reaches: no match.
     EXPECT_FALSE(fast.match(truth, points, 0.5, 5 * kDeg, 0.95));
   }
+}
+
+// The score-surface covariance of a scan matched into a grid built from itself.
+Eigen::Matrix2d surface_covariance(const std::vector<testing::Segment>& world, const SE2& pose) {
+  ProbabilityGrid grid(Eigen::Vector2d(-2, -2), 0.05, 80, 80);
+  RangeDataInserter inserter;
+  const auto points = scan_to_points(testing::ray_cast(world, pose, 0));
+  for (int k = 0; k < 5; ++k) inserter.insert(pose, points, &grid);
+  const CeresMatch m = CeresScanMatcher().match(pose * SE2(0.02, -0.02, 0.01), points, grid);
+  EXPECT_TRUE(m.converged);
+  return score_surface_covariance(grid, m.pose, points);
+}
+
+std::vector<testing::Segment> corridor(double yaw, double half_width_m) {
+  const Eigen::Vector2d axis(std::cos(yaw), std::sin(yaw)), normal(-std::sin(yaw), std::cos(yaw));
+  std::vector<testing::Segment> walls;
+  for (double side : {-half_width_m, half_width_m}) walls.push_back({-40.0 * axis + side * normal, 40.0 * axis + side * normal});
+  return walls;
+}
+
+TEST(ScoreSurfaceCovariance, LargeAlongACorridorSmallAndIsotropicInARoom) {
+  for (const double yaw : {0.0, 0.5, 1.2}) {
+    const Eigen::Vector2d axis(std::cos(yaw), std::sin(yaw)), normal(-std::sin(yaw), std::cos(yaw));
+    const Eigen::Matrix2d c = surface_covariance(corridor(yaw, 1.0), SE2(0, 0, 0.2));
+    EXPECT_GT(axis.dot(c * axis), 10.0 * normal.dot(c * normal)) << "yaw " << yaw << "\n" << c;
+    EXPECT_GT(axis.dot(c * axis), 0.004) << c;  // sigma > 6 cm (the window is +-0.8 m)
+    EXPECT_LT(normal.dot(c * normal), 0.002) << c;
+  }
+  const Eigen::Matrix2d r = surface_covariance(testing::make_room(), SE2(0.3, 0.2, 0.1));
+  const Eigen::Vector2d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(r).eigenvalues();
+  EXPECT_GT(ev(0), 0.3 * ev(1)) << r;  // nearly isotropic
+  EXPECT_LT(ev(1), 0.002) << r;        // and small
+}
+
+TEST(PoseGraph2D, AnisotropicSqrtInformationWeakensTheUncertainDirectionOnly) {
+  // Isotropic covariance: the fixed weights.
+  const Eigen::Matrix3d iso = anisotropic_sqrt_information(Eigen::Matrix3d::Identity() * 1e-4, 0.7, 50.0, 200.0, 0.05);
+  EXPECT_TRUE(iso.isApprox(Eigen::Vector3d(50.0, 50.0, 200.0).asDiagonal().toDenseMatrix(), 1e-9)) << iso;
+  // A corridor along x in the match frame, 100x the standard deviation along it; the constraint's
+  // frame is rotated by 90 deg, so there the weak direction is y.
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  cov.diagonal() << 1e-2, 1e-6, 1e-6;
+  const Eigen::Matrix3d L = anisotropic_sqrt_information(cov, M_PI / 2, 50.0, 200.0, 0.05);
+  EXPECT_NEAR(L(0, 0), 50.0, 1e-6);
+  EXPECT_NEAR(L(1, 1), 50.0 * 0.05, 1e-6);  // 0.01 clamped to the floor ratio
+  EXPECT_NEAR(L(0, 1), 0.0, 1e-6);
+  EXPECT_NEAR(L(2, 2), 200.0, 1e-9);
+}
+
+// A loop closure that is weak along x (a corridor) corrects a drifted chain across the corridor but
+// leaves the position along it to the chain.
+TEST(PoseGraph2D, AnisotropicLoopClosureOnlyCorrectsTheConstrainedDirection) {
+  auto solve = [](bool anisotropic) {
+    PoseGraph2D graph;
+    graph.add_submap(SE2());
+    for (int n = 0; n < 10; ++n) {
+      const SE2 local(0.5 * n, 0.0, 0.0);
+      graph.add_node(local, local);
+      graph.add_constraint({0, n, local, PoseGraphConstraint::Kind::kIntraSubmap, 1.0});
+    }
+    PoseGraphConstraint loop{0, 9, SE2(4.5 + 0.3, 0.3, 0.0), PoseGraphConstraint::Kind::kLoopClosure, 0.9};
+    if (anisotropic) {
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      cov.diagonal() << 1.0, 1e-4, 1e-4;
+      loop.has_sqrt_information = true;
+      loop.sqrt_information = anisotropic_sqrt_information(cov, 0.0, 50.0, 200.0, 0.01);
+    }
+    graph.add_constraint(loop);
+    EXPECT_TRUE(graph.optimize());
+    return graph.node_pose(9);
+  };
+  const SE2 fixed = solve(false), shaped = solve(true);
+  EXPECT_GT(fixed.x() - 4.5, 0.03);           // the fixed weight pulls along x too
+  EXPECT_LT(std::abs(shaped.x() - 4.5), 0.01);  // the shaped one does not
+  EXPECT_GT(shaped.y(), 0.03);                 // but still across
 }
 
 TEST(PoseGraph2D, LoopConstraintPullsADriftedChainBack) {

@@ -4,6 +4,7 @@
 // the submaps it was inserted into (intra-submap constraints from local SLAM) and to its successor,
 // and loop-closure constraints tie nodes to older submaps. Optimised with Ceres, robust (Huber) loss
 // on loop closures, the first submap held fixed.
+#include <Eigen/Core>
 #include <array>
 #include <vector>
 
@@ -30,15 +31,31 @@ struct PoseGraphConstraint {
   SE2 T_submap_node;
   Kind kind = Kind::kIntraSubmap;
   double score = 0.0;  ///< match score of a loop closure
+  /// When set, the residual is sqrt_information * (x_m, y_m, yaw_rad) error in the submap frame
+  /// (upper-left 2x2: translation, may be anisotropic) instead of the options' fixed weights.
+  bool has_sqrt_information = false;
+  Eigen::Matrix3d sqrt_information = Eigen::Matrix3d::Identity();
 };
+
+/// Square-root information of a match from its covariance (translation block rotated by
+/// `R_frame_match`, i.e. expressed in that frame): the best-determined translation direction keeps
+/// `translation_weight` (1/m) and a direction whose standard deviation is k times larger gets
+/// translation_weight / k, at least translation_weight * min_weight_ratio; yaw keeps
+/// `rotation_weight`. So a corner match stays isotropic while a corridor match is weak along the
+/// corridor (Olson 2009 Sec. IV, Censi 2007: the match covariance shapes the constraint).
+Eigen::Matrix3d anisotropic_sqrt_information(const Eigen::Matrix3d& covariance, double yaw_frame_match_rad,
+                                             double translation_weight, double rotation_weight,
+                                             double min_weight_ratio);
 
 class PoseGraph2D {
  public:
   explicit PoseGraph2D(const PoseGraphOptions& options = {});
 
   int add_submap(const SE2& T_global_submap);
-  /// A node; consecutive nodes are tied by their local-SLAM relative pose `T_prev_node`.
-  int add_node(const SE2& T_global_node, const SE2& T_local_node);
+  /// A node; consecutive nodes are tied by their local-SLAM relative pose `T_prev_node`, weighted by
+  /// `successive_sqrt_information` (in the previous node's frame) when given, else by the options.
+  int add_node(const SE2& T_global_node, const SE2& T_local_node,
+               const Eigen::Matrix3d* successive_sqrt_information = nullptr);
   void add_constraint(const PoseGraphConstraint& c);
 
   /// Runs Ceres (at most `max_num_iterations`, or the options' when <= 0); returns false when the
@@ -57,6 +74,8 @@ class PoseGraph2D {
   std::vector<SE2> submaps_;
   std::vector<SE2> nodes_;
   std::vector<SE2> local_nodes_;  ///< local-SLAM poses, for successive-node constraints
+  std::vector<Eigen::Matrix3d> successive_sqrt_information_;  ///< per node (from the second)
+  std::vector<bool> has_successive_sqrt_information_;
   std::vector<PoseGraphConstraint> constraints_;
   int num_loops_ = 0;
 };

@@ -66,6 +66,8 @@ SlamRunResult run_slam(const CarmenLog& log, bool corrected, const SlamRunOption
   out.stats.submaps = lc.graph().num_submaps();
   out.stats.loop_closures = lc.stats().loop_closures;
   out.stats.loop_searches = lc.stats().searches;
+  out.stats.anisotropic_loop_closures = lc.stats().anisotropic_loop_closures;
+  out.stats.anisotropic_local_nodes = lc.stats().anisotropic_local_nodes;
   out.stats.optimizations = lc.stats().optimizations;
   out.stats.loop_scored_candidates = lc.stats().scored_candidates;
   out.stats.loop_scored_candidates_failed = lc.stats().scored_candidates_failed;
