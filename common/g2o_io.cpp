@@ -77,6 +77,7 @@ void parse_line(const std::string& tag, std::istringstream& in, const std::strin
     const uint64_t raw = read_key(in, path, line, tag);
     const std::vector<double> v = read_numbers(in, se3 ? 7 : 3, path, line, tag);
     const G2oKey key = decode_g2o_key(raw);
+    if (g->points.count(key)) fail(path, line, tag + ": id " + std::to_string(raw) + " is already a VERTEX_XY");
     g->robot_keys |= key.robot != 0 || (raw >> kRobotShift) != 0;
     g->se3 |= se3;
     g->vertices[key] = se3 ? SE2(v[0], v[1], yaw_of_quaternion(v[3], v[4], v[5], v[6])) : SE2(v[0], v[1], v[2]);
@@ -107,6 +108,42 @@ void parse_line(const std::string& tag, std::istringstream& in, const std::strin
   g->edges.push_back(e);
 }
 
+/// VERTEX_XY / EDGE_SE2_XY (2D landmarks); both end kinds are checked by check_kinds().
+void parse_point_line(const std::string& tag, std::istringstream& in, const std::string& path, int line, G2oGraph* g) {
+  if (tag == "VERTEX_XY") {
+    const uint64_t raw = read_key(in, path, line, tag);
+    const std::vector<double> v = read_numbers(in, 2, path, line, tag);
+    const G2oKey key = decode_g2o_key(raw);
+    if (g->vertices.count(key)) fail(path, line, tag + ": id " + std::to_string(raw) + " is already a VERTEX_SE2");
+    g->points[key] = Eigen::Vector2d(v[0], v[1]);
+    return;
+  }
+  G2oPointEdge e;
+  e.line = line;
+  e.from = decode_g2o_key(read_key(in, path, line, tag));
+  e.to = decode_g2o_key(read_key(in, path, line, tag));
+  const std::vector<double> m = read_numbers(in, 2, path, line, tag);
+  const std::vector<double> info = read_numbers(in, 3, path, line, tag);
+  e.p_from_to = Eigen::Vector2d(m[0], m[1]);
+  e.information << info[0], info[1], info[1], info[2];
+  if (e.from == e.to) fail(path, line, tag + ": edge from a vertex to itself");
+  Eigen::LLT<Eigen::Matrix2d> llt(e.information);
+  if (llt.info() != Eigen::Success) fail(path, line, tag + ": information not positive definite");
+  g->point_edges.push_back(e);
+}
+
+/// Poses and points are distinct vertex kinds (a vertex declared as both fails where it is parsed):
+/// an edge must join the kinds its type names.
+void check_kinds(const G2oGraph& g, const std::string& path) {
+  for (const G2oEdge& e : g.edges) {
+    if (g.points.count(e.from) || g.points.count(e.to)) fail(path, e.line, "EDGE_SE2/SE3 joins a VERTEX_XY point");
+  }
+  for (const G2oPointEdge& e : g.point_edges) {
+    if (g.points.count(e.from)) fail(path, e.line, "EDGE_SE2_XY: first vertex is a VERTEX_XY point, not a pose");
+    if (g.vertices.count(e.to)) fail(path, e.line, "EDGE_SE2_XY: second vertex is a VERTEX_SE2 pose, not a point");
+  }
+}
+
 }  // namespace
 
 G2oKey decode_g2o_key(uint64_t raw) {
@@ -132,12 +169,14 @@ G2oGraph read_g2o(const std::string& path) {
     std::istringstream ls(text);
     std::string tag;
     if (!(ls >> tag) || tag[0] == '#') continue;
-    if (tag == "VERTEX_SE2" || tag == "EDGE_SE2" || tag == "VERTEX_SE3:QUAT" || tag == "EDGE_SE3:QUAT") {
-      parse_line(tag, ls, path, line, &graph);
-      std::string extra;
-      if (ls >> extra) fail(path, line, tag + ": unexpected extra field '" + extra + "'");
-    }
+    const bool pose = tag == "VERTEX_SE2" || tag == "EDGE_SE2" || tag == "VERTEX_SE3:QUAT" || tag == "EDGE_SE3:QUAT";
+    const bool point = tag == "VERTEX_XY" || tag == "EDGE_SE2_XY";
+    if (pose) parse_line(tag, ls, path, line, &graph);
+    if (point) parse_point_line(tag, ls, path, line, &graph);
+    std::string extra;
+    if ((pose || point) && ls >> extra) fail(path, line, tag + ": unexpected extra field '" + extra + "'");
   }
+  check_kinds(graph, path);
   return graph;
 }
 
@@ -149,6 +188,12 @@ void merge_g2o(const G2oGraph& other, G2oGraph* into) {
     // Only edges already present (another robot's file) are duplicates; repeated measurements
     // inside one file are kept.
     if (!seen.count({e.from, e.to})) into->edges.push_back(e);
+  }
+  for (const auto& [k, p] : other.points) into->points.emplace(k, p);
+  std::set<std::pair<G2oKey, G2oKey>> seen_points;
+  for (const G2oPointEdge& e : into->point_edges) seen_points.insert({e.from, e.to});
+  for (const G2oPointEdge& e : other.point_edges) {
+    if (!seen_points.count({e.from, e.to})) into->point_edges.push_back(e);
   }
   into->se3 |= other.se3;
   into->robot_keys |= other.robot_keys;
@@ -187,6 +232,13 @@ bool write_g2o(const std::string& path, const G2oGraph& graph, const std::map<G2
       out << "EDGE_SE2 " << key(e.from) << ' ' << key(e.to) << ' ' << m.x() << ' ' << m.y() << ' ' << m.yaw()
           << ' ' << I(0, 0) << ' ' << I(0, 1) << ' ' << I(0, 2) << ' ' << I(1, 1) << ' ' << I(1, 2) << ' '
           << I(2, 2) << '\n';
+    }
+  }
+  if (!se3) {
+    for (const auto& [k, p] : graph.points) out << "VERTEX_XY " << key(k) << ' ' << p.x() << ' ' << p.y() << '\n';
+    for (const G2oPointEdge& e : graph.point_edges) {
+      out << "EDGE_SE2_XY " << key(e.from) << ' ' << key(e.to) << ' ' << e.p_from_to.x() << ' ' << e.p_from_to.y()
+          << ' ' << e.information(0, 0) << ' ' << e.information(0, 1) << ' ' << e.information(1, 1) << '\n';
     }
   }
   return bool(out);
@@ -232,6 +284,19 @@ double g2o_chi2(const G2oGraph& graph, const std::map<G2oKey, SE2>& poses) {
     auto a = poses.find(e.from), b = poses.find(e.to);
     if (a == poses.end() || b == poses.end()) continue;
     const Eigen::Vector3d r = (e.T_from_to.inverse() * a->second.between(b->second)).vector();
+    chi2 += r.dot(e.information * r);
+  }
+  return chi2;
+}
+
+double g2o_point_chi2(const G2oGraph& graph, const std::map<G2oKey, SE2>& poses,
+                      const std::map<G2oKey, Eigen::Vector2d>& points) {
+  double chi2 = 0.0;
+  for (const G2oPointEdge& e : graph.point_edges) {
+    auto a = poses.find(e.from);
+    auto b = points.find(e.to);
+    if (a == poses.end() || b == points.end()) continue;
+    const Eigen::Vector2d r = a->second.inverse() * b->second - e.p_from_to;
     chi2 += r.dot(e.information * r);
   }
   return chi2;

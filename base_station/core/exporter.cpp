@@ -2,6 +2,7 @@
 // OctoMap: exporter_clouds.cpp.
 #include "base_station/core/exporter.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -87,11 +88,27 @@ bool write_objects_csv(const std::vector<GlobalObject>& objects, const std::stri
   return write_text(path, s.str(), error);
 }
 
+namespace {
+
+/// A range-bearing observation as a Cartesian point in the observing pose's frame, and the
+/// information of that point: (J diag(sigma_range^2, sigma_bearing^2) J^T)^-1, J = d(point)/d(range, bearing).
+std::pair<Eigen::Vector2d, Eigen::Matrix2d> cartesian_observation(const LandmarkEdge& e) {
+  const double c = std::cos(e.bearing_rad), s = std::sin(e.bearing_rad), r = e.range_m;
+  Eigen::Matrix2d J;
+  J << c, -r * s, s, r * c;
+  const Eigen::Vector2d var(e.sigma_range_m * e.sigma_range_m, e.sigma_bearing_rad * e.sigma_bearing_rad);
+  const Eigen::Matrix2d covariance = J * var.asDiagonal() * J.transpose();
+  return {Eigen::Vector2d(r * c, r * s), covariance.inverse()};
+}
+
+}  // namespace
+
 bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::string* error) {
   std::ostringstream s;
   s << std::setprecision(12);
-  s << "# cairn pose graph. Vertex id = dense index over keyframes in (robot, seq) order;"
-       " '# KEYFRAME <vertex> <robot> <seq>' lines give the mapping.\n";
+  s << "# cairn pose graph. Vertex id = dense index over keyframes in (robot, seq) order, then over the"
+       " point nodes (markers, then merged objects); '# KEYFRAME <vertex> <robot> <seq>',"
+       " '# MARKER <vertex> <marker id>' and '# OBJECT <vertex> <robot> <seq>' lines give the mapping.\n";
   std::map<KeyframeId, int> index;
   for (const auto& [id, pose] : graph.estimates()) {
     const int v = int(index.size());
@@ -113,6 +130,24 @@ bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::str
       << p.T_world_node.yaw();
     upper(p.information);
     s << '\n';
+  }
+  // Point nodes (VERTEX_XY) and their observations as g2o's EDGE_SE2_XY (the point in the pose's frame).
+  std::map<PointNodeId, int> points;
+  for (const auto& [id, p] : graph.point_estimates()) {
+    const int v = int(index.size() + points.size());
+    points[id] = v;
+    if (const auto* marker = std::get_if<LandmarkId>(&id)) {
+      s << "# MARKER " << v << ' ' << marker->value << '\n';
+    } else {
+      const ObjectId& object = std::get<ObjectId>(id);
+      s << "# OBJECT " << v << ' ' << object.robot.value << ' ' << object.seq << '\n';
+    }
+    s << "VERTEX_XY " << v << ' ' << p.x() << ' ' << p.y() << '\n';
+  }
+  for (const LandmarkEdge& e : graph.landmark_edges()) {
+    const auto [p, I] = cartesian_observation(e);
+    s << "EDGE_SE2_XY " << index.at(e.from) << ' ' << points.at(e.landmark) << ' ' << p.x() << ' ' << p.y() << ' '
+      << I(0, 0) << ' ' << I(0, 1) << ' ' << I(1, 1) << '\n';
   }
   return write_text(path, s.str(), error);
 }

@@ -48,6 +48,8 @@ bool write_objects_geojson(const std::vector<GlobalObject>& objects, const std::
 bool write_objects_csv(const std::vector<GlobalObject>& objects, const std::string& path, std::string* error);
 /// VERTEX_SE2 / EDGE_SE2 (information upper triangle) / EDGE_PRIOR_SE2; vertex ids are a dense
 /// index over the nodes in (robot, seq) order, listed in "# KEYFRAME <vertex> <robot> <seq>" lines.
+/// Point nodes follow as VERTEX_XY ("# MARKER <vertex> <id>", "# OBJECT <vertex> <robot> <seq>") with
+/// their range-bearing observations as EDGE_SE2_XY (point in the pose frame, information I11 I12 I22).
 bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::string* error);
 bool write_map_png(const MultiRobotMapper& mapper, const std::string& path, const ExportOptions& options,
                    std::string* error);

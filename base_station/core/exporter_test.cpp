@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base_station/core/synthetic_world_test_util.h"
+#include "common/g2o_io.h"
 
 namespace cairn::base {
 namespace {
@@ -100,10 +101,64 @@ TEST(Exporter, WritesEveryFileAndTheyParseBack) {
   EXPECT_EQ(count_prefix(g2o, "EDGE_SE2 "), 10);
   EXPECT_EQ(count_prefix(g2o, "EDGE_PRIOR_SE2 "), 2);
   EXPECT_EQ(count_prefix(g2o, "# KEYFRAME "), 12);
+  // the victim seen by both robots: one object node observed from both anchors
+  EXPECT_EQ(count_prefix(g2o, "VERTEX_XY "), 1);
+  EXPECT_EQ(count_prefix(g2o, "# OBJECT 12 0 0"), 1);
+  EXPECT_EQ(count_prefix(g2o, "EDGE_SE2_XY "), 2);
+  const G2oGraph read = read_g2o(dir + "/graph.g2o");
+  EXPECT_EQ(read.vertices.size(), 12u);
+  EXPECT_EQ(read.points.size(), 1u);
   // trajectories of linked robots only
   EXPECT_EQ(read_trajectory_csv(dir + "/trajectory_robot0.csv").size(), 6u);
   EXPECT_EQ(read_trajectory_csv(dir + "/trajectory_robot1.csv").size(), 6u);
   EXPECT_FALSE(fs::exists(dir + "/trajectory_robot2.csv"));
+  fs::remove_all(dir);
+}
+
+TEST(Exporter, G2oLandmarksAreCartesianPointsWithPropagatedInformation) {
+  PoseGraph2d graph;
+  const KeyframeId k0{RobotId(0), 0}, k1{RobotId(0), 1};
+  ASSERT_TRUE(graph.add_node(k0, SE2()));
+  ASSERT_TRUE(graph.add_node(k1, SE2(1, 0, M_PI / 2)));
+  graph.set_prior(PosePrior{k0, SE2()});
+  ASSERT_TRUE(graph.add_edge(PoseGraphEdge{k0, k1, SE2(1, 0, M_PI / 2)}));
+  // Marker 7 at (3, 0) and object robot1/obj4 at (1, 2): seen from k0 ahead, from k1 to its left.
+  const double sr = 0.05, sb = 0.02;
+  ASSERT_TRUE(graph.add_landmark_edge(LandmarkEdge{k0, LandmarkId(7), 3.0, 0.0, sr, sb}));
+  ASSERT_TRUE(graph.add_landmark_edge(LandmarkEdge{k1, ObjectId{RobotId(1), 4}, 2.0, M_PI / 2, sr, sb}));
+  ASSERT_TRUE(graph.add_landmark_edge(LandmarkEdge{k1, ObjectId{RobotId(1), 4}, 2.0, 0.0, sr, sb}));
+  graph.solve();
+  const std::string dir = temp_dir("g2o_landmarks");
+  fs::create_directories(dir);
+  std::string error;
+  ASSERT_TRUE(write_graph_g2o(graph, dir + "/graph.g2o", &error)) << error;
+  const std::vector<std::string> lines = lines_of(dir + "/graph.g2o");
+  EXPECT_EQ(count_prefix(lines, "# MARKER 2 7"), 1);
+  EXPECT_EQ(count_prefix(lines, "# OBJECT 3 1 4"), 1);
+  const G2oGraph g = read_g2o(dir + "/graph.g2o");
+  ASSERT_EQ(g.points.size(), 2u);
+  ASSERT_EQ(g.point_edges.size(), 3u);
+  const G2oPointEdge& marker = g.point_edges[0];
+  EXPECT_EQ(marker.from, (G2oKey{0, 0}));
+  EXPECT_EQ(marker.to, (G2oKey{0, 2}));
+  EXPECT_NEAR(marker.p_from_to.x(), 3.0, 1e-9);
+  EXPECT_NEAR(marker.p_from_to.y(), 0.0, 1e-9);
+  // Bearing 0: radial = x, tangential = y with sigma range * sigma_bearing.
+  EXPECT_NEAR(marker.information(0, 0), 1.0 / (sr * sr), 1e-6);
+  EXPECT_NEAR(marker.information(1, 1), 1.0 / (3.0 * sb * 3.0 * sb), 1e-6);
+  EXPECT_NEAR(marker.information(0, 1), 0.0, 1e-6);
+  const G2oPointEdge& object = g.point_edges[1];
+  EXPECT_EQ(object.from, (G2oKey{0, 1}));
+  EXPECT_EQ(object.to, (G2oKey{0, 3}));
+  EXPECT_NEAR(object.p_from_to.x(), 0.0, 1e-9);
+  EXPECT_NEAR(object.p_from_to.y(), 2.0, 1e-9);
+  // Bearing 90 deg: radial = y, tangential = x.
+  EXPECT_NEAR(object.information(0, 0), 1.0 / (2.0 * sb * 2.0 * sb), 1e-6);
+  EXPECT_NEAR(object.information(1, 1), 1.0 / (sr * sr), 1e-6);
+  EXPECT_NEAR(g.points.at({0, 2}).x(), 3.0, 1e-6);
+  // The object's two observations (2 m left of k1, 2 m ahead of k1) disagree: the solved point sits
+  // between them and the exported residuals are what the graph had.
+  EXPECT_GT(g2o_point_chi2(g, g.vertices, g.points), 1.0);
   fs::remove_all(dir);
 }
 

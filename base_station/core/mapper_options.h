@@ -6,6 +6,7 @@
 #include "base_station/core/landmarks.h"
 #include "base_station/core/loop_closer.h"
 #include "base_station/core/map_consistency.h"
+#include "base_station/core/object_constraints.h"
 #include "base_station/core/pcm.h"
 #include "base_station/core/pose_graph_2d.h"
 #include "common/occupancy_grid.h"
@@ -85,6 +86,10 @@ struct MapperOptions {
   /// Duplicate merging: overlap candidates verified by RGB-ICP (global_object.h); its max_gate_m and
   /// object_voxel_m are taken from the two fields above.
   ObjectMergeOptions object_merge;
+  /// Merged objects seen from two or more anchor keyframes (two robots, or one robot twice) become
+  /// point nodes of the pose graph observed from their anchors (object_constraints.h). They only
+  /// constrain robots already linked; they never link robots.
+  ObjectConstraintOptions object_constraints;
 
   /// Identified landmarks (markers) in keyframes: landmark nodes with range-bearing residuals, and
   /// marker-based link hypotheses for robot pairs not linked yet (landmarks.h).

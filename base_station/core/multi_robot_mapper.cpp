@@ -249,9 +249,11 @@ std::vector<RobotSummary> MultiRobotMapper::robots() const {
 
 void MultiRobotMapper::update_graph(OptimizeResult* result) {
   if (!options_.incremental_graph) rebuild_graph_ = true;  // mapper_options.h: why
+  refresh_object_constraints();  // multi_robot_mapper_objects.cpp; may set rebuild_graph_
   if (rebuild_graph_) {
     graph_ = PoseGraph2d(options_.graph);
     loop_in_graph_.assign(loops_.size(), false);
+    object_edges_in_graph_.clear();
     rebuild_graph_ = false;
   }
   // New keyframes of each linked robot (O(robots + new keyframes), not O(keyframes)).
@@ -269,6 +271,7 @@ void MultiRobotMapper::update_graph(OptimizeResult* result) {
   const size_t edges_before = graph_.edges().size();
   const size_t landmark_edges_before = graph_.landmark_edges().size();
   add_loop_edges();
+  add_object_edges();  // multi_robot_mapper_objects.cpp
   if (graph_.edges().size() > edges_before || graph_.landmark_edges().size() > landmark_edges_before) {
     // A new loop moves the optimum of the whole graph: solving only a window around it first
     // bends the held-constant rest into the window (metres after a fresh inter-robot link) and
@@ -322,6 +325,8 @@ OptimizeResult MultiRobotMapper::optimize() {
   result.nodes = int(graph_.num_nodes());
   result.edges = int(graph_.edges().size());
   result.priors = int(graph_.priors().size());
+  result.object_edges = int(object_edges_in_graph_.size());
+  result.constrained_objects = int(graph_.object_estimates().size());
   for (size_t i = 0; i < loops_.size(); ++i) {
     if (!loop_in_graph_[i]) continue;
     ++result.loop_closures;

@@ -14,6 +14,7 @@
 // must not be called concurrently (the console works on snapshots, see console/snapshot.h).
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,8 @@ struct OptimizeResult {
   /// window of new keyframes / new loop edges (solve.variable_blocks nodes) moved.
   bool full_solve = false;
   std::vector<LinkEvent> link_events;  ///< link decisions of this call (deduplicated per pair)
+  int object_edges = 0;         ///< object observations in the graph (object_constraints.h)
+  int constrained_objects = 0;  ///< merged objects with observations in the graph
 };
 
 struct RobotSummary {
@@ -142,6 +145,9 @@ class MultiRobotMapper {
   const std::vector<LinkEvent>& landmark_link_events() const { return landmark_link_events_; }
   /// Each robot's own estimate of the landmarks it saw, in its local frame.
   const std::map<RobotId, LocalLandmarks>& local_landmarks() const { return local_landmarks_; }
+  // Objects as graph constraints (multi_robot_mapper_objects.cpp).
+  /// The object observations of the last optimize() (each report of a verified merged object).
+  const std::vector<ObjectConstraint>& object_observations() const { return object_constraints_; }
 
   /// True while the last loop closures have not been solved to convergence over the whole graph
   /// (each optimize() runs incremental_max_iterations more): call optimize() until false before
@@ -173,6 +179,12 @@ class MultiRobotMapper {
   bool try_link_by_landmarks(RobotId ra, RobotId rb);
   /// Range-bearing edges of the robot's keyframes in the graph that have none yet.
   void add_landmark_edges(RobotId robot);
+  // Objects as graph constraints (multi_robot_mapper_objects.cpp).
+  /// Recomputes the object observations from the current merge; sets rebuild_graph_ when an
+  /// observation already in the graph changed or went away.
+  void refresh_object_constraints();
+  /// Adds the object observations whose anchor is in the graph and that are not in it yet.
+  void add_object_edges();
   // Link hypothesis checks (multi_robot_mapper_checks.cpp).
   /// Why the clique `closures` (a = ra, b = rb) covers too little of a trajectory; empty if not.
   std::string spread_deficit(const std::vector<LoopClosure>& closures) const;
@@ -221,6 +233,9 @@ class MultiRobotMapper {
   /// Per unlinked pair: observations of both robots when last judged (retry gate).
   std::map<std::pair<RobotId, RobotId>, int> landmark_pair_judged_at_;
   std::vector<LinkEvent> landmark_link_events_;
+
+  std::vector<ObjectConstraint> object_constraints_;  ///< sorted by report
+  std::set<ObjectId> object_edges_in_graph_;          ///< reports whose observation is in graph_
 
   mutable uint64_t map_version_ = 0;
   mutable GlobalMapRenderer map_;  ///< redraws only the tiles of moved keyframes

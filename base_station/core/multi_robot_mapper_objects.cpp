@@ -1,5 +1,11 @@
 // MultiRobotMapper: object reports, placed through their anchor keyframes and merged in the global
-// frame by merge_object_reports (global_object.h: overlap candidates verified by RGB-ICP).
+// frame by merge_object_reports (global_object.h: overlap candidates verified by RGB-ICP); and the
+// merged objects as pose-graph constraints (object_constraints.h).
+// Feedback loop: the merge depends on the placements, which depend on the graph, which the merged
+// objects constrain. So the observations are recomputed from the current merge at every optimize()
+// (a merge that no longer holds drops its edges), only ICP-verified merges count, their residuals
+// have a robust loss, and they never link robots (only linked robots' reports are placed and
+// merged). New observations are added to the live graph; a changed or removed one rebuilds it.
 #include <algorithm>
 #include <cmath>
 
@@ -67,6 +73,37 @@ std::vector<GlobalObject> MultiRobotMapper::objects() const {
     objects_version_ = version_;
   }
   return objects_;
+}
+
+void MultiRobotMapper::refresh_object_constraints() {
+  std::vector<ObjectConstraint> now;
+  if (options_.object_constraints.enabled && !reports_.empty()) {
+    now = object_constraints(objects(), reports_, options_.object_constraints, options_.object_merge);
+  }
+  if (same_constraints(now, object_constraints_)) return;
+  auto by_report = [](const std::vector<ObjectConstraint>& list, ObjectId report) {
+    auto it = std::lower_bound(list.begin(), list.end(), report,
+                               [](const ObjectConstraint& c, ObjectId id) { return c.report < id; });
+    return it != list.end() && it->report == report ? &*it : nullptr;
+  };
+  // Residual blocks cannot be taken out of the live graph: an observation in it that changed or
+  // went away rebuilds the graph (warm-started from the last solution).
+  for (ObjectId report : object_edges_in_graph_) {
+    const ObjectConstraint* before = by_report(object_constraints_, report);
+    const ObjectConstraint* after = by_report(now, report);
+    if (!before || !after || !same_constraints({*before}, {*after})) {
+      rebuild_graph_ = true;
+      break;
+    }
+  }
+  object_constraints_ = std::move(now);
+}
+
+void MultiRobotMapper::add_object_edges() {
+  for (const ObjectConstraint& c : object_constraints_) {
+    if (object_edges_in_graph_.count(c.report) || !graph_.has_node(c.edge.from)) continue;
+    if (graph_.add_landmark_edge(c.edge)) object_edges_in_graph_.insert(c.report);
+  }
 }
 
 std::vector<GlobalObject> MultiRobotMapper::compute_objects() const {

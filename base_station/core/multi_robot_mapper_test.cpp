@@ -38,10 +38,12 @@ bool occupied_near(const OccupancyGrid& grid, const Eigen::Vector2d& p) {
 }
 
 /// These tests exercise placement by start hints: automatic loop detection is off so their exact
-/// figures hold (merger_test.cpp covers automatic linking).
+/// figures hold (merger_test.cpp covers automatic linking), and so are object constraints (the
+/// victim both robots report 0.22 m apart would pull the keyframes; object_constraints_test.cpp).
 MapperOptions hint_only_options() {
   MapperOptions o;
   o.detect_loops = false;
+  o.object_constraints.enabled = false;
   return o;
 }
 

@@ -174,7 +174,7 @@ struct PoseGraph2d::Problem {
   bool priors_dirty = true;
   std::optional<KeyframeId> gauge;  ///< node held constant when there is no prior
   size_t landmark_edges_added = 0;
-  std::set<LandmarkId> landmarks_added;
+  std::set<PointNodeId> landmarks_added;
 };
 
 PoseGraph2d::PoseGraph2d(const PoseGraphOptions& options) : options_(options) {}
@@ -404,8 +404,9 @@ void PoseGraph2d::sync_landmarks() {
   for (; p.landmark_edges_added < landmark_edges_.size(); ++p.landmark_edges_added) {
     const LandmarkEdge& e = landmark_edges_[p.landmark_edges_added];
     auto* cost = new ceres::AutoDiffCostFunction<RangeBearingResidual, 2, 3, 2>(new RangeBearingResidual(e));
-    p.problem.AddResidualBlock(cost, make_loss(options_.landmark_loss), nodes_.at(e.from).pose,
-                               landmarks_.at(e.landmark).p);
+    const bool object = std::holds_alternative<ObjectId>(e.landmark);
+    p.problem.AddResidualBlock(cost, make_loss(object ? options_.object_loss : options_.landmark_loss),
+                               nodes_.at(e.from).pose, landmarks_.at(e.landmark).p);
   }
 }
 

@@ -13,6 +13,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "common/ids.h"
@@ -40,10 +41,16 @@ struct PosePrior {
   Eigen::Matrix3d information = Eigen::Matrix3d::Identity() * 1e4;
 };
 
-/// A range-bearing observation of landmark `landmark` (a 2D point node) from pose node `from`.
+/// A 2D point node of the graph: an identified marker, or a merged object of interest (named by its
+/// cluster's id, the smallest ObjectId of its reports). Distinct types: a marker and an object never
+/// share a node whatever their numbers.
+using PointNodeId = std::variant<LandmarkId, ObjectId>;
+std::string to_string(const PointNodeId& id);
+
+/// A range-bearing observation of point node `landmark` (a marker or an object) from pose node `from`.
 struct LandmarkEdge {
   KeyframeId from;
-  LandmarkId landmark;
+  PointNodeId landmark;
   double range_m = 0.0;
   double bearing_rad = 0.0;
   double sigma_range_m = 0.05;
@@ -69,6 +76,8 @@ struct PoseGraphOptions {
   RobustLossOptions prior_loss{RobustLossType::kNone, 1.0};
   /// Range-bearing landmark residuals: a wrongly identified marker must not bend the map.
   RobustLossOptions landmark_loss{RobustLossType::kCauchy, 2.0};
+  /// Observations of merged objects (multi_robot_mapper_objects.cpp): a wrong merge must not bend it.
+  RobustLossOptions object_loss{RobustLossType::kCauchy, 1.0};
 };
 
 struct PoseGraphSolveOptions {
@@ -124,15 +133,21 @@ class PoseGraph2d {
   /// Replaces every estimate (e.g. by a LAGO initialisation); unknown ids are ignored.
   void set_estimates(const std::map<KeyframeId, SE2>& estimates);
 
-  // Landmarks (pose_graph_2d_landmarks.cpp): 2D point nodes with range-bearing residuals
-  // (robust loss landmark_loss). A landmark node is created by its first observation.
+  // Landmarks (pose_graph_2d_landmarks.cpp): 2D point nodes (markers and objects) with range-bearing
+  // residuals (robust loss landmark_loss / object_loss). A node is created by its first observation.
   /// Adds an observation. False (graph unchanged) if the pose node is unknown or a value is not
   /// finite / a sigma not positive / the range below 1 cm.
   bool add_landmark_edge(const LandmarkEdge& edge);
   /// Whether any landmark observation from `node` is in the graph.
   bool has_landmark_edges_from(KeyframeId node) const { return landmark_sources_.count(node) > 0; }
-  std::optional<Eigen::Vector2d> landmark_estimate(LandmarkId id) const;
+  std::optional<Eigen::Vector2d> landmark_estimate(LandmarkId id) const { return point_estimate(id); }
+  std::optional<Eigen::Vector2d> point_estimate(const PointNodeId& id) const;
+  /// Marker nodes only.
   std::map<LandmarkId, Eigen::Vector2d> landmark_estimates() const;
+  /// Object nodes only.
+  std::map<ObjectId, Eigen::Vector2d> object_estimates() const;
+  /// Every point node (markers first, then objects).
+  std::map<PointNodeId, Eigen::Vector2d> point_estimates() const;
   const std::vector<LandmarkEdge>& landmark_edges() const { return landmark_edges_; }
   size_t num_landmarks() const { return landmarks_.size(); }
   /// Places every landmark at the mean of its observations from the current pose estimates
@@ -159,7 +174,7 @@ class PoseGraph2d {
   struct LandmarkState {
     double p[2] = {0, 0};  ///< x_m, y_m: one Ceres parameter block
   };
-  std::map<LandmarkId, LandmarkState> landmarks_;  ///< std::map: stable addresses for Ceres blocks
+  std::map<PointNodeId, LandmarkState> landmarks_;  ///< std::map: stable addresses for Ceres blocks
   std::vector<LandmarkEdge> landmark_edges_;
   std::set<KeyframeId> landmark_sources_;
   bool landmarks_need_init_ = false;

@@ -1,4 +1,5 @@
-// PoseGraph2d: landmark point nodes and their range-bearing observations (see pose_graph_2d.h).
+// PoseGraph2d: point nodes (markers and merged objects) and their range-bearing observations (see
+// pose_graph_2d.h).
 // The Ceres blocks are added by PoseGraph2d::sync_landmarks() in pose_graph_2d.cpp.
 #include <cmath>
 
@@ -11,10 +12,21 @@ Eigen::Vector2d observed_point(const SE2& T_world_node, const LandmarkEdge& e) {
   return T_world_node * Eigen::Vector2d(e.range_m * std::cos(e.bearing_rad), e.range_m * std::sin(e.bearing_rad));
 }
 
+bool valid(const PointNodeId& id) {
+  if (const auto* marker = std::get_if<LandmarkId>(&id)) return marker->valid();
+  const ObjectId& object = std::get<ObjectId>(id);
+  return object.robot.valid() && object.seq >= 0;
+}
+
 }  // namespace
 
+std::string to_string(const PointNodeId& id) {
+  if (const auto* marker = std::get_if<LandmarkId>(&id)) return to_string(*marker);
+  return "object " + to_string(std::get<ObjectId>(id));
+}
+
 bool PoseGraph2d::add_landmark_edge(const LandmarkEdge& e) {
-  if (!e.landmark.valid() || !nodes_.count(e.from)) return false;
+  if (!valid(e.landmark) || !nodes_.count(e.from)) return false;
   if (!std::isfinite(e.range_m) || !std::isfinite(e.bearing_rad) || e.range_m < 0.01) return false;
   if (!(e.sigma_range_m > 0) || !(e.sigma_bearing_rad > 0) || !std::isfinite(e.sigma_range_m) ||
       !std::isfinite(e.sigma_bearing_rad)) {
@@ -29,7 +41,7 @@ bool PoseGraph2d::add_landmark_edge(const LandmarkEdge& e) {
   return true;
 }
 
-std::optional<Eigen::Vector2d> PoseGraph2d::landmark_estimate(LandmarkId id) const {
+std::optional<Eigen::Vector2d> PoseGraph2d::point_estimate(const PointNodeId& id) const {
   auto it = landmarks_.find(id);
   if (it == landmarks_.end()) return std::nullopt;
   return Eigen::Vector2d(it->second.p[0], it->second.p[1]);
@@ -37,12 +49,28 @@ std::optional<Eigen::Vector2d> PoseGraph2d::landmark_estimate(LandmarkId id) con
 
 std::map<LandmarkId, Eigen::Vector2d> PoseGraph2d::landmark_estimates() const {
   std::map<LandmarkId, Eigen::Vector2d> out;
+  for (const auto& [id, l] : landmarks_) {
+    if (const auto* marker = std::get_if<LandmarkId>(&id)) out.emplace_hint(out.end(), *marker, Eigen::Vector2d(l.p[0], l.p[1]));
+  }
+  return out;
+}
+
+std::map<ObjectId, Eigen::Vector2d> PoseGraph2d::object_estimates() const {
+  std::map<ObjectId, Eigen::Vector2d> out;
+  for (const auto& [id, l] : landmarks_) {
+    if (const auto* object = std::get_if<ObjectId>(&id)) out.emplace_hint(out.end(), *object, Eigen::Vector2d(l.p[0], l.p[1]));
+  }
+  return out;
+}
+
+std::map<PointNodeId, Eigen::Vector2d> PoseGraph2d::point_estimates() const {
+  std::map<PointNodeId, Eigen::Vector2d> out;
   for (const auto& [id, l] : landmarks_) out.emplace_hint(out.end(), id, Eigen::Vector2d(l.p[0], l.p[1]));
   return out;
 }
 
 void PoseGraph2d::initialize_landmarks() {
-  std::map<LandmarkId, std::pair<Eigen::Vector2d, int>> sums;
+  std::map<PointNodeId, std::pair<Eigen::Vector2d, int>> sums;
   for (const LandmarkEdge& e : landmark_edges_) {
     auto& [sum, n] = sums.try_emplace(e.landmark, Eigen::Vector2d::Zero(), 0).first->second;
     sum += observed_point(*estimate(e.from), e);

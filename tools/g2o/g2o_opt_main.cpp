@@ -1,6 +1,8 @@
 // cairn_g2o_opt: optimises a planar g2o pose graph (VERTEX_SE2/EDGE_SE2, or the multi-robot
 // EDGE_SE3:QUAT graphs with robot-letter keys) and prints g2o's chi2 and SE-Sync's objective
 // before and after, with the time of each stage. Edges-only files start from odometry.
+// Landmarks (VERTEX_XY / EDGE_SE2_XY, e.g. cairn_base's graph.g2o with markers and objects) are
+// read and checked but not optimised: their count is printed and --out leaves them out.
 //   cairn_g2o_opt FILE [FILE...] [--no-lago] [--no-sesync-polish] [--out OUT.g2o]
 #include <CLI/CLI.hpp>
 #include <chrono>
@@ -87,6 +89,12 @@ int main(int argc, char** argv) {
     std::map<G2oKey, SE2> poses = cairn::initialize_from_odometry(g);
     std::printf("graph: %zu poses, %zu edges, %s\n", poses.size(), g.edges.size(),
                 g.vertices.empty() ? "edges-only (initialised from odometry)" : "with vertices");
+    if (!g.points.empty() || !g.point_edges.empty()) {
+      std::printf("skipped %zu landmark points (VERTEX_XY) and %zu landmark edges (EDGE_SE2_XY): poses only\n",
+                  g.points.size(), g.point_edges.size());
+      g.points.clear();
+      g.point_edges.clear();
+    }
     print_stage("initial", g, poses, ms_since(t0));
     const auto t_total = Clock::now();
     PoseGraph2d graph = to_pose_graph(g, poses, cairn::base::EdgeResidualType::kRelativePose);
