@@ -4,12 +4,14 @@
 
 #include "common/carmen_log.h"
 #include "common/errors.h"
+#include "common/huge_pages.h"
 #include "common/logging.h"
 #include "common/multirobot_log.h"
 #include "robot_agent/app/agent_config.h"
 #include "robot_agent/app/agent_node.h"
 
 int main(int argc, char** argv) {
+  cairn::reexec_with_huge_pages(argv);  // common/huge_pages.h: ~-12 % SLAM CPU
   CLI::App app{"Cairn robot agent"};
   int robot = -1;
   std::string config_path, log_path, log_level = "info";

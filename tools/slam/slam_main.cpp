@@ -4,29 +4,16 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include <unistd.h>
-
 #include <chrono>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 
 #include "common/errors.h"
+#include "common/huge_pages.h"
 #include "tools/slam/slam_runner.h"
 
 namespace {
-
-// Transparent huge pages for malloc (glibc >= 2.35, THP mode "madvise"): a 4 KiB page fault costs
-// ~5 us in these VMs and the submap and branch-and-bound grids touch ~200 MB (MIT: 45 k -> 5 k page
-// faults, ~-12 % SLAM CPU, same results). GLIBC_TUNABLES is only read at start-up, so it is set
-// and the program re-executed once; a GLIBC_TUNABLES already set (or CAIRN_NO_THP) is respected.
-void reexec_with_huge_pages(char** argv) {
-  if (std::getenv("GLIBC_TUNABLES") != nullptr || std::getenv("CAIRN_NO_THP") != nullptr) return;
-  if (setenv("GLIBC_TUNABLES", "glibc.malloc.hugetlb=1", 1) != 0) return;
-  execv("/proc/self/exe", argv);  // returns only on failure: run as is
-  unsetenv("GLIBC_TUNABLES");
-}
 
 nlohmann::json stats_json(const cairn::slam::SlamRunStats& s, double total_wall_s, double total_cpu_s) {
   return {{"scans", s.scans}, {"matched", s.matched}, {"motion_filtered", s.motion_filtered},
@@ -56,7 +43,7 @@ bool write_png(const std::string& path, const cairn::OccupancyGrid& grid) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  reexec_with_huge_pages(argv);
+  cairn::reexec_with_huge_pages(argv);  // common/huge_pages.h
   CLI::App app{"Cairn offline 2D SLAM over a CARMEN log"};
   std::string log_path, out_dir, corrected_mode = "auto";
   cairn::slam::SlamRunOptions options;
