@@ -64,6 +64,18 @@ MultiRobotMapper run(const std::vector<SE2>& p0, const std::vector<SE2>& p1, con
   return mapper;
 }
 
+/// Largest distance between `robot`'s merged keyframe positions and its true path (world frame
+/// mapped into the global frame by T_global_world).
+double worst_position_error_m(const MultiRobotMapper& mapper, RobotId robot, const std::vector<SE2>& path,
+                              const SE2& T_global_world) {
+  double worst = 0;
+  for (size_t i = 0; i < path.size(); ++i) {
+    const SE2 est = *mapper.global_pose({robot, int32_t(i)});
+    worst = std::max(worst, (est.translation() - (T_global_world * path[i]).translation()).norm());
+  }
+  return worst;
+}
+
 TEST(MergerAliasing, RobotsInIdenticalWingsStayUnlinked) {
   const std::vector<SE2> p0 = along(west_route(0)), p1 = along(west_route(12));
   MapperOptions unchecked;
@@ -95,13 +107,7 @@ TEST(MergerAliasing, OverlappingRobotsAreLinkedPrecisely) {
   MultiRobotMapper mapper = run(p0, p1, MapperOptions{}, &r);
   ASSERT_TRUE(mapper.linked(RobotId(1)));
   EXPECT_EQ(mapper.link_stats().linked, 1);
-  const SE2 T_global_world = p0[0].inverse();
-  double worst = 0;
-  for (size_t i = 0; i < p1.size(); ++i) {
-    const SE2 est = *mapper.global_pose({RobotId(1), int32_t(i)});
-    worst = std::max(worst, (est.translation() - (T_global_world * p1[i]).translation()).norm());
-  }
-  EXPECT_LT(worst, 0.05);
+  EXPECT_LT(worst_position_error_m(mapper, RobotId(1), p1, p0[0].inverse()), 0.05);
 }
 
 /// Worst disagreement of the accepted intra-robot closures of robot 0 with the true path.
@@ -141,13 +147,7 @@ TEST(MergerAliasing, OneRobotThroughIdenticalWingsKeepsOnlyTrueClosures) {
   const MultiRobotMapper mapper = run_one(MapperOptions{});
   EXPECT_GE(mapper.link_stats().intra_rejected, 1);
   EXPECT_LT(worst_intra_closure_error_m(mapper, path), 0.1);
-  const SE2 T_global_world = path[0].inverse();
-  double worst = 0;
-  for (size_t i = 0; i < path.size(); ++i) {
-    const SE2 est = *mapper.global_pose({RobotId(0), int32_t(i)});
-    worst = std::max(worst, (est.translation() - (T_global_world * path[i]).translation()).norm());
-  }
-  EXPECT_LT(worst, 0.05);
+  EXPECT_LT(worst_position_error_m(mapper, RobotId(0), path, path[0].inverse()), 0.05);
 }
 
 TEST(MapConsistency, ShiftedCopyContradictsAndTruthAgrees) {
