@@ -9,12 +9,21 @@
 //    pillars) with noisy odometry and 360-beam scans ray-cast in it, so they revisit rooms and
 //    close loops within and between robots.
 // Like the console, the global map is re-rendered every 10 updates (--render-every N). Prints per 1,000-keyframe
-// window: mean / max ms per update, mean / max ms per render, loop closures, resident memory; then
-// the cost of rendering the whole map from scratch.
+// window: mean / max ms per update, mean / max ms per render, loop closures, closures into linked
+// pairs map-checked / rejected so far, full refinement solves in the window, resident memory; then
+// the refusals by kind, the position error against the true poses (live, and after idle updates
+// converged the refinement) and the cost of rendering the whole map from scratch.
 // Usage: bench_merger_scale [total_keyframes=20000] [--loops [--no-map-check]] [--render-every N=10]
-// (--no-map-check: no map-consistency check of closures into linked pairs; it renders every
-// linked keyframe per check, O(keyframes), and dominates the --loops run.)
+//                           [--refine-every N=MapperOptions::refine_every_updates]
+//                           [--refine-keyframes-per-update N=MapperOptions::refine_keyframes_per_update]
+//                           [--map-check-radius M=MapConsistencyOptions::local_radius_m; 0: whole map]
+// (--no-map-check: no map-consistency check of closures into linked pairs. That check compares
+// only the keyframes near the closure (MapConsistencyOptions::local_radius_m); it used to render
+// every linked keyframe per check, O(keyframes), and dominated the --loops run. --refine-every 1
+// with --refine-keyframes-per-update 0: a full refinement solve on every update with new loop
+// edges, the former behaviour.)
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -189,26 +198,36 @@ struct Stat {
 
 struct Window {
   Stat wall, cpu, render_wall, render_cpu;
+  int full_solves = 0;
 };
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  int total = 20000, render_every = 10;
+  int total = 20000, render_every = 10, refine_every = cairn::base::MapperOptions{}.refine_every_updates;
+  int refine_per = cairn::base::MapperOptions{}.refine_keyframes_per_update;
+  double check_radius_m = cairn::base::MapperOptions{}.map_check.local_radius_m;
   bool loops = false, map_check = true;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--loops") == 0) {
       loops = true;
     } else if (std::strcmp(argv[i], "--no-map-check") == 0) {
       map_check = false;
+    } else if (std::strcmp(argv[i], "--refine-keyframes-per-update") == 0 && i + 1 < argc) {
+      refine_per = std::atoi(argv[++i]);
+    } else if (std::strcmp(argv[i], "--map-check-radius") == 0 && i + 1 < argc) {
+      check_radius_m = std::atof(argv[++i]);
+    } else if (std::strcmp(argv[i], "--refine-every") == 0 && i + 1 < argc) {
+      refine_every = std::atoi(argv[++i]);
     } else if (std::strcmp(argv[i], "--render-every") == 0 && i + 1 < argc) {
       render_every = std::atoi(argv[++i]);
     } else {
       total = std::atoi(argv[i]);
     }
   }
-  if (total <= 0 || render_every <= 0) {
-    std::fprintf(stderr, "usage: bench_merger_scale [total_keyframes > 0] [--loops [--no-map-check]] [--render-every N > 0]\n");
+  if (total <= 0 || render_every <= 0 || refine_every <= 0 || refine_per < 0) {
+    std::fprintf(stderr, "usage: bench_merger_scale [total_keyframes > 0] [--loops [--no-map-check]] [--render-every N > 0] "
+                         "[--refine-every N > 0] [--refine-keyframes-per-update N >= 0] [--map-check-radius M]\n");
     return 2;
   }
   constexpr int kWindow = 1000;
@@ -216,12 +235,16 @@ int main(int argc, char** argv) {
   options.detect_loops = loops;
   options.incremental_graph = true;  // the live graph + window solves (the default; mapper_options.h)
   options.check_map_consistency = map_check;
+  options.refine_every_updates = refine_every;
+  options.refine_keyframes_per_update = refine_per;
+  options.map_check.local_radius_m = check_radius_m;
   cairn::base::MultiRobotMapper mapper(options);
   std::mt19937 rng(42);
   std::normal_distribution<double> turn(0.0, 0.3);
   const Building building = make_building(&rng);
   std::vector<Walker> walkers(kRobots);
   std::vector<SE2> pose(kRobots);
+  std::vector<std::vector<SE2>> truth(kRobots);  // true global pose of each keyframe, by seq
   for (int r = 0; r < kRobots; ++r) {
     if (loops) {
       Walker& w = walkers[size_t(r)];
@@ -233,17 +256,20 @@ int main(int argc, char** argv) {
       mapper.set_robot_start(RobotId(r), SE2(30.0 * r, 0, 0));
     }
   }
-  std::printf("%d robots, loop detection %s%s, map rendered every %d updates\n", kRobots, loops ? "on" : "off",
-              loops && !map_check ? " (no map check)" : "", render_every);
+  std::printf("%d robots, loop detection %s%s, map rendered every %d updates, loop refinement every max(%d, "
+              "nodes / %d) updates\n", kRobots, loops ? "on" : "off", loops && !map_check ? " (no map check)" : "",
+              render_every, refine_every, refine_per);
   std::printf("           update (wall ms)  update (cpu ms)   render (wall ms)  render (cpu ms)\n");
-  std::printf("keyframes    mean     max      mean     max      mean     max     mean     max  loops  rss_mb\n");
+  std::printf("keyframes    mean     max      mean     max      mean     max     mean     max  loops  checked  "
+              "rejected  full  rss_mb\n");
   Window win;
-  int closures = 0;
+  int closures = 0, rejected_inconclusive = 0, rejected_contradicted = 0;
   for (int k = 0; k < total; ++k) {
     const int r = k % kRobots;
     Keyframe kf;
     if (loops) {
       kf = next_loop_keyframe(building, &rng, RobotId(r), &walkers[size_t(r)]);
+      truth[size_t(r)].push_back(walkers[size_t(r)].true_pose);
     } else {
       // A random walk that turns back towards its start beyond 40 m (a bounded site).
       const SE2& cur = pose[size_t(r)];
@@ -255,11 +281,18 @@ int main(int argc, char** argv) {
       const SE2 next = cur * SE2(0.5, 0.0, dyaw);
       kf = make_keyframe(RobotId(r), walkers[size_t(r)].seq++, pose[size_t(r)], next);
       pose[size_t(r)] = next;
+      truth[size_t(r)].push_back(next);
     }
     const auto t0 = std::chrono::steady_clock::now();
     const double c0 = cpu_ms();
     mapper.add_keyframe(kf);
-    closures = mapper.optimize().loop_closures;
+    const cairn::base::OptimizeResult result = mapper.optimize();
+    closures = result.loop_closures;
+    win.full_solves += result.full_solve;
+    for (const cairn::base::LinkEvent& e : result.link_events) {
+      if (e.accepted) continue;
+      (e.inconclusive ? rejected_inconclusive : rejected_contradicted) += 1;
+    }
     win.cpu.add(cpu_ms() - c0);
     win.wall.add(ms_since(t0));
     if ((k + 1) % render_every == 0) {
@@ -270,13 +303,52 @@ int main(int argc, char** argv) {
       win.render_wall.add(ms_since(t1));
     }
     if ((k + 1) % kWindow == 0) {
-      std::printf("%9d %7.2f %7.1f   %7.2f %7.1f   %7.2f %7.1f  %7.2f %7.1f  %5d  %6.0f\n", k + 1, win.wall.mean(),
-                  win.wall.max, win.cpu.mean(), win.cpu.max, win.render_wall.mean(), win.render_wall.max,
-                  win.render_cpu.mean(), win.render_cpu.max, closures, memory_mb("VmRSS"));
+      const cairn::base::LinkStats& ls = mapper.link_stats();
+      std::printf("%9d %7.2f %7.1f   %7.2f %7.1f   %7.2f %7.1f  %7.2f %7.1f  %5d  %7d  %8d  %4d  %6.0f\n", k + 1,
+                  win.wall.mean(), win.wall.max, win.cpu.mean(), win.cpu.max, win.render_wall.mean(),
+                  win.render_wall.max, win.render_cpu.mean(), win.render_cpu.max, closures,
+                  ls.linked_pair_checked, ls.linked_pair_rejected, win.full_solves, memory_mb("VmRSS"));
       std::fflush(stdout);
       win = Window{};
     }
   }
+  // Accuracy: RMS / max position error of every keyframe against the truth (the starts are the true
+  // ones, so the global frame is the world's), live (as the last update left it) and refined (after
+  // idle updates until the refinement converged).
+  auto report_error = [&](const char* what) {
+    double sum2 = 0, worst = 0;
+    int n = 0;
+    for (int r = 0; r < kRobots; ++r) {
+      for (size_t s = 0; s < truth[size_t(r)].size(); ++s) {
+        const auto g = mapper.global_pose(KeyframeId{RobotId(r), int32_t(s)});
+        if (!g) continue;
+        const double e = (g->translation() - truth[size_t(r)][s].translation()).norm();
+        sum2 += e * e, worst = std::max(worst, e), ++n;
+      }
+    }
+    std::printf("position error %s: rms %.3f m, max %.3f m over %d keyframes\n", what, n ? std::sqrt(sum2 / n) : 0.0,
+                worst, n);
+  };
+  std::printf("closures refused by the map check: %d inconclusive (too little overlap), %d contradicted\n",
+              rejected_inconclusive, rejected_contradicted);
+  int wrong = 0, inter = 0;  // accepted closures more than 0.3 m / 0.1 rad off the truth
+  for (const cairn::base::LoopClosure& c : mapper.loop_closures()) {
+    const SE2 E = truth[size_t(c.a.robot.value)][size_t(c.a.seq)].between(truth[size_t(c.b.robot.value)][size_t(c.b.seq)])
+                      .between(c.T_a_b);
+    wrong += E.translation().norm() > 0.3 || std::abs(E.yaw()) > 0.1;
+    inter += c.a.robot != c.b.robot;
+  }
+  std::printf("accepted closures: %zu (%d inter-robot), %d of them more than 0.3 m / 0.1 rad off the truth\n",
+              mapper.loop_closures().size(), inter, wrong);
+  report_error("live");
+  {
+    const double c0 = cpu_ms();
+    int idle = 0;
+    for (; idle < 200 && mapper.refinement_pending(); ++idle) mapper.optimize();
+    std::printf("%d idle updates to converge the refinement (%.0f ms cpu)\n", idle, cpu_ms() - c0);
+  }
+  report_error("refined");
+  std::fflush(stdout);
   // The whole map from scratch (what every render cost before incremental rendering).
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = cpu_ms();

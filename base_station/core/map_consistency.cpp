@@ -1,7 +1,11 @@
 #include "base_station/core/map_consistency.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <set>
+#include <unordered_set>
 
 #include "common/laser_scan.h"
 #include "common/occupancy_grid.h"
@@ -88,6 +92,34 @@ int largest_cluster(const std::vector<Eigen::Vector2i>& cells) {
 }
 
 }  // namespace
+
+PlacedScans select_near_keyframes(const PlacedScans& side, const Eigen::Vector2d& center_m,
+                                  const MapConsistencyOptions& o) {
+  const size_t n = std::min(side.keyframes.size(), side.T_frame_base.size());
+  const double r2 = o.local_radius_m > 0 ? o.local_radius_m * o.local_radius_m
+                                     : std::numeric_limits<double>::infinity();
+  std::vector<std::pair<double, size_t>> near;  // squared distance, index
+  for (size_t k = 0; k < n; ++k) {
+    const double d2 = (side.T_frame_base[k].translation() - center_m).squaredNorm();
+    if (d2 <= r2) near.emplace_back(d2, k);
+  }
+  std::sort(near.begin(), near.end());
+  PlacedScans out;
+  std::unordered_set<uint64_t> cells;
+  const size_t cap = o.local_max_keyframes > 0 ? size_t(o.local_max_keyframes) : n;
+  for (const auto& [d2, k] : near) {
+    if (out.keyframes.size() >= cap) break;
+    if (o.local_thin_cell_m > 0) {
+      const Eigen::Vector2d p = (side.T_frame_base[k].translation() - center_m) / o.local_thin_cell_m;
+      const uint64_t key = (uint64_t(uint32_t(int32_t(std::floor(p.x())))) << 32) |
+                           uint64_t(uint32_t(int32_t(std::floor(p.y()))));
+      if (!cells.insert(key).second) continue;
+    }
+    out.keyframes.push_back(side.keyframes[k]);
+    out.T_frame_base.push_back(side.T_frame_base[k]);
+  }
+  return out;
+}
 
 MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedScans& b,
                                            const MapConsistencyOptions& o) {

@@ -35,6 +35,18 @@ struct MapConsistencyOptions {
   /// the hypothesis whatever the ratio: aliased wings agree almost everywhere, and differ only
   /// where the building does (a corridor's end wall), which a ratio over the whole map dilutes.
   int max_contradiction_cluster_cells = 10;
+  /// Local checks (select_near_keyframes; the merger's check of a closure into an already linked
+  /// pair): only keyframes whose position in the common frame lies within this of the checked
+  /// place take part, so the cost of a check does not grow with the map. An aliased closure is
+  /// refuted where the two copies differ near it (a scan reaches max_range_m, so walls up to
+  /// radius + max_range_m are compared); 0 = the merger checks the whole map (no selection). Cost
+  /// and aliasing measured in docs/benchmarks.md (issue 4, bench_merger_scale --loops).
+  double local_radius_m = 15.0;
+  /// Of those, one keyframe per cell of this size (the one nearest the place): a place revisited
+  /// many times costs as much as one pass through it. 0 = no thinning.
+  double local_thin_cell_m = 0.5;
+  /// At most this many keyframes per side (the nearest first): bounds the cost in dense maps.
+  int local_max_keyframes = 400;
 };
 
 struct MapConsistencyResult {
@@ -52,6 +64,12 @@ struct PlacedScans {
   std::vector<const Keyframe*> keyframes;
   std::vector<SE2> T_frame_base;  ///< same length
 };
+
+/// The keyframes of `side` that a local check around `center_m` (common frame) uses: within
+/// options.local_radius_m, thinned to one per local_thin_cell_m cell, at most local_max_keyframes,
+/// nearest first (ties by input order, so the selection is deterministic).
+PlacedScans select_near_keyframes(const PlacedScans& side, const Eigen::Vector2d& center_m,
+                                  const MapConsistencyOptions& options = {});
 
 /// Compares side `a` with side `b` (both already placed in one frame by the hypothesis).
 MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedScans& b,

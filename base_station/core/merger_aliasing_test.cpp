@@ -11,6 +11,7 @@
 namespace cairn::base {
 namespace {
 
+using testing::along;
 using testing::Segment;
 
 /// Building [0, 24] x [0, 10] m: a corridor y in [0, 2] along it, and two identical wings of two
@@ -28,18 +29,6 @@ std::vector<Segment> two_wing_building() {
     add(7, 8, 9, 9.5);    // a slanted wall in room B
   }
   return w;
-}
-
-/// Poses every ~0.5 m along straight legs between waypoints, heading along each leg.
-std::vector<SE2> along(const std::vector<Eigen::Vector2d>& waypoints) {
-  std::vector<SE2> out;
-  for (size_t i = 0; i + 1 < waypoints.size(); ++i) {
-    const Eigen::Vector2d d = waypoints[i + 1] - waypoints[i];
-    const int steps = std::max(1, int(std::round(d.norm() / 0.5)));
-    for (int k = 0; k < steps; ++k) out.emplace_back(waypoints[i] + d * (double(k) / steps), std::atan2(d.y(), d.x()));
-  }
-  out.emplace_back(waypoints.back(), out.back().yaw());
-  return out;
 }
 
 std::vector<Eigen::Vector2d> west_route(double ox) {

@@ -275,12 +275,15 @@ void MultiRobotMapper::update_graph(OptimizeResult* result) {
   if (graph_.edges().size() > edges_before || graph_.landmark_edges().size() > landmark_edges_before) {
     // A new loop moves the optimum of the whole graph: solving only a window around it first
     // bends the held-constant rest into the window (metres after a fresh inter-robot link) and
-    // leaves the full solves a worse start, so loops go straight to the full warm-started solves.
+    // leaves the full solves a worse start, so loops go to full warm-started solves (at most every
+    // refine_every_updates while keyframes arrive; in between only the new keyframes' windows).
     refine_pending_ = true;
   }
   if (!options_.windowed_updates) refine_pending_ = true;  // every update: the whole graph
+  if (updates_since_refine_ < INT_MAX) ++updates_since_refine_;
   PoseGraphSolveOptions solve = options_.solve;
   if (full_resolve_) {
+    updates_since_refine_ = 0;
     if (const auto init = lago_initialize(graph_)) graph_.set_estimates(*init);
     result->full_resolve = true;
     full_resolve_ = false;
@@ -292,17 +295,24 @@ void MultiRobotMapper::update_graph(OptimizeResult* result) {
   solve.max_iterations = std::min(solve.max_iterations, options_.incremental_max_iterations);
   std::sort(active.begin(), active.end());
   active.erase(std::unique(active.begin(), active.end()), active.end());
-  if (!active.empty() && !refine_pending_) {  // odometry only: the window is exact
+  // Full refinement now: when idle, or at most every refine_interval updates (mapper_options.h).
+  const int per_update = options_.refine_keyframes_per_update;
+  const int refine_interval = std::max({1, options_.refine_every_updates,
+                                        per_update > 0 ? int(graph_.num_nodes()) / per_update : 0});
+  const bool refine_now = refine_pending_ && (active.empty() || !options_.windowed_updates ||
+                                              updates_since_refine_ >= refine_interval);
+  if (!active.empty() && !refine_now) {  // odometry only: the window is exact
     PoseGraphSolveOptions local = solve;
     local.active_nodes = active;
     result->solve = graph_.solve(local);
     for (KeyframeId id : active) optimized_[id] = *graph_.estimate(id);
     map_moved_.insert(map_moved_.end(), active.begin(), active.end());
-  } else if (!refine_pending_) {
+  } else if (!refine_now) {
     result->solve.converged = true;
     result->solve.reason = "nothing new";
   }
-  if (refine_pending_) {
+  if (refine_now) {
+    updates_since_refine_ = 0;
     solve.max_time_s = options_.refine_max_time_s;
     result->solve = graph_.solve(solve);
     result->full_solve = true;

@@ -150,8 +150,9 @@ class MultiRobotMapper {
   const std::vector<ObjectConstraint>& object_observations() const { return object_constraints_; }
 
   /// True while the last loop closures have not been solved to convergence over the whole graph
-  /// (each optimize() runs incremental_max_iterations more): call optimize() until false before
-  /// exporting a final map.
+  /// (each optimize() without new keyframes runs incremental_max_iterations more, one with new
+  /// keyframes at most every MapperOptions::refine_every_updates): call optimize() until false
+  /// before exporting a final map.
   bool refinement_pending() const { return refine_pending_; }
   /// Bumped whenever any global pose or object may have changed.
   uint64_t version() const { return version_; }
@@ -221,6 +222,8 @@ class MultiRobotMapper {
   /// Loop closures were solved in their window only: full warm-started solves (time-capped) run
   /// on the next updates until one converges.
   bool refine_pending_ = false;
+  /// Updates since the last full solve (MapperOptions::refine_every_updates).
+  int updates_since_refine_ = 0;
   std::map<KeyframeId, Keyframe> keyframes_;
   std::map<ObjectId, ObjectReport> reports_;
   std::map<KeyframeId, SE2> optimized_;  ///< global poses from the last optimize()

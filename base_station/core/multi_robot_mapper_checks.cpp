@@ -141,14 +141,28 @@ bool MultiRobotMapper::accept_linked_pair_closure(const LoopClosure& c, Optimize
   }
   if (!options_.check_map_consistency) return true;
   ++link_stats_.linked_pair_checked;
-  // Hypothesis: robot b moves rigidly so that the closure holds.
+  // Hypothesis: robot b moves rigidly so that the closure holds. Compared near the closure only
+  // (MapConsistencyOptions::local_radius_m): O(keyframes) to place them, not to render them.
   const SE2 T_moved_global = Ga * c.T_a_b * Gb.inverse();
-  PlacedScans moved;
-  for (auto it = keyframes_.lower_bound(KeyframeId{c.b.robot, 0}); it != keyframes_.end() && it->first.robot == c.b.robot; ++it) {
-    moved.keyframes.push_back(&it->second);
-    moved.T_frame_base.push_back(T_moved_global * *global_pose(it->first));
+  std::map<RobotId, SE2> corrections;  // global_pose() of keyframes not optimised yet
+  for (const auto& [robot, start] : starts_) corrections[robot] = correction(robot);
+  PlacedScans others, moved;
+  auto opt = optimized_.begin();  // one merge pass: both maps are in id order
+  for (const auto& [id, kf] : keyframes_) {
+    const auto corr = corrections.find(id.robot);
+    if (corr == corrections.end()) continue;  // not linked
+    while (opt != optimized_.end() && opt->first < id) ++opt;
+    const SE2 G = opt != optimized_.end() && opt->first == id ? opt->second : corr->second * kf.T_local_base;
+    PlacedScans& side = id.robot == c.b.robot ? moved : others;
+    side.keyframes.push_back(&kf);
+    side.T_frame_base.push_back(id.robot == c.b.robot ? T_moved_global * G : G);
   }
-  const MapConsistencyResult m = check_map_consistency(linked_scans(SE2(), c.b.robot), moved, options_.map_check);
+  if (options_.map_check.local_radius_m > 0) {
+    const Eigen::Vector2d center_m = 0.5 * (Ga.translation() + (Ga * c.T_a_b).translation());
+    others = select_near_keyframes(others, center_m, options_.map_check);
+    moved = select_near_keyframes(moved, center_m, options_.map_check);
+  }
+  const MapConsistencyResult m = check_map_consistency(others, moved, options_.map_check);
   // A closure that would move a linked robot needs positive evidence: inconclusive is not enough.
   if (m.consistent && m.conclusive) return true;
   ++link_stats_.linked_pair_rejected;

@@ -1,6 +1,7 @@
 #pragma once
 // Test-only: a synthetic rectangular room with one interior wall, analytic laser ray casting and
 // keyframe/object generators for robots driving known paths. Header-only, used by the tests.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -45,6 +46,18 @@ inline LaserScan simulate_scan(const SE2& T_world_base, const std::vector<Segmen
     scan.ranges_m.push_back(r >= range_max_m ? range_max_m : float(r));
   }
   return scan;
+}
+
+/// Poses every ~0.5 m along straight legs between waypoints, heading along each leg.
+inline std::vector<SE2> along(const std::vector<Eigen::Vector2d>& waypoints) {
+  std::vector<SE2> out;
+  for (size_t i = 0; i + 1 < waypoints.size(); ++i) {
+    const Eigen::Vector2d d = waypoints[i + 1] - waypoints[i];
+    const int steps = std::max(1, int(std::round(d.norm() / 0.5)));
+    for (int k = 0; k < steps; ++k) out.emplace_back(waypoints[i] + d * (double(k) / steps), std::atan2(d.y(), d.x()));
+  }
+  out.emplace_back(waypoints.back(), out.back().yaw());
+  return out;
 }
 
 /// Keyframes of a robot following `path_world` (exact odometry), in its local frame whose origin
