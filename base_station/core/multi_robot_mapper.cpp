@@ -301,7 +301,7 @@ void MultiRobotMapper::update_graph(OptimizeResult* result) {
                                         per_update > 0 ? int(graph_.num_nodes()) / per_update : 0});
   const bool refine_now = refine_pending_ && (active.empty() || !options_.windowed_updates ||
                                               updates_since_refine_ >= refine_interval);
-  if (!active.empty() && !refine_now) {  // odometry only: the window is exact
+  if (!active.empty() && !refine_now) {  // the new keyframes' window (exact for odometry alone)
     PoseGraphSolveOptions local = solve;
     local.active_nodes = active;
     result->solve = graph_.solve(local);
