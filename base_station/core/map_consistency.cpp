@@ -13,14 +13,28 @@
 namespace cairn::base {
 namespace {
 
-OccupancyGrid render(const PlacedScans& side, const MapConsistencyOptions& o) {
+struct Rendered {
+  OccupancyGrid grid;
+  /// Per cell of `grid` (row-major): 1 where a beam of at most wall_max_range_m ended.
+  std::vector<uint8_t> close_hit;
+  bool close(int col, int row) const { return close_hit.empty() || close_hit[size_t(row) * grid.width() + col]; }
+};
+
+Rendered render(const PlacedScans& side, const MapConsistencyOptions& o) {
   OccupancyGridOptions go;
   go.resolution_m = o.resolution_m;
   go.max_range_m = o.max_range_m;
   OccupancyGrid grid(go);
+  std::vector<Eigen::Vector2d> close_hits_m;  // cells resolved once the grid has its final size
   const size_t n = std::min(side.keyframes.size(), side.T_frame_base.size());
   for (size_t k = 0; k < n; ++k) {
     const LaserScan& scan = side.keyframes[k]->scan;
+    const std::vector<Eigen::Vector2f> points = scan_to_points(scan);
+    if (o.wall_max_range_m > 0) {
+      for (const auto& p : points) {
+        if (p.norm() <= o.wall_max_range_m) close_hits_m.push_back(side.T_frame_base[k] * p.cast<double>());
+      }
+    }
     std::vector<Eigen::Vector2f> no_return;
     const float clear_m = float(std::min<double>(scan.range_max_m, o.max_range_m));
     for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
@@ -29,9 +43,17 @@ OccupancyGrid render(const PlacedScans& side, const MapConsistencyOptions& o) {
       const float a = beam_angle_rad(scan, i);
       no_return.emplace_back(clear_m * std::cos(a), clear_m * std::sin(a));
     }
-    grid.insert_scan(side.T_frame_base[k], scan_to_points(scan), no_return);
+    grid.insert_scan(side.T_frame_base[k], points, no_return);
   }
-  return grid;
+  Rendered out{std::move(grid), {}};
+  if (o.wall_max_range_m > 0) {
+    out.close_hit.assign(size_t(out.grid.width()) * out.grid.height(), 0);
+    for (const auto& p : close_hits_m) {
+      const Eigen::Vector2i c = out.grid.cell_of(p);
+      if (out.grid.contains(c.x(), c.y())) out.close_hit[size_t(c.y()) * out.grid.width() + c.x()] = 1;
+    }
+  }
+  return out;
 }
 
 bool wall_near(const OccupancyGrid& grid, const Eigen::Vector2i& c, int radius_cells, float occupied) {
@@ -46,13 +68,14 @@ bool wall_near(const OccupancyGrid& grid, const Eigen::Vector2i& c, int radius_c
 
 /// Wall cells of `walls` inside `other`'s observed area, and those in its confident free space
 /// (returned as cells of `walls`).
-std::vector<Eigen::Vector2i> count(const OccupancyGrid& walls, const OccupancyGrid& other,
+std::vector<Eigen::Vector2i> count(const Rendered& side, const OccupancyGrid& other,
                                    const MapConsistencyOptions& o, MapConsistencyResult* r) {
+  const OccupancyGrid& walls = side.grid;
   const int radius = int(std::ceil(o.tolerance_m / o.resolution_m));
   std::vector<Eigen::Vector2i> contradicting;
   for (int row = 0; row < walls.height(); ++row) {
     for (int col = 0; col < walls.width(); ++col) {
-      if (walls.log_odds(col, row) < o.occupied_log_odds) continue;
+      if (walls.log_odds(col, row) < o.occupied_log_odds || !side.close(col, row)) continue;
       const Eigen::Vector2i c = other.cell_of(walls.cell_center_m(col, row));
       const float v = other.log_odds(c.x(), c.y());
       if (v == 0.f) continue;  // unknown to the other side
@@ -128,9 +151,9 @@ MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedSca
     r.reason = "no keyframes on one side";
     return r;
   }
-  const OccupancyGrid grid_a = render(a, o), grid_b = render(b, o);
-  r.largest_contradiction_cells = std::max(largest_cluster(count(grid_a, grid_b, o, &r)),
-                                           largest_cluster(count(grid_b, grid_a, o, &r)));
+  const Rendered ra = render(a, o), rb = render(b, o);
+  r.largest_contradiction_cells = std::max(largest_cluster(count(ra, rb.grid, o, &r)),
+                                           largest_cluster(count(rb, ra.grid, o, &r)));
   r.contradiction_ratio = r.checked_cells > 0 ? double(r.contradicting_cells) / r.checked_cells : 0.0;
   r.conclusive = r.checked_cells >= o.min_checked_cells ||
                  r.largest_contradiction_cells >= o.max_contradiction_cluster_cells;

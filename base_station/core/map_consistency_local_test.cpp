@@ -60,10 +60,10 @@ TEST(MapConsistencyLocal, SelectionKeepsNearestOnePerCellWithinRadiusUpToCap) {
 
 TEST(MapConsistencyLocal, AWallFarFromTheClosureDoesNotDecide) {
   // Robot A drove the whole corridor; robot B saw it later with a door across it at x = 45 (closed
-  // since A passed) and stopped at x = 40. Both placed right.
+  // since A passed) and stopped at x = 42, 3 m before it. Both placed right.
   std::vector<Segment> walls_b = corridor();
   walls_b.push_back({{45, 0}, {45, 3}});
-  const std::vector<SE2> pa = along({{1, 1.5}, {59, 1.5}}), pb = along({{1, 1.5}, {40, 1.5}});
+  const std::vector<SE2> pa = along({{1, 1.5}, {59, 1.5}}), pb = along({{1, 1.5}, {42, 1.5}});
   const auto ka = testing::make_keyframes(RobotId(0), pa, corridor());
   const auto kb = testing::make_keyframes(RobotId(1), pb, walls_b);
   const PlacedScans a = place(ka, pa), b = place(kb, pb);
@@ -78,10 +78,32 @@ TEST(MapConsistencyLocal, AWallFarFromTheClosureDoesNotDecide) {
   EXPECT_TRUE(local.conclusive) << local.reason;
   EXPECT_TRUE(local.consistent) << local.reason;
   // Near the door the local check sees it.
-  const Eigen::Vector2d near_door_m(38, 1.5);
+  const Eigen::Vector2d near_door_m(40, 1.5);
   const MapConsistencyResult at_door =
       check_map_consistency(select_near_keyframes(a, near_door_m, o), select_near_keyframes(b, near_door_m, o), o);
   EXPECT_FALSE(at_door.consistent) << at_door.reason;
+}
+
+TEST(MapConsistency, AWallSeenOnlyFromFarAwayDoesNotAccuse) {
+  // B sees the corridor's end wall only from 8-12 m, and 0.6 m short of where it is (what a
+  // 3-4 deg heading error of a distant keyframe does): in A's free space, but not evidence of a
+  // wrong placement. Seen from 2 m, the same displaced wall is.
+  std::vector<Segment> walls_b = corridor();
+  walls_b[1] = {{0.6, 0}, {0.6, 3}};
+  const std::vector<SE2> pa = along({{1, 1.5}, {30, 1.5}});
+  const auto ka = testing::make_keyframes(RobotId(0), pa, corridor());
+  const std::vector<SE2> far = along({{8, 1.5}, {12, 1.5}}), near = along({{2.6, 1.5}, {12, 1.5}});
+  const auto kfar = testing::make_keyframes(RobotId(1), far, walls_b);
+  const auto knear = testing::make_keyframes(RobotId(1), near, walls_b);
+  MapConsistencyOptions every_wall;
+  every_wall.wall_max_range_m = 0.0;
+  const MapConsistencyResult unfiltered = check_map_consistency(place(ka, pa), place(kfar, far), every_wall);
+  ASSERT_FALSE(unfiltered.consistent) << "the far wall no longer contradicts: the test lost its point";
+  const MapConsistencyResult from_far = check_map_consistency(place(ka, pa), place(kfar, far));
+  EXPECT_TRUE(from_far.conclusive) << from_far.reason;
+  EXPECT_TRUE(from_far.consistent) << from_far.reason;
+  const MapConsistencyResult from_near = check_map_consistency(place(ka, pa), place(knear, near));
+  EXPECT_FALSE(from_near.consistent) << from_near.reason;
 }
 
 TEST(MapConsistencyLocal, AnAliasedClosureIsStillRefutedByAContradictionNearIt) {
