@@ -114,6 +114,25 @@ MergeCheck check_same_object(const PlacedObjectReport& a, const PlacedObjectRepo
       return c;
     }
   }
+  // Views from opposite sides share no surface, so ICP cannot verify them. The reported centres are
+  // primitive fits (robot_agent shape_fit.h), not visible-surface centroids, so one object seen from
+  // two sides keeps one centre: reports whose centres coincide, whose clouds did not overlap at all
+  // and whose union is no larger than one object are one object (two solid objects cannot share a
+  // centre). Anything that overlapped but failed RMSE or correction stays two.
+  const bool no_overlap = c.fitness < o.min_fitness;
+  if (no_overlap && d <= o.max_coincident_centre_m) {
+    Eigen::AlignedBox3d both = bounds(ca);
+    both.extend(bounds(cb));
+    const double union_xy_m = both.sizes().head<2>().maxCoeff();
+    if (union_xy_m <= o.max_union_extent_factor * extent + o.bbox_margin_m) {
+      c.accepted = true;
+      c.fitness = 0.0;  // no ICP alignment to apply
+      c.T_a_b = Eigen::Isometry3d::Identity();
+      return c.reason = "centres coincide (" + std::to_string(d) + " m) and the clouds, seen from different sides, " +
+                        "do not overlap; together " + std::to_string(union_xy_m) + " m across: one object", c;
+    }
+    why += "; centres coincide but the clouds together are " + std::to_string(union_xy_m) + " m across";
+  }
   return c.reason = why, c;
 }
 

@@ -5,7 +5,9 @@
 // (seed paper Algorithm 3, common/registration) between the two clouds in the global frame and
 // accepted when fitness, RMSE and the size of the correction pass; accepted pairs are joined
 // (union-find). Reports of different robots are also tried from their centres made to coincide
-// (robust to the robots' relative placement error; max_cross_robot_correction_m). A merged object's cloud is the union of its reports' clouds after alignment onto the
+// (robust to the robots' relative placement error; max_cross_robot_correction_m). Views from
+// opposite sides share no surface for ICP: they are one object when their fitted centres coincide
+// and their clouds together are one object's size (max_coincident_centre_m). A merged object's cloud is the union of its reports' clouds after alignment onto the
 // most observed report, voxel-downsampled; its position is the observation-weighted mean.
 #include <Eigen/Geometry>
 #include <cstdint>
@@ -62,6 +64,12 @@ struct ObjectMergeOptions {
   /// coincide, and the correction may then reach this much.
   double max_cross_robot_correction_m = 0.45;
   double max_correction_rad = 0.5;
+  /// Reports whose clouds do not overlap (views from opposite sides: ICP fitness below min_fitness)
+  /// are still one object when their centres (primitive fits, not surface centroids) are at most
+  /// this far apart and the two clouds together are at most max_union_extent_factor times the larger
+  /// report's extent across (+ bbox_margin_m).
+  double max_coincident_centre_m = 0.10;
+  double max_union_extent_factor = 1.3;
   int min_cloud_points = 10;             ///< below this a report is merged by centroid gate alone
   double object_voxel_m = 0.02;          ///< voxel of the merged clouds
 };

@@ -1,7 +1,8 @@
 #pragma once
 // Objects of interest as pose-graph constraints (issue #4): the same object seen by two robots, or
 // twice by one robot from different keyframes, ties those keyframes together. Each report of a
-// merged object (global_object.h) whose merge was verified by RGB-ICP becomes a range-bearing
+// merged object (global_object.h) whose merge was verified (RGB-ICP, or coinciding fitted centres of
+// views that share no surface) becomes a range-bearing
 // observation of one 2D point node (PointNodeId = the cluster's ObjectId) from its anchor keyframe:
 // the xy of T_anchor_object (the anchor's planar pose lifted to 3D, so xy in the anchor frame is the
 // planar observation) with the report's xy covariance, floored. The graph puts a robust loss on them
@@ -41,7 +42,7 @@ struct ObjectConstraint {
 
 /// The observations of every qualifying merged object, in report order. A cluster qualifies when it
 /// has >= min_anchors distinct anchors and every report has >= merge.min_cloud_points cloud points
-/// (then each of its joins was verified by RGB-ICP; a report with too small a cloud is merged by
+/// (then each of its joins was verified by RGB-ICP or coinciding centres; a report with too small a cloud is merged by
 /// the centroid gate alone, unverified). Reports with a covariance that is not finite are skipped.
 std::vector<ObjectConstraint> object_constraints(const std::vector<GlobalObject>& objects,
                                                  const std::map<ObjectId, ObjectReport>& reports,

@@ -18,11 +18,11 @@
 namespace cairn::base {
 namespace {
 
-/// Visible half (facing `view_rad`) of an upright cylinder, in the object frame (centred).
-ColoredCloud half_cylinder(double radius_m, double height_m, double view_rad) {
+/// Visible half (facing `view_rad`; `arc_rad` of it) of an upright cylinder, in the object frame (centred).
+ColoredCloud half_cylinder(double radius_m, double height_m, double view_rad, double arc_rad = M_PI) {
   ColoredCloud c;
   for (int k = 0; k < 40; ++k) {
-    const double a = view_rad - M_PI / 2 + M_PI * k / 39.0;
+    const double a = view_rad - arc_rad / 2 + arc_rad * k / 39.0;
     for (double z = -height_m / 2; z <= height_m / 2 + 1e-9; z += 0.02)
       c.push_back(ColoredPoint{float(radius_m * std::cos(a)), float(radius_m * std::sin(a)), float(z), 230,
                                uint8_t(120 + 100 * (k % 4 == 0)), 40});
@@ -110,6 +110,32 @@ TEST(ObjectMerge, OneObjectFromTwoRobotsPlacedThirtyCentimetresApartIsMerged) {
     std::printf("0.3 m apart, bearing %.0f rad: %s\n", bearing, check.reason.c_str());
     EXPECT_EQ(merge_object_reports(placed, {}).size(), 1u);
   }
+}
+
+TEST(ObjectMerge, OneObjectSeenFromOppositeSidesIsMergedByItsCentre) {
+  // Robot 0 sees the west side, robot 1 the east side (140 deg each): no shared surface, ICP cannot
+  // verify. Their reported centres (primitive fits) coincide within 4 cm: one victim, not two.
+  const ObjectReport a = report({RobotId(0), 0}, half_cylinder(0.2, 0.5, M_PI, 2.4), 10);
+  const ObjectReport b = report({RobotId(1), 0}, half_cylinder(0.2, 0.5, 0.0, 2.4), 10);
+  const std::vector<PlacedObjectReport> placed{{&a, pose(5.0, 2.0, 0.25)}, {&b, pose(5.03, 2.02, 0.25)}};
+  ObjectMergeOptions icp_only;
+  icp_only.max_coincident_centre_m = 0.0;
+  const MergeCheck by_icp = check_same_object(placed[0], placed[1], icp_only);
+  ASSERT_FALSE(by_icp.accepted) << "the sides overlap: the test lost its point; " << by_icp.reason;
+  const MergeCheck check = check_same_object(placed[0], placed[1], {});
+  EXPECT_TRUE(check.accepted) << check.reason;
+  std::printf("opposite sides: %s\n", check.reason.c_str());
+  ASSERT_EQ(merge_object_reports(placed, {}).size(), 1u);
+  // The same two views 0.2 m apart are two objects: the centres no longer coincide.
+  const std::vector<PlacedObjectReport> apart{{&a, pose(5.0, 2.0, 0.25)}, {&b, pose(5.2, 2.0, 0.25)}};
+  EXPECT_FALSE(check_same_object(apart[0], apart[1], {}).accepted);
+  // Two different victims whose fitted centres coincide cannot both be whole: a cloud twice an
+  // object's size is not one object.
+  ColoredCloud wide = half_cylinder(0.2, 0.5, 0.0, 2.4);
+  for (ColoredPoint& p : wide) p.x += 0.6f;
+  const ObjectReport c = report({RobotId(1), 1}, wide, 10);
+  const std::vector<PlacedObjectReport> odd{{&a, pose(5.0, 2.0, 0.25)}, {&c, pose(5.03, 2.0, 0.25)}};
+  EXPECT_FALSE(check_same_object(odd[0], odd[1], {}).accepted);
 }
 
 TEST(ObjectMerge, TwoRobotsVictimsOneMetreApartStayTwo) {
