@@ -37,6 +37,33 @@ TEST(RangeDataInserter, HitsRaiseAndMissesLowerProbability) {
   EXPECT_GT(grid.at(grid.cell_of({2.01, 0.01}).x(), grid.cell_of({2.01, 0.01}).y(), 0.f), 0.6f);
 }
 
+// field_line_max_gap_m: a wall sampled sparsely (a grazing 1-degree scan) becomes a continuous ridge
+// of the likelihood field between its hits; a jump between two surfaces (no third hit on its line,
+// or longer than the gap) does not.
+TEST(RangeDataInserter, FieldLinesJoinSparseWallHitsOnly) {
+  // Hits 0.4 m apart along the wall y = 1; then a jump to a far wall at x = 6.
+  const std::vector<Eigen::Vector2f> points = {{1.0f, 1.0f}, {1.4f, 1.0f}, {1.8f, 1.0f}, {2.2f, 1.0f},
+                                               {6.0f, 0.5f}, {6.0f, 0.1f}};
+  RangeDataInserterOptions o;
+  o.field_line_max_gap_m = 0.6;
+  ProbabilityGrid lines(Eigen::Vector2d(-1, -1), 0.05, 160, 60), dots(Eigen::Vector2d(-1, -1), 0.05, 160, 60);
+  RangeDataInserter(o).insert(SE2(), points, &lines);
+  RangeDataInserter().insert(SE2(), points, &dots);
+  auto field = [](const ProbabilityGrid& g, double x, double y) {
+    const Eigen::Vector2i c = g.cell_of({x, y});
+    return g.field_at(c.x(), c.y());
+  };
+  EXPECT_GT(field(lines, 1.2, 1.0), 0.9f);  // between two wall hits
+  EXPECT_GT(field(lines, 2.0, 1.0), 0.9f);
+  EXPECT_LT(field(dots, 1.2, 1.0), 0.1f);   // hits only: a gap in the wall
+  EXPECT_NEAR(field(lines, 1.4, 1.0), field(dots, 1.4, 1.0), 1e-6);  // hits unchanged
+  EXPECT_LT(field(lines, 4.0, 0.75), 0.1f);  // 3.8 m jump: not joined
+  EXPECT_LT(field(lines, 6.0, 0.3), 0.1f);   // the far pair has no third hit on its line
+  // Probabilities are untouched: only the field (what the matchers read) changes.
+  const Eigen::Vector2i between = lines.cell_of({1.2, 1.0});
+  EXPECT_EQ(lines.known(between.x(), between.y()), dots.known(between.x(), between.y()));
+}
+
 // Growth and cropping copy only the written-cell box: every cell must read the same at the same
 // world position afterwards, and free space stops at max_free_space_length_m.
 TEST(ProbabilityGrid, GrowthAndCropKeepEveryWrittenCell) {

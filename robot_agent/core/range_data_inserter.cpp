@@ -30,6 +30,36 @@ void RangeDataInserter::apply(size_t index, const std::vector<uint16_t>& table, 
   touched->push_back(index);
 }
 
+void RangeDataInserter::splat_segments(const std::vector<Eigen::Vector2d>& ends, const std::vector<bool>& hit,
+                                       ProbabilityGrid* grid) const {
+  const double res = grid->resolution_m();
+  const double max_gap2 = options_.field_line_max_gap_m * options_.field_line_max_gap_m;
+  const size_t n = ends.size();
+  auto near = [&](size_t a, size_t b) { return hit[a] && hit[b] && (ends[b] - ends[a]).squaredNorm() <= max_gap2; };
+  // Whether hit c lies on the line through hits a, b (within the larger of the tolerances).
+  auto on_line = [&](size_t a, size_t b, size_t c) {
+    const Eigen::Vector2d d = ends[b] - ends[a], e = ends[c] - ends[a];
+    const double distance_m = std::abs(d.x() * e.y() - d.y() * e.x()) / std::max(1e-9, d.norm());
+    return distance_m <= std::max(options_.field_line_tolerance_m, options_.field_line_tolerance_ratio * d.norm());
+  };
+  for (size_t i = 1; i < n; ++i) {
+    if (!near(i - 1, i)) continue;
+    const Eigen::Vector2d d = ends[i] - ends[i - 1];
+    const double gap2 = d.squaredNorm();
+    if (gap2 <= 4.0 * res * res) continue;  // the two kernels already overlap
+    if (options_.field_line_collinear) {
+      const bool before = i >= 2 && near(i - 2, i - 1) && on_line(i - 1, i, i - 2);
+      const bool after = i + 1 < n && near(i, i + 1) && on_line(i - 1, i, i + 1);
+      if (!before && !after) continue;
+    }
+    const int steps = int(std::ceil(std::sqrt(gap2) / res));
+    for (int k = 1; k < steps; ++k) {
+      const Eigen::Vector2i c = grid->cell_of(ends[i - 1] + d * (double(k) / steps));
+      grid->splat_hit(c.x(), c.y(), options_.field_sigma_cells);
+    }
+  }
+}
+
 void RangeDataInserter::insert(const SE2& T, const std::vector<Eigen::Vector2f>& points,
                                ProbabilityGrid* grid) const {
   if (points.empty()) return;
@@ -61,6 +91,7 @@ void RangeDataInserter::insert(const SE2& T, const std::vector<Eigen::Vector2f>&
     apply(size_t(c.y()) * w + c.x(), hit_table_, &cells, &touched);
     grid->splat_hit(c.x(), c.y(), options_.field_sigma_cells);
   }
+  if (options_.field_line_max_gap_m > 0.0) splat_segments(ends, hit, grid);
   if (options_.insert_free_space) {
     const Eigen::Vector2i o = grid->cell_of(origin);
     const double free_m = options_.max_free_space_length_m;

@@ -21,6 +21,16 @@ struct RangeDataInserterOptions {
   /// read the likelihood field of the hits; free cells only enter the probability scores.
   double max_free_space_length_m = 10.0;
   double field_sigma_cells = 1.0;  ///< hit kernel of the likelihood field
+  /// The likelihood field also gets the hit kernel along the segment between consecutive hits
+  /// (scan order) closer than this, m (0: hits only). A wall seen at a grazing angle or far away
+  /// is sampled by beams metres apart; as dots, a later scan's points on it match only at a few
+  /// along-wall shifts (a rippled, biased score along corridors); as a line, anywhere on it.
+  double field_line_max_gap_m = 0.0;
+  /// ... and only when a neighbouring hit continues the segment's line (within the larger of the
+  /// tolerance and ratio x gap): a wall, not a jump between two surfaces.
+  bool field_line_collinear = true;
+  double field_line_tolerance_m = 0.05;
+  double field_line_tolerance_ratio = 0.1;
 };
 
 /// Table mapping each value to the value after multiplying the cell's odds by odds(probability),
@@ -39,6 +49,9 @@ class RangeDataInserter {
  private:
   void apply(size_t index, const std::vector<uint16_t>& table, ZeroedVector<uint16_t>* cells,
              std::vector<size_t>* touched) const;
+  /// Hit kernel along the segments between consecutive hits closer than field_line_max_gap_m.
+  void splat_segments(const std::vector<Eigen::Vector2d>& ends, const std::vector<bool>& hit,
+                      ProbabilityGrid* grid) const;
 
   RangeDataInserterOptions options_;
   std::vector<uint16_t> hit_table_;

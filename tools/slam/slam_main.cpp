@@ -105,6 +105,19 @@ int main(int argc, char** argv) {
   app.add_option("--submap-initial-margin", options.slam.submaps.initial_margin_m,
                  "submaps: initial grid margin around the first scan, m");
   app.add_option("--match-voxel", options.slam.match_voxel_m, "local matching point thinning, m");
+  app.add_option("--max-ray-length", options.slam.submaps.inserter.max_ray_length_m,
+                 "submaps: beams longer than this are cut (their endpoint is not a hit), m");
+  app.add_option("--field-line-max-gap", options.slam.submaps.inserter.field_line_max_gap_m,
+                 "submaps: likelihood field also along segments between consecutive hits closer than this, m (0: off)");
+  app.add_option("--field-line-collinear", options.slam.submaps.inserter.field_line_collinear,
+                 "submaps: field segments only where a neighbouring hit continues the line");
+  app.add_option("--field-line-tolerance-ratio", options.slam.submaps.inserter.field_line_tolerance_ratio,
+                 "submaps: collinearity tolerance, fraction of the gap");
+  app.add_option("--field-sigma", options.slam.submaps.inserter.field_sigma_cells,
+                 "submaps: likelihood field hit kernel sigma, cells");
+  cairn::CarmenReadOptions read_options;
+  app.add_option("--no-return-range", read_options.no_return_range_m,
+                 "log readings at or beyond this are 'no return' (not a hit), m");
   CLI11_PARSE(app, argc, argv);
   options.slam.matcher.correlative.angular_window_rad = correlative_angular_deg * M_PI / 180.0;
   options.noise.rotation_noise_rad_per_m = rot_deg_per_m * M_PI / 180.0;
@@ -114,7 +127,7 @@ int main(int argc, char** argv) {
   const double cpu0 = cairn::slam::process_cpu_s();
   cairn::CarmenLog log;
   try {
-    log = cairn::read_carmen_log(log_path);
+    log = cairn::read_carmen_log(log_path, read_options);
   } catch (const cairn::InputError& e) {
     std::cerr << "cairn_slam: " << e.what() << "\n";
     return 2;
