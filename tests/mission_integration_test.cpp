@@ -49,6 +49,20 @@ Pgm read_pgm(const std::string& path) {
 }
 
 /// Fraction of the merged map's occupied cells that lie within `tolerance_m` of a floor-plan wall.
+/// Runs cairn_mission on `world` (source-relative) into a fresh temporary folder named by `tag`.
+struct MissionRun {
+  fs::path out;
+  CommandResult result;
+};
+MissionRun run_mission(const std::string& world, const std::string& tag, const std::string& extra_args = "") {
+  MissionRun m;
+  m.out = fs::path(::testing::TempDir()) / (tag + "_" + std::to_string(getpid()));
+  fs::remove_all(m.out);
+  m.result = run_command(bin("cairn_mission") + " --world " + source_path(world) + " --out " + m.out.string() +
+                         " --port 0 " + extra_args);
+  return m;
+}
+
 double wall_agreement(const fs::path& map_dir, const std::string& world_yaml, double tolerance_m) {
   const auto map_cfg = YamlConfig::load((map_dir / "map.yaml").string());
   const double map_res = map_cfg.require<double>("resolution");
@@ -86,11 +100,10 @@ double wall_agreement(const fs::path& map_dir, const std::string& world_yaml, do
 
 TEST(MissionIntegration, TwoRobotsOverDdsMatchGroundTruth) {
   // Robot 1's start is not told to the base: it must be linked by verified cross-robot closures.
-  const std::string world = source_path("tests/worlds/two_robots_meet.yaml");
-  const fs::path out = fs::path(::testing::TempDir()) / ("mission_" + std::to_string(getpid()));
-  fs::remove_all(out);
-  const auto r = run_command(bin("cairn_mission") + " --world " + world + " --out " + out.string() +
-                             " --port 0 --timeout 400");
+  const std::string world = "tests/worlds/two_robots_meet.yaml";
+  const MissionRun run = run_mission(world, "mission", "--timeout 400");
+  const fs::path& out = run.out;
+  const CommandResult& r = run.result;
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("Mission summary"), std::string::npos) << r.output;
 
@@ -119,18 +132,17 @@ TEST(MissionIntegration, TwoRobotsOverDdsMatchGroundTruth) {
   EXPECT_LT(score.objects.mean_error_xy_m, 0.35) << eval::format_score(score);
 
   // The merged map's walls are where the floor plan has them.
-  EXPECT_GT(wall_agreement(out / "map", world, 0.20), 0.90);
+  EXPECT_GT(wall_agreement(out / "map", source_path(world), 0.20), 0.90);
 }
 
 TEST(MissionIntegration, DemoFloorMergesEveryRobotAndEveryObjectOnce) {
   // The demo (scripts/demo.sh): 4 robots on the collapsed floor, none of their starts told to the
   // base but robot 0's. Every robot must be linked (robot 1 used to be refused by walls seen from
   // far away), placed without a wrong merge, and each object reported once.
-  const std::string world = source_path("worlds/collapsed.yaml");
-  const fs::path out = fs::path(::testing::TempDir()) / ("demo_" + std::to_string(getpid()));
-  fs::remove_all(out);
-  const auto r = run_command(bin("cairn_mission") + " --world " + world + " --out " + out.string() +
-                             " --port 0 --timeout 600");
+  const std::string world = "worlds/collapsed.yaml";
+  const MissionRun run = run_mission(world, "demo", "--timeout 600");
+  const fs::path& out = run.out;
+  const CommandResult& r = run.result;
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("NOT LINKED"), std::string::npos) << r.output;
   const eval::MissionScore score = eval::evaluate_mission((out / "ground_truth").string(), (out / "map").string());
@@ -144,7 +156,7 @@ TEST(MissionIntegration, DemoFloorMergesEveryRobotAndEveryObjectOnce) {
   EXPECT_EQ(score.objects.ground_truth, 8);
   EXPECT_GE(score.objects.recall(), 0.85) << eval::format_score(score);
   EXPECT_DOUBLE_EQ(score.objects.precision(), 1.0) << eval::format_score(score);
-  EXPECT_GT(wall_agreement(out / "map", world, 0.20), 0.90);
+  EXPECT_GT(wall_agreement(out / "map", source_path(world), 0.20), 0.90);
 }
 
 TEST(MissionIntegration, LossyRateLimitedRadioLinkLosesNothing) {
@@ -153,11 +165,10 @@ TEST(MissionIntegration, LossyRateLimitedRadioLinkLosesNothing) {
   if (geteuid() != 0 || !fs::exists("/usr/sbin/nft") || !fs::exists("/usr/sbin/tc")) {
     GTEST_SKIP() << "needs root, nft and tc for the emulated radio link (network namespaces)";
   }
-  const std::string world = source_path("tests/worlds/two_robots_meet.yaml");
-  const fs::path out = fs::path(::testing::TempDir()) / ("lossy_" + std::to_string(getpid()));
-  fs::remove_all(out);
-  const auto r = run_command(bin("cairn_mission") + " --world " + world + " --out " + out.string() +
-                             " --port 0 --timeout 400 --link-loss 10 --link-kbit 1000");
+  const MissionRun run =
+      run_mission("tests/worlds/two_robots_meet.yaml", "lossy", "--timeout 400 --link-loss 10 --link-kbit 1000");
+  const fs::path& out = run.out;
+  const CommandResult& r = run.result;
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("10 % loss, 1000 kbit/s each way"), std::string::npos) << r.output;
   std::ifstream in(out / "map" / "summary.json");
@@ -180,11 +191,9 @@ TEST(MissionIntegration, LossyRateLimitedRadioLinkLosesNothing) {
 TEST(MissionIntegration, RobotsThatNeverMeetInLookAlikeWingsAreNotMergedWrongly) {
   // The office's west and east wings look alike and the robots never see the same place: robot 1
   // must stay unlinked (a late merge is fine, a wrong one is not).
-  const std::string world = source_path("tests/worlds/two_robots.yaml");
-  const fs::path out = fs::path(::testing::TempDir()) / ("aliasing_" + std::to_string(getpid()));
-  fs::remove_all(out);
-  const auto r = run_command(bin("cairn_mission") + " --world " + world + " --out " + out.string() +
-                             " --port 0 --timeout 400");
+  const MissionRun run = run_mission("tests/worlds/two_robots.yaml", "aliasing", "--timeout 400");
+  const fs::path& out = run.out;
+  const CommandResult& r = run.result;
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const eval::MissionScore score = eval::evaluate_mission((out / "ground_truth").string(), (out / "map").string());
   ASSERT_EQ(score.robots.size(), 2u);
