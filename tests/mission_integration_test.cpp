@@ -63,6 +63,16 @@ MissionRun run_mission(const std::string& world, const std::string& tag, const s
   return m;
 }
 
+/// Every robot has a merged trajectory within these bounds of the truth (a wrong merge is metres off).
+void expect_every_robot_placed(const eval::MissionScore& score, double max_rmse_m, double max_error_m) {
+  for (const auto& robot : score.robots) {
+    ASSERT_TRUE(robot.global) << "robot " << robot.robot.value << " has no merged trajectory";
+    EXPECT_GE(robot.keyframes, 10);
+    EXPECT_LT(robot.global->ate_rmse_m, max_rmse_m) << "robot " << robot.robot.value;
+    EXPECT_LT(robot.global->ate_max_m, max_error_m) << "robot " << robot.robot.value;
+  }
+}
+
 double wall_agreement(const fs::path& map_dir, const std::string& world_yaml, double tolerance_m) {
   const auto map_cfg = YamlConfig::load((map_dir / "map.yaml").string());
   const double map_res = map_cfg.require<double>("resolution");
@@ -120,12 +130,7 @@ TEST(MissionIntegration, TwoRobotsOverDdsMatchGroundTruth) {
   // Bounds for a robot placed by the base's own cross-robot closures (measured: robot 0 ~0.05 m,
   // robot 1 ~0.12-0.26 m RMSE, a residual rotation of its half of the map); a wrong merge is
   // metres off (the look-alike wings put robot 1 15 m away).
-  for (const auto& robot : score.robots) {
-    ASSERT_TRUE(robot.global) << "robot " << robot.robot.value << " has no merged trajectory";
-    EXPECT_GE(robot.keyframes, 10);
-    EXPECT_LT(robot.global->ate_rmse_m, 0.35) << "robot " << robot.robot.value;
-    EXPECT_LT(robot.global->ate_max_m, 0.60) << "robot " << robot.robot.value;
-  }
+  expect_every_robot_placed(score, 0.35, 0.60);
   EXPECT_GE(score.objects.ground_truth, 4);
   EXPECT_GE(score.objects.recall(), 0.75) << eval::format_score(score);
   EXPECT_GE(score.objects.precision(), 0.75) << eval::format_score(score);
@@ -147,12 +152,7 @@ TEST(MissionIntegration, DemoFloorMergesEveryRobotAndEveryObjectOnce) {
   EXPECT_EQ(r.output.find("NOT LINKED"), std::string::npos) << r.output;
   const eval::MissionScore score = eval::evaluate_mission((out / "ground_truth").string(), (out / "map").string());
   ASSERT_EQ(score.robots.size(), 4u);
-  // Measured: 0.14-0.19 m RMSE, max 0.30 m; a wrong merge is metres off.
-  for (const auto& robot : score.robots) {
-    ASSERT_TRUE(robot.global) << "robot " << robot.robot.value << " has no merged trajectory";
-    EXPECT_LT(robot.global->ate_rmse_m, 0.30) << "robot " << robot.robot.value;
-    EXPECT_LT(robot.global->ate_max_m, 0.60) << "robot " << robot.robot.value;
-  }
+  expect_every_robot_placed(score, 0.30, 0.60);  // measured 0.14-0.19 m RMSE, max 0.30 m
   EXPECT_EQ(score.objects.ground_truth, 8);
   EXPECT_GE(score.objects.recall(), 0.85) << eval::format_score(score);
   EXPECT_DOUBLE_EQ(score.objects.precision(), 1.0) << eval::format_score(score);
