@@ -53,6 +53,9 @@ bool write_objects_csv(const std::vector<GlobalObject>& objects, const std::stri
 bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::string* error);
 bool write_map_png(const MultiRobotMapper& mapper, const std::string& path, const ExportOptions& options,
                    std::string* error);
+/// Any row-major RGB picture (top row first, 3 bytes per pixel) as PNG, e.g. draw_map_consistency's.
+bool write_rgb_png(int width, int height, const std::vector<uint8_t>& rgb, const std::string& path,
+                   std::string* error);
 bool write_object_ply(const GlobalObject& object, const std::string& path, std::string* error);
 bool write_objects_octomap(const std::vector<GlobalObject>& objects, double resolution_m,
                            const std::string& path, std::string* error);

@@ -137,4 +137,23 @@ bool write_map_png(const MultiRobotMapper& mapper, const std::string& path, cons
   return false;
 }
 
+bool write_rgb_png(int width, int height, const std::vector<uint8_t>& rgb, const std::string& path,
+                   std::string* error) {
+  if (width <= 0 || height <= 0 || rgb.size() != size_t(width) * size_t(height) * 3) {
+    *error = "image of " + std::to_string(width) + " x " + std::to_string(height) + " px needs " +
+             std::to_string(size_t(std::max(width, 0)) * size_t(std::max(height, 0)) * 3) + " bytes, got " +
+             std::to_string(rgb.size());
+    return false;
+  }
+  try {
+    cv::Mat bgr;
+    cv::cvtColor(cv::Mat(height, width, CV_8UC3, const_cast<uint8_t*>(rgb.data())), bgr, cv::COLOR_RGB2BGR);
+    if (cv::imwrite(path, bgr)) return true;
+    *error = "cv::imwrite failed: " + path;
+  } catch (const cv::Exception& e) {
+    *error = std::string("OpenCV: ") + e.what();
+  }
+  return false;
+}
+
 }  // namespace cairn::base

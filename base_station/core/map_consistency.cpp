@@ -174,4 +174,55 @@ MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedSca
   return r;
 }
 
+MapConsistencyImage draw_map_consistency(const PlacedScans& a, const PlacedScans& b, const MapConsistencyOptions& o) {
+  MapConsistencyImage img;
+  if (a.keyframes.empty() || b.keyframes.empty()) return img;
+  const Rendered ra = render(a, o), rb = render(b, o);
+  MapConsistencyResult unused;
+  const std::vector<Eigen::Vector2i> ca = count(ra, rb.grid, o, &unused), cb = count(rb, ra.grid, o, &unused);
+  const double res = o.resolution_m;
+  auto corner = [&](const OccupancyGrid& g) -> Eigen::Vector2d {  // a value, not an Eigen expression of temporaries
+    return g.origin_m() + Eigen::Vector2d(g.width(), g.height()) * res;
+  };
+  const Eigen::Vector2d lo = ra.grid.origin_m().cwiseMin(rb.grid.origin_m());
+  const Eigen::Vector2d hi = corner(ra.grid).cwiseMax(corner(rb.grid));
+  img.width = int(std::ceil((hi.x() - lo.x()) / res));
+  img.height = int(std::ceil((hi.y() - lo.y()) / res));
+  img.rgb.assign(size_t(img.width) * img.height * 3, 255);
+  auto pixel = [&](const Eigen::Vector2d& p_m) -> uint8_t* {
+    const int x = int(std::floor((p_m.x() - lo.x()) / res)), y = img.height - 1 - int(std::floor((p_m.y() - lo.y()) / res));
+    if (x < 0 || y < 0 || x >= img.width || y >= img.height) return nullptr;
+    return &img.rgb[(size_t(y) * img.width + x) * 3];
+  };
+  auto paint = [&](const Eigen::Vector2d& p_m, uint8_t r, uint8_t g, uint8_t b_) {
+    if (uint8_t* px = pixel(p_m)) px[0] = r, px[1] = g, px[2] = b_;
+  };
+  // Free space: a takes red away, b takes blue away (both: green).
+  for (const auto* side : {&ra, &rb}) {
+    const OccupancyGrid& g = side->grid;
+    const int channel = side == &ra ? 0 : 2;
+    for (int row = 0; row < g.height(); ++row) {
+      for (int col = 0; col < g.width(); ++col) {
+        if (g.log_odds(col, row) > o.free_log_odds) continue;
+        if (uint8_t* px = pixel(g.cell_center_m(col, row))) px[channel] = 200, px[1] = std::min<uint8_t>(px[1], 235);
+      }
+    }
+  }
+  for (const auto* side : {&ra, &rb}) {
+    const OccupancyGrid& g = side->grid;
+    for (int row = 0; row < g.height(); ++row) {
+      for (int col = 0; col < g.width(); ++col) {
+        if (g.log_odds(col, row) < o.occupied_log_odds) continue;
+        if (side == &ra) paint(g.cell_center_m(col, row), 180, 0, 0);
+        else paint(g.cell_center_m(col, row), 0, 0, 180);
+      }
+    }
+  }
+  for (const auto& c : ca) paint(ra.grid.cell_center_m(c.x(), c.y()), 0, 230, 0);
+  for (const auto& c : cb) paint(rb.grid.cell_center_m(c.x(), c.y()), 255, 150, 0);
+  for (const SE2& T : a.T_frame_base) paint(T.translation(), 120, 0, 140);
+  for (const SE2& T : b.T_frame_base) paint(T.translation(), 0, 130, 130);
+  return img;
+}
+
 }  // namespace cairn::base

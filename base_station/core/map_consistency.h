@@ -17,6 +17,7 @@
 // when one connected piece of contradicting wall is long (localised, structural disagreement). In the
 // spirit of the map-consistency tests of Olson's "Recognizing places using spectrally clustered
 // local matches" (RAS 2009) and the free-space "explanation" checks of Kuemmerle et al. (ICRA 2008).
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -82,5 +83,17 @@ PlacedScans select_near_keyframes(const PlacedScans& side, const Eigen::Vector2d
 /// Compares side `a` with side `b` (both already placed in one frame by the hypothesis).
 MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedScans& b,
                                            const MapConsistencyOptions& options = {});
+
+/// A check drawn for people (diagnostics: why two maps were judged to contradict), north up, one
+/// pixel per cell of options.resolution_m: white unknown; side a's confident free space light blue,
+/// b's light orange, both light green; a's walls dark red, b's dark blue; contradicting walls
+/// bright green (a's wall in b's free space) and orange (b's wall in a's free space); keyframe
+/// positions purple (a) and teal (b).
+struct MapConsistencyImage {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;  ///< row-major, top row first, 3 bytes per pixel
+};
+MapConsistencyImage draw_map_consistency(const PlacedScans& a, const PlacedScans& b,
+                                         const MapConsistencyOptions& options = {});
 
 }  // namespace cairn::base

@@ -154,6 +154,23 @@ TEST(MapConsistency, ShiftedCopyContradictsAndTruthAgrees) {
   const MapConsistencyResult alias = check_map_consistency(a, b_alias);
   EXPECT_TRUE(alias.conclusive);
   EXPECT_FALSE(alias.consistent) << alias.contradiction_ratio;
+
+  // The drawing shows what the check counted: a contradicting pixel per contradicting cell (two
+  // cells of the two grids may share a pixel), and the truth's few stray ones.
+  auto contradicting_pixels = [](const MapConsistencyImage& img) {
+    int n = 0;
+    for (size_t i = 0; i + 2 < img.rgb.size(); i += 3) {
+      const uint8_t r = img.rgb[i], g = img.rgb[i + 1], b = img.rgb[i + 2];
+      n += (r == 0 && g == 230 && b == 0) || (r == 255 && g == 150 && b == 0);
+    }
+    return n;
+  };
+  const MapConsistencyImage drawn = draw_map_consistency(a, b_alias);
+  ASSERT_GT(drawn.width, 200);  // the 24 m building at 0.1 m plus the shifted copy's overhang
+  ASSERT_EQ(drawn.rgb.size(), size_t(drawn.width) * drawn.height * 3);
+  EXPECT_GE(contradicting_pixels(drawn), alias.contradicting_cells * 9 / 10);
+  EXPECT_LE(contradicting_pixels(drawn), alias.contradicting_cells);
+  EXPECT_LE(contradicting_pixels(draw_map_consistency(a, b_truth)), truth.contradicting_cells);
 }
 
 }  // namespace

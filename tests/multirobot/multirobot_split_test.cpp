@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <fstream>
 
+#include "base_station/core/exporter.h"
 #include "tests/multirobot/loop_funnel.h"
 #include "tests/multirobot/split_run.h"
 
@@ -36,7 +37,8 @@ SE2 reference_from_local(const RobotRun& run, double* own_ate_m) {
   return T;
 }
 
-/// Robot k placed in robot 0's frame by the reference, and the map check's verdict on that link.
+/// Robot k placed in robot 0's frame by the reference, and the map check's verdict on that link
+/// (also drawn: draw_map_consistency, PNG in the test's temporary folder).
 void print_true_link(const std::vector<RobotRun>& runs, size_t k, const char* name) {
   double ate0 = 0, atek = 0;
   const SE2 T = reference_from_local(runs[0], &ate0).between(reference_from_local(runs[k], &atek));
@@ -44,6 +46,10 @@ void print_true_link(const std::vector<RobotRun>& runs, size_t k, const char* na
   for (const Keyframe& kf : runs[0].keyframes) a.keyframes.push_back(&kf), a.T_frame_base.push_back(kf.T_local_base);
   for (const Keyframe& kf : runs[k].keyframes) b.keyframes.push_back(&kf), b.T_frame_base.push_back(T * kf.T_local_base);
   const base::MapConsistencyResult m = base::check_map_consistency(a, b, base::MapperOptions().map_check);
+  const base::MapConsistencyImage img = base::draw_map_consistency(a, b, base::MapperOptions().map_check);
+  const std::string png = ::testing::TempDir() + "mapcheck_" + name + "_0-" + std::to_string(k) + ".png";
+  std::string error;
+  if (base::write_rgb_png(img.width, img.height, img.rgb, png, &error)) std::printf("[%s] drawn: %s\n", name, png.c_str());
   std::printf("[%s] true link 0-%zu: (%.2f %.2f %.2f), own ATE %.3f / %.3f m, map check: %s (%.3f, piece %d)\n", name,
               k, T.x(), T.y(), T.yaw(), ate0, atek, m.consistent ? "consistent" : "refuted", m.contradiction_ratio,
               m.largest_contradiction_cells);
