@@ -17,6 +17,7 @@
 //                           [--refine-every N=MapperOptions::refine_every_updates]
 //                           [--refine-keyframes-per-update N=MapperOptions::refine_keyframes_per_update]
 //                           [--map-check-radius M=MapConsistencyOptions::local_radius_m; 0: whole map]
+//                           [--export-g2o FILE: the final graph, to time its solve with cairn_g2o_opt]
 // (--no-map-check: no map-consistency check of closures into linked pairs. That check compares
 // only the keyframes near the closure (MapConsistencyOptions::local_radius_m); it used to render
 // every linked keyframe per check, O(keyframes), and dominated the --loops run. --refine-every 1
@@ -33,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "base_station/core/exporter.h"
 #include "base_station/core/multi_robot_mapper.h"
 #include "base_station/core/synthetic_world_test_util.h"
 #include "common/laser_scan.h"
@@ -199,6 +201,7 @@ struct Stat {
 struct Window {
   Stat wall, cpu, render_wall, render_cpu;
   int full_solves = 0;
+  Stat full_cpu, full_iterations;  ///< of the updates that ran a full solve
 };
 
 }  // namespace
@@ -208,6 +211,7 @@ int main(int argc, char** argv) {
   int refine_per = cairn::base::MapperOptions{}.refine_keyframes_per_update;
   double check_radius_m = cairn::base::MapperOptions{}.map_check.local_radius_m;
   bool loops = false, map_check = true;
+  std::string export_g2o;  // the final graph, to time and vary its solve offline (cairn_g2o_opt)
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--loops") == 0) {
       loops = true;
@@ -221,13 +225,16 @@ int main(int argc, char** argv) {
       refine_every = std::atoi(argv[++i]);
     } else if (std::strcmp(argv[i], "--render-every") == 0 && i + 1 < argc) {
       render_every = std::atoi(argv[++i]);
+    } else if (std::strcmp(argv[i], "--export-g2o") == 0 && i + 1 < argc) {
+      export_g2o = argv[++i];
     } else {
       total = std::atoi(argv[i]);
     }
   }
   if (total <= 0 || render_every <= 0 || refine_every <= 0 || refine_per < 0) {
     std::fprintf(stderr, "usage: bench_merger_scale [total_keyframes > 0] [--loops [--no-map-check]] [--render-every N > 0] "
-                         "[--refine-every N > 0] [--refine-keyframes-per-update N >= 0] [--map-check-radius M]\n");
+                         "[--refine-every N > 0] [--refine-keyframes-per-update N >= 0] [--map-check-radius M] "
+                         "[--export-g2o FILE]\n");
     return 2;
   }
   constexpr int kWindow = 1000;
@@ -261,7 +268,7 @@ int main(int argc, char** argv) {
               render_every, refine_every, refine_per);
   std::printf("           update (wall ms)  update (cpu ms)   render (wall ms)  render (cpu ms)\n");
   std::printf("keyframes    mean     max      mean     max      mean     max     mean     max  loops  checked  "
-              "rejected  full  rss_mb\n");
+              "rejected  full  rss_mb  full: cpu ms mean, iterations mean / max\n");
   Window win;
   int closures = 0, rejected_inconclusive = 0, rejected_contradicted = 0;
   for (int k = 0; k < total; ++k) {
@@ -295,6 +302,10 @@ int main(int argc, char** argv) {
     }
     win.cpu.add(cpu_ms() - c0);
     win.wall.add(ms_since(t0));
+    if (result.full_solve) {
+      win.full_cpu.add(cpu_ms() - c0);
+      win.full_iterations.add(result.solve.iterations);
+    }
     if ((k + 1) % render_every == 0) {
       const auto t1 = std::chrono::steady_clock::now();
       const double c1 = cpu_ms();
@@ -304,10 +315,11 @@ int main(int argc, char** argv) {
     }
     if ((k + 1) % kWindow == 0) {
       const cairn::base::LinkStats& ls = mapper.link_stats();
-      std::printf("%9d %7.2f %7.1f   %7.2f %7.1f   %7.2f %7.1f  %7.2f %7.1f  %5d  %7d  %8d  %4d  %6.0f\n", k + 1,
-                  win.wall.mean(), win.wall.max, win.cpu.mean(), win.cpu.max, win.render_wall.mean(),
+      std::printf("%9d %7.2f %7.1f   %7.2f %7.1f   %7.2f %7.1f  %7.2f %7.1f  %5d  %7d  %8d  %4d  %6.0f  %7.1f %5.1f %3.0f\n",
+                  k + 1, win.wall.mean(), win.wall.max, win.cpu.mean(), win.cpu.max, win.render_wall.mean(),
                   win.render_wall.max, win.render_cpu.mean(), win.render_cpu.max, closures,
-                  ls.linked_pair_checked, ls.linked_pair_rejected, win.full_solves, memory_mb("VmRSS"));
+                  ls.linked_pair_checked, ls.linked_pair_rejected, win.full_solves, memory_mb("VmRSS"),
+                  win.full_cpu.mean(), win.full_iterations.mean(), win.full_iterations.max);
       std::fflush(stdout);
       win = Window{};
     }
@@ -348,6 +360,11 @@ int main(int argc, char** argv) {
     std::printf("%d idle updates to converge the refinement (%.0f ms cpu)\n", idle, cpu_ms() - c0);
   }
   report_error("refined");
+  if (!export_g2o.empty()) {
+    std::string error;
+    if (!cairn::base::write_graph_g2o(mapper.graph(), export_g2o, &error)) std::fprintf(stderr, "%s\n", error.c_str());
+    else std::printf("graph written: %s\n", export_g2o.c_str());
+  }
   std::fflush(stdout);
   // The whole map from scratch (what every render cost before incremental rendering).
   const auto t0 = std::chrono::steady_clock::now();
