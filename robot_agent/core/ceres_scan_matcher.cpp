@@ -3,8 +3,12 @@
 #include <ceres/ceres.h>
 #include <ceres/cubic_interpolation.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace cairn::agent {
 namespace {
@@ -24,37 +28,6 @@ class CostGridAdapter {
   const bool field_;
 };
 
-// Residual_i = scale * (1 - P(R(yaw) p_i + t)), P the bicubic-interpolated probability grid
-// (Cartographer's OccupiedSpaceCostFunction2D) or likelihood field.
-class OccupiedSpaceCost {
- public:
-  OccupiedSpaceCost(double scale, const std::vector<Eigen::Vector2f>& points, const ProbabilityGrid& grid, bool field)
-      : scale_(scale), points_(points), grid_(grid), adapter_(grid, field), interpolator_(adapter_) {}
-
-  template <typename T>
-  bool operator()(const T* const pose, T* residual) const {
-    const T c = ceres::cos(pose[2]), s = ceres::sin(pose[2]);
-    const T inv_res = T(1.0 / grid_.resolution_m());
-    for (size_t i = 0; i < points_.size(); ++i) {
-      const T px = T(double(points_[i].x())), py = T(double(points_[i].y()));
-      const T wx = c * px - s * py + pose[0];
-      const T wy = s * px + c * py + pose[1];
-      const T col = (wx - T(grid_.origin_m().x())) * inv_res - T(0.5);
-      const T row = (wy - T(grid_.origin_m().y())) * inv_res - T(0.5);
-      interpolator_.Evaluate(row, col, &residual[i]);
-      residual[i] = T(scale_) * residual[i];
-    }
-    return true;
-  }
-
- private:
-  const double scale_;
-  const std::vector<Eigen::Vector2f>& points_;
-  const ProbabilityGrid& grid_;
-  const CostGridAdapter adapter_;
-  const ceres::BiCubicInterpolator<CostGridAdapter> interpolator_;
-};
-
 // Ceres' CubicHermiteSpline (Catmull-Rom) for one dimension.
 inline void hermite(double p0, double p1, double p2, double p3, double x, double* f, double* dfdx) {
   const double a = 0.5 * (-p0 + 3.0 * p1 - 3.0 * p2 + p3);
@@ -64,28 +37,88 @@ inline void hermite(double p0, double p1, double p2, double p3, double x, double
   *dfdx = c + x * (2.0 * b + 3.0 * a * x);
 }
 
+// 1 - v / 255 for every field byte v (the cost the interpolator reads; the same double as computing it).
+struct FieldCostTable {
+  double cost[256];
+  FieldCostTable() {
+    constexpr double k = 1.0 / 255.0;
+    for (int v = 0; v < 256; ++v) cost[v] = 1.0 - v * k;
+  }
+};
+const FieldCostTable kFieldCost;
+
+#if defined(__SSE2__)
+// hermite() on two lanes at once (the same operations in the same order per lane: bit-identical).
+inline void hermite2(__m128d p0, __m128d p1, __m128d p2, __m128d p3, __m128d x, __m128d* f, __m128d* dfdx) {
+  const __m128d half = _mm_set1_pd(0.5), two = _mm_set1_pd(2.0), three = _mm_set1_pd(3.0),
+                four = _mm_set1_pd(4.0), five = _mm_set1_pd(5.0);
+  const __m128d np0 = _mm_xor_pd(p0, _mm_set1_pd(-0.0));
+  const __m128d a = _mm_mul_pd(half, _mm_add_pd(_mm_sub_pd(_mm_add_pd(np0, _mm_mul_pd(three, p1)), _mm_mul_pd(three, p2)), p3));
+  const __m128d b = _mm_mul_pd(half, _mm_sub_pd(_mm_add_pd(_mm_sub_pd(_mm_mul_pd(two, p0), _mm_mul_pd(five, p1)), _mm_mul_pd(four, p2)), p3));
+  const __m128d c = _mm_mul_pd(half, _mm_add_pd(np0, p2));
+  *f = _mm_add_pd(p1, _mm_mul_pd(x, _mm_add_pd(c, _mm_mul_pd(x, _mm_add_pd(b, _mm_mul_pd(x, a))))));
+  if (dfdx) *dfdx = _mm_add_pd(c, _mm_mul_pd(x, _mm_add_pd(_mm_mul_pd(two, b), _mm_mul_pd(_mm_mul_pd(three, a), x))));
+}
+#endif
+
 // ceres::BiCubicInterpolator<CostGridAdapter>::Evaluate for the likelihood field, reading the 4x4
 // neighbourhood straight from the field bytes when it lies inside the grid (the same arithmetic,
-// without 16 bounds-checked virtual-free but opaque GetValue calls).
+// without 16 bounds-checked virtual-free but opaque GetValue calls). SSE2: two rows per vector.
 inline bool bicubic_field(const ProbabilityGrid& grid, double r, double c, double* f, double* dfdr, double* dfdc) {
   const int row = int(std::floor(r)), col = int(std::floor(c));
   if (row < 1 || col < 1 || row + 2 >= grid.height() || col + 2 >= grid.width()) return false;
   const int w = grid.width();
   const uint8_t* p = grid.field().data() + size_t(row - 1) * w + (col - 1);
   const double x = c - col, y = r - row;
+  const double* cost = kFieldCost.cost;
+#if defined(__SSE2__)
+  const uint8_t* q = p + 2 * size_t(w);
+  const __m128d vx = _mm_set1_pd(x);
+  __m128d f01, d01, f23, d23;
+  hermite2(_mm_set_pd(cost[p[w]], cost[p[0]]), _mm_set_pd(cost[p[w + 1]], cost[p[1]]),
+           _mm_set_pd(cost[p[w + 2]], cost[p[2]]), _mm_set_pd(cost[p[w + 3]], cost[p[3]]), vx, &f01, &d01);
+  hermite2(_mm_set_pd(cost[q[w]], cost[q[0]]), _mm_set_pd(cost[q[w + 1]], cost[q[1]]),
+           _mm_set_pd(cost[q[w + 2]], cost[q[2]]), _mm_set_pd(cost[q[w + 3]], cost[q[3]]), vx, &f23, &d23);
+  // Lane 0: the row values fr[], lane 1: their x derivatives dfr[].
+  const __m128d p0 = _mm_unpacklo_pd(f01, d01), p1 = _mm_unpackhi_pd(f01, d01);
+  const __m128d p2 = _mm_unpacklo_pd(f23, d23), p3 = _mm_unpackhi_pd(f23, d23);
+  __m128d fy, dfy;
+  hermite2(p0, p1, p2, p3, _mm_set1_pd(y), &fy, &dfy);
+  *f = _mm_cvtsd_f64(fy);
+  *dfdc = _mm_cvtsd_f64(_mm_unpackhi_pd(fy, fy));
+  *dfdr = _mm_cvtsd_f64(dfy);
+#else
   double fr[4], dfr[4];
-  constexpr double k = 1.0 / 255.0;
   for (int i = 0; i < 4; ++i, p += w) {
-    hermite(1.0 - p[0] * k, 1.0 - p[1] * k, 1.0 - p[2] * k, 1.0 - p[3] * k, x, &fr[i], &dfr[i]);
+    hermite(cost[p[0]], cost[p[1]], cost[p[2]], cost[p[3]], x, &fr[i], &dfr[i]);
   }
   double unused;
   hermite(fr[0], fr[1], fr[2], fr[3], y, f, dfdr);
   hermite(dfr[0], dfr[1], dfr[2], dfr[3], y, dfdc, &unused);
+#endif
   return true;
 }
 
-// The same residuals with an analytic Jacobian (no Jets: the interpolator is evaluated once per
-// point in double, returning the value and its gradient).
+// The bicubic value alone on the probabilities (interpolated_score), reading the cells directly
+// when the 4x4 neighbourhood is inside the grid; the same arithmetic as CostGridAdapter + Ceres.
+inline bool bicubic_probability(const ProbabilityGrid& grid, double r, double c, double* f) {
+  const int row = int(std::floor(r)), col = int(std::floor(c));
+  if (row < 1 || col < 1 || row + 2 >= grid.height() || col + 2 >= grid.width()) return false;
+  const int w = grid.width();
+  const uint16_t* p = grid.values().data() + size_t(row - 1) * w + (col - 1);
+  const double x = c - col, y = r - row;
+  double fr[4], unused;
+  for (int i = 0; i < 4; ++i, p += w) {
+    hermite(1.0 - double(grid.probability_of(p[0])), 1.0 - double(grid.probability_of(p[1])),
+            1.0 - double(grid.probability_of(p[2])), 1.0 - double(grid.probability_of(p[3])), x, &fr[i], &unused);
+  }
+  hermite(fr[0], fr[1], fr[2], fr[3], y, f, &unused);
+  return true;
+}
+
+// Residual_i = scale * (1 - P(R(yaw) p_i + t)), P the bicubic-interpolated probability grid
+// (Cartographer's OccupiedSpaceCostFunction2D) or likelihood field, with an analytic Jacobian (the
+// interpolator is evaluated once per point in double, returning the value and its gradient).
 class OccupiedSpaceAnalyticCost : public ceres::CostFunction {
  public:
   OccupiedSpaceAnalyticCost(double scale, const std::vector<Eigen::Vector2f>& points, const ProbabilityGrid& grid,
@@ -95,12 +128,30 @@ class OccupiedSpaceAnalyticCost : public ceres::CostFunction {
     mutable_parameter_block_sizes()->push_back(3);
   }
 
+  // Ceres evaluates every accepted step twice at the same pose: residuals only (the candidate's
+  // cost), then with the Jacobian. Each evaluation computes both and keeps them, so the second is
+  // a copy (the same numbers).
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const double* pose = parameters[0];
+    double* J = jacobians ? jacobians[0] : nullptr;
+    const size_t n = points_.size();
+    if (!(cached_ && pose[0] == cached_pose_[0] && pose[1] == cached_pose_[1] && pose[2] == cached_pose_[2])) {
+      cached_residuals_.resize(n);
+      cached_jacobian_.resize(3 * n);
+      evaluate(pose, cached_residuals_.data(), cached_jacobian_.data());
+      std::copy_n(pose, 3, cached_pose_);
+      cached_ = true;
+    }
+    std::copy_n(cached_residuals_.data(), n, residuals);
+    if (J) std::copy_n(cached_jacobian_.data(), 3 * n, J);
+    return true;
+  }
+
+ private:
+  void evaluate(const double* pose, double* residuals, double* J) const {
     const double c = std::cos(pose[2]), s = std::sin(pose[2]);
     const double inv_res = 1.0 / grid_.resolution_m();
     const double ox = grid_.origin_m().x(), oy = grid_.origin_m().y();
-    double* J = jacobians ? jacobians[0] : nullptr;
     for (size_t i = 0; i < points_.size(); ++i) {
       const double px = points_[i].x(), py = points_[i].y();
       const double rx = c * px - s * py, ry = s * px + c * py;
@@ -111,17 +162,16 @@ class OccupiedSpaceAnalyticCost : public ceres::CostFunction {
         interpolator_.Evaluate(row, col, &f, &df_drow, &df_dcol);
       }
       residuals[i] = scale_ * f;
-      if (J) {
-        const double gx = scale_ * df_dcol * inv_res, gy = scale_ * df_drow * inv_res;
-        J[3 * i + 0] = gx;
-        J[3 * i + 1] = gy;
-        J[3 * i + 2] = -gx * ry + gy * rx;
-      }
+      const double gx = scale_ * df_dcol * inv_res, gy = scale_ * df_drow * inv_res;
+      J[3 * i + 0] = gx;
+      J[3 * i + 1] = gy;
+      J[3 * i + 2] = -gx * ry + gy * rx;
     }
-    return true;
   }
 
- private:
+  mutable bool cached_ = false;
+  mutable double cached_pose_[3] = {0.0, 0.0, 0.0};
+  mutable std::vector<double> cached_residuals_, cached_jacobian_;
   const double scale_;
   const std::vector<Eigen::Vector2f>& points_;
   const ProbabilityGrid& grid_;
@@ -151,24 +201,25 @@ struct RotationDeltaCost {
   }
 };
 
-// Gauss-Newton covariance of the occupied-space block: sigma^2 (J^T J)^-1 with unscaled residuals.
-Covariance3 hessian_covariance(ceres::Problem* problem, ceres::ResidualBlockId block, double scale,
+// Gauss-Newton covariance of the occupied-space residuals: sigma^2 (J^T J)^-1 with unscaled residuals,
+// from the cost function's analytic Jacobian evaluated directly (no Ceres program and CRS matrix).
+Covariance3 hessian_covariance(const ceres::CostFunction& cost, const double* pose, double scale,
                                const CeresScanMatcherOptions& options) {
-  ceres::Problem::EvaluateOptions eval;
-  eval.residual_blocks = {block};
-  std::vector<double> residuals;
-  ceres::CRSMatrix jac;
   Covariance3 floor = Covariance3::Zero();
   floor.diagonal() << options.min_translation_variance_m2, options.min_translation_variance_m2,
       options.min_rotation_variance_rad2;
-  if (!problem->Evaluate(eval, nullptr, &residuals, nullptr, &jac) || jac.num_rows < 4) return floor * 100.0;
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(jac.num_rows, jac.num_cols);
-  for (int r = 0; r < jac.num_rows; ++r) {
-    for (int k = jac.rows[r]; k < jac.rows[r + 1]; ++k) J(r, jac.cols[k]) = jac.values[k] / scale;
-  }
+  const int n = cost.num_residuals();
+  if (n < 4) return floor * 100.0;
+  std::vector<double> residuals(static_cast<size_t>(n)), jacobian(static_cast<size_t>(n) * 3);
+  const double* parameters[1] = {pose};
+  double* jacobians[1] = {jacobian.data()};
+  if (!cost.Evaluate(parameters, residuals.data(), jacobians)) return floor * 100.0;
+  // The same numbers as reading them back through ceres::Problem::Evaluate (bit-identical result).
+  const Eigen::MatrixXd J =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(jacobian.data(), n, 3) / scale;
   double ss = 0.0;
   for (double v : residuals) ss += (v / scale) * (v / scale);
-  const double sigma2 = ss / double(jac.num_rows - 3);
+  const double sigma2 = ss / double(n - 3);
   Eigen::Matrix3d H = J.transpose() * J;
   // A degenerate direction (a straight corridor: no gradient along it) makes H singular; a tiny
   // ridge keeps that direction's variance large instead of failing over to an isotropic guess.
@@ -186,12 +237,23 @@ CeresScanMatcher::CeresScanMatcher(const CeresScanMatcherOptions& options) : opt
 
 double interpolated_score(const SE2& T, const std::vector<Eigen::Vector2f>& points, const ProbabilityGrid& grid) {
   if (points.empty()) return 0.0;
-  OccupiedSpaceCost cost(1.0, points, grid, false);
-  std::vector<double> residuals(points.size());
-  const double pose[3] = {T.x(), T.y(), T.yaw()};
-  cost(pose, residuals.data());
+  // OccupiedSpaceCost's arithmetic (the same values), interior cells read directly.
+  const CostGridAdapter adapter(grid, false);
+  const ceres::BiCubicInterpolator<CostGridAdapter> interpolator(adapter);
+  const double c = std::cos(T.yaw()), s = std::sin(T.yaw());
+  const double inv_res = 1.0 / grid.resolution_m();
+  const double ox = grid.origin_m().x(), oy = grid.origin_m().y();
   double sum = 0.0;
-  for (double r : residuals) sum += 1.0 - r;
+  for (const Eigen::Vector2f& p : points) {
+    const double px = p.x(), py = p.y();
+    const double wx = c * px - s * py + T.x();
+    const double wy = s * px + c * py + T.y();
+    const double col = (wx - ox) * inv_res - 0.5;
+    const double row = (wy - oy) * inv_res - 0.5;
+    double r;
+    if (!bicubic_probability(grid, row, col, &r)) interpolator.Evaluate(row, col, &r);
+    sum += 1.0 - r;
+  }
   return sum / double(points.size());
 }
 
@@ -207,7 +269,7 @@ CeresMatch CeresScanMatcher::match(const SE2& initial, const std::vector<Eigen::
   ceres::Problem problem;
   const double scale = options_.occupied_space_weight / std::sqrt(double(points.size()));
   auto* occ = new OccupiedSpaceAnalyticCost(scale, points, grid, options_.use_likelihood_field);
-  const ceres::ResidualBlockId occ_block = problem.AddResidualBlock(occ, nullptr, pose);
+  problem.AddResidualBlock(occ, nullptr, pose);
   problem.AddResidualBlock(new ceres::AutoDiffCostFunction<TranslationDeltaCost, 2, 3>(
                                new TranslationDeltaCost{options_.translation_weight, pose[0], pose[1]}),
                            nullptr, pose);
@@ -230,7 +292,7 @@ CeresMatch CeresScanMatcher::match(const SE2& initial, const std::vector<Eigen::
     out.pose = initial;
   }
   out.score = interpolated_score(out.pose, points, grid);
-  out.covariance = hessian_covariance(&problem, occ_block, scale, options_);
+  if (options_.compute_covariance) out.covariance = hessian_covariance(*occ, pose, scale, options_);
   return out;
 }
 

@@ -25,6 +25,9 @@ struct CeresScanMatcherOptions {
   /// Floor added to the Hessian-derived covariance (the Gauss-Newton estimate is optimistic).
   double min_translation_variance_m2 = 1e-4;
   double min_rotation_variance_rad2 = 1e-4;
+  /// Compute CeresMatch::covariance (one more pass over the points); off where it is not read (the
+  /// loop-closure refinement weights its constraints by the score surface instead).
+  bool compute_covariance = true;
 };
 
 struct CeresMatch {

@@ -107,10 +107,12 @@ PrecomputationGrid PrecomputationGrid::from_previous(const PrecomputationGrid& p
 FastCorrelativeScanMatcher::FastCorrelativeScanMatcher(const ProbabilityGrid& grid,
                                                        const FastCorrelativeScanMatcherOptions& options)
     : options_(options), origin_m_(grid.origin_m()), resolution_m_(grid.resolution_m()) {
+  // Only level 0 now; coarser levels when a search window first needs them (match()).
   levels_.push_back(PrecomputationGrid::from_grid(grid));
-  for (int h = 1; h < std::max(1, options_.branch_and_bound_depth); ++h) {
-    levels_.push_back(PrecomputationGrid::from_previous(levels_.back()));
-  }
+}
+
+void FastCorrelativeScanMatcher::ensure_levels(int count) const {
+  while (int(levels_.size()) < count) levels_.push_back(PrecomputationGrid::from_previous(levels_.back()));
 }
 
 size_t FastCorrelativeScanMatcher::memory_bytes() const {
@@ -119,19 +121,23 @@ size_t FastCorrelativeScanMatcher::memory_bytes() const {
   return n;
 }
 
-int FastCorrelativeScanMatcher::score(const std::vector<Eigen::Vector2i>& cells, int level, int dx, int dy) const {
-  return levels_[size_t(level)].sum(cells, dx, dy);
+int FastCorrelativeScanMatcher::score(const DiscreteScan& scan, int level, int dx, int dy) const {
+  const PrecomputationGrid& g = levels_[size_t(level)];
+  if (!scan.cells.empty() && g.contains_box(scan.lo, scan.hi, dx, dy)) return g.sum_inside(scan.cells, dx, dy);
+  return g.sum(scan.cells, dx, dy);
 }
 
 std::optional<FastCorrelativeScanMatcher::Candidate> FastCorrelativeScanMatcher::search(
-    const std::vector<std::vector<Eigen::Vector2i>>& scans, std::vector<Candidate> candidates, int level,
+    const std::vector<DiscreteScan>& scans, Candidate* candidates, size_t num_candidates, int level,
     int max_offset, int min_score, int* budget) const {
-  *budget -= int(candidates.size());
+  *budget -= int(num_candidates);
   if (*budget < 0) return std::nullopt;
-  for (Candidate& c : candidates) c.score = score(scans[c.angle], level, c.dx, c.dy);
-  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  Candidate* const end = candidates + num_candidates;
+  for (Candidate* c = candidates; c != end; ++c) c->score = score(scans[c->angle], level, c->dx, c->dy);
+  std::sort(candidates, end, [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
   std::optional<Candidate> best;
-  for (const Candidate& c : candidates) {
+  for (const Candidate* it = candidates; it != end; ++it) {
+    const Candidate& c = *it;
     if (c.score < min_score) break;  // sorted: no remaining bound can beat the best
     if (level == 0) {
       best = c;
@@ -139,15 +145,16 @@ std::optional<FastCorrelativeScanMatcher::Candidate> FastCorrelativeScanMatcher:
       continue;
     }
     const int half = 1 << (level - 1);
-    std::vector<Candidate> children;
+    Candidate children[4];  // on the stack: no allocation per branch
+    size_t num_children = 0;
     for (int oy : {0, half}) {
       for (int ox : {0, half}) {
         if (c.dx + ox > max_offset || c.dy + oy > max_offset) continue;
-        children.push_back({c.angle, c.dx + ox, c.dy + oy, 0});
+        children[num_children++] = {c.angle, c.dx + ox, c.dy + oy, 0};
       }
     }
     if (*budget < 0) return std::nullopt;
-    if (auto found = search(scans, std::move(children), level - 1, max_offset, min_score, budget)) {
+    if (auto found = search(scans, children, num_children, level - 1, max_offset, min_score, budget)) {
       best = found;
       min_score = found->score + 1;
     }
@@ -163,20 +170,28 @@ std::optional<FastMatch> FastCorrelativeScanMatcher::match(const SE2& initial, c
   for (const auto& p : points) range_m = std::max(range_m, double(p.norm()));
   const double step = CorrelativeScanMatcher::angular_step_rad(std::min(range_m, options_.max_range_for_step_m), resolution_m_);
   const int num_angles = int(std::ceil(angular_window_rad / step));
-  std::vector<std::vector<Eigen::Vector2i>> scans(2 * num_angles + 1);
+  std::vector<DiscreteScan> scans(2 * num_angles + 1);
   for (int a = -num_angles; a <= num_angles; ++a) {
     const Eigen::Matrix2d R = Eigen::Rotation2Dd(initial.yaw() + a * step).toRotationMatrix();
-    auto& cells = scans[a + num_angles];
+    DiscreteScan& scan = scans[size_t(a + num_angles)];
+    auto& cells = scan.cells;
     cells.reserve(points.size());
     for (const auto& p : points) {
       const Eigen::Vector2d q = (R * p.cast<double>() + initial.translation() - origin_m_) / resolution_m_;
       cells.emplace_back(int(std::floor(q.x())), int(std::floor(q.y())));
     }
+    scan.lo = scan.hi = cells.front();
+    for (const auto& c : cells) {
+      scan.lo = scan.lo.cwiseMin(c);
+      scan.hi = scan.hi.cwiseMax(c);
+    }
   }
   const int n = int(std::ceil(linear_window_m / resolution_m_));
   // Start at the coarsest level whose block still fits the window: coarser blocks only loosen bounds.
+  const int depth = std::max(1, options_.branch_and_bound_depth);
   int top = 0;
-  while (top + 1 < int(levels_.size()) && (1 << top) < 2 * n + 1) ++top;
+  while (top + 1 < depth && (1 << top) < 2 * n + 1) ++top;
+  ensure_levels(top + 1);
   const int step_cells = 1 << top;
   std::vector<Candidate> candidates;
   for (int a = 0; a < int(scans.size()); ++a) {
@@ -186,7 +201,7 @@ std::optional<FastMatch> FastCorrelativeScanMatcher::match(const SE2& initial, c
   }
   const int min_sum = int(std::ceil(std::max(0.0, min_score) * 255.0 * double(points.size())));
   int budget = options_.max_scored_candidates;
-  const auto best = search(scans, std::move(candidates), top, n, min_sum, &budget);
+  const auto best = search(scans, candidates.data(), candidates.size(), top, n, min_sum, &budget);
   if (scored_candidates) *scored_candidates = options_.max_scored_candidates - budget;
   if (!best || budget < 0) return std::nullopt;
   FastMatch out;

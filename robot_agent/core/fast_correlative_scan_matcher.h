@@ -8,6 +8,7 @@
 // falls below the best score found, so a window of several metres and tens of degrees is searched
 // exactly (at the grid resolution) in milliseconds.
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -51,6 +52,17 @@ class PrecomputationGrid {
     }
     return total;
   }
+  /// sum() for cells whose bounding box [lo, hi] (before the offset) lies inside this level: no
+  /// per-cell bounds check (the same total).
+  bool contains_box(const Eigen::Vector2i& lo, const Eigen::Vector2i& hi, int dx, int dy) const {
+    return lo.x() + dx >= x0_ && lo.y() + dy >= y0_ && hi.x() + dx < x0_ + width_ && hi.y() + dy < y0_ + height_;
+  }
+  int sum_inside(const std::vector<Eigen::Vector2i>& cells, int dx, int dy) const {
+    int total = 0;
+    const uint8_t* data = cells_.get() + (ptrdiff_t(dy - y0_) * width_ + (dx - x0_));
+    for (const auto& c : cells) total += data[ptrdiff_t(c.y()) * width_ + c.x()];
+    return total;
+  }
   size_t bytes() const { return num_cells_; }
 
  private:
@@ -76,6 +88,7 @@ class FastCorrelativeScanMatcher {
   std::optional<FastMatch> match(const SE2& initial_T_grid_base, const std::vector<Eigen::Vector2f>& points_base,
                                  double linear_window_m, double angular_window_rad, double min_score,
                                  int* scored_candidates = nullptr) const;
+  /// Bytes of the precomputation levels built so far (they are built as searches need them).
   size_t memory_bytes() const;
 
  private:
@@ -83,15 +96,24 @@ class FastCorrelativeScanMatcher {
     int angle = 0, dx = 0, dy = 0;
     int score = 0;
   };
-  int score(const std::vector<Eigen::Vector2i>& cells, int level, int dx, int dy) const;
-  std::optional<Candidate> search(const std::vector<std::vector<Eigen::Vector2i>>& scans,
-                                  std::vector<Candidate> candidates, int level, int max_offset, int min_score,
-                                  int* budget) const;
+  /// The scan's points at one search angle, as grid cells, with their bounding box.
+  struct DiscreteScan {
+    std::vector<Eigen::Vector2i> cells;
+    Eigen::Vector2i lo{0, 0}, hi{-1, -1};
+  };
+  int score(const DiscreteScan& scan, int level, int dx, int dy) const;
+  /// Scores and sorts candidates[0, num_candidates) in place, then descends into the promising ones.
+  std::optional<Candidate> search(const std::vector<DiscreteScan>& scans, Candidate* candidates,
+                                  size_t num_candidates, int level, int max_offset, int min_score, int* budget) const;
 
   FastCorrelativeScanMatcherOptions options_;
   Eigen::Vector2d origin_m_;
   double resolution_m_;
-  std::vector<PrecomputationGrid> levels_;
+  /// Builds the precomputation levels up to count - 1 (each from the previous one) if missing.
+  void ensure_levels(int count) const;
+  /// Level h: max over 2^h blocks. Built lazily (small search windows never read the coarse levels,
+  /// the largest ones), hence mutable: a matcher must not be used from several threads at once.
+  mutable std::vector<PrecomputationGrid> levels_;
 };
 
 }  // namespace cairn::agent

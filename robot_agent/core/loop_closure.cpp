@@ -64,9 +64,7 @@ int LoopClosure::add_node(const SE2& T_local_node, const std::vector<Eigen::Vect
   if (!options_.enabled) return node;
   if (insertion.finished) {
     SubmapEntry& e = submaps_[size_t(insertion.finished->id)];
-    e.submap = insertion.finished;
-    e.matcher = std::make_unique<FastCorrelativeScanMatcher>(insertion.finished->grid, options_.fast);
-    stats_.matcher_bytes += e.matcher->memory_bytes();
+    e.submap = insertion.finished;  // its matcher is built at the first search that reaches it
   }
   if (node % std::max(1, options_.search_every_n_nodes) == 0) {
     search(node, points_base, insertion.inserted_into);
@@ -127,7 +125,7 @@ void LoopClosure::search(int node, const std::vector<Eigen::Vector2f>& points_ba
   std::vector<Eigen::Vector2f> coarse, fine;
   for (int id = 0; id < int(submaps_.size()); ++id) {
     SubmapEntry& e = submaps_[size_t(id)];
-    if (!e.matcher || std::find(own.begin(), own.end(), id) != own.end()) continue;
+    if (!e.submap || std::find(own.begin(), own.end(), id) != own.end()) continue;
     if (e.last_node > node - options_.min_node_separation) continue;
     if (node < e.retry_node) continue;
     const SE2 T_submap_node = graph_.submap_pose(id).between(T_global_node);
@@ -135,6 +133,12 @@ void LoopClosure::search(int node, const std::vector<Eigen::Vector2f>& points_ba
     if (coarse.empty()) {
       coarse = voxel_filter_2d(points_base, options_.search_voxel_m);
       fine = voxel_filter_2d(points_base, options_.refine_voxel_m);
+    }
+    if (!e.matcher) {
+      // Lazily: a finished submap no later node comes near never needs its precomputation grids
+      // (CPU and, mostly, fresh memory the kernel has to zero).
+      e.matcher = std::make_unique<FastCorrelativeScanMatcher>(e.submap->grid, options_.fast);
+      stats_.matcher_bytes += e.matcher->memory_bytes();
     }
     if (try_submap(node, e, id, coarse, fine)) {
       last_loop_node_ = node;
@@ -164,7 +168,9 @@ bool LoopClosure::try_submap(int node, SubmapEntry& e, int id, const std::vector
     }
   }
   int scored = 0;
+  const size_t matcher_bytes = e.matcher->memory_bytes();
   const auto found = e.matcher->match(initial, points, linear_m, angular_rad, o.min_search_score, &scored);
+  stats_.matcher_bytes += e.matcher->memory_bytes() - matcher_bytes;  // levels built by this search
   stats_.scored_candidates += scored;
   const auto fail = [&] {
     ++e.failures;

@@ -30,6 +30,7 @@ struct LoopClosureOptions {
     CeresScanMatcherOptions o;  // weak priors: the search result is only good to a cell
     o.translation_weight = o.rotation_weight = 0.1;
     o.max_num_iterations = 20;
+    o.compute_covariance = false;  // loop closures are weighted by the score-surface covariance
     return o;
   }();
   PoseGraphOptions graph;
@@ -91,7 +92,7 @@ struct LoopClosureStats {
   int loop_closures = 0;
   int rejected_after_refinement = 0;
   int optimizations = 0;
-  size_t matcher_bytes = 0;
+  size_t matcher_bytes = 0;  ///< branch-and-bound grids built (only for submaps searched at least once)
   int64_t scored_candidates = 0;         ///< branch-and-bound work, all searches
   int64_t scored_candidates_failed = 0;  ///< ... of searches that found no match
   /// Covariance weighting: constraints whose weakest translation direction got < 1/2 of the weight.
@@ -126,7 +127,7 @@ class LoopClosure {
   struct SubmapEntry {
     SE2 T_local_submap;
     std::shared_ptr<const Submap> submap;             ///< set when finished
-    std::unique_ptr<FastCorrelativeScanMatcher> matcher;
+    std::unique_ptr<FastCorrelativeScanMatcher> matcher;  ///< built at the first search reaching the submap
     int last_node = -1;
     int loop_node = -1;    ///< newest node with an accepted loop closure to this submap
     SE2 T_grid_loop_node;  ///< ... its matched pose in the submap grid's frame

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <ceres/cubic_interpolation.h>
+#include <cmath>
 #include <iostream>
 #include <random>
 
@@ -152,6 +155,139 @@ TEST(ScoreSurfaceCovariance, LargeAlongACorridorSmallAndIsotropicInARoom) {
   const Eigen::Vector2d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(r).eigenvalues();
   EXPECT_GT(ev(0), 0.3 * ev(1)) << r;  // nearly isotropic
   EXPECT_LT(ev(1), 0.002) << r;        // and small
+}
+
+// A grid with a random likelihood field and probabilities, and scan points scattered over it and
+// beyond its edges (so the searches' clipped windows are exercised), more than 257 of them (the
+// 16-bit row accumulation works in chunks).
+struct RandomGridAndScan {
+  ProbabilityGrid grid{Eigen::Vector2d(-2.0, -1.5), 0.05, 83, 61};
+  std::vector<Eigen::Vector2f> points;
+  explicit RandomGridAndScan(unsigned seed, int num_points = 700) {
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> col(0, grid.width() - 1), row(0, grid.height() - 1);
+    std::uniform_real_distribution<double> p(0.1, 0.9);
+    for (int i = 0; i < 400; ++i) {
+      const int c = col(rng), r = row(rng);
+      grid.splat_hit(c, r, 1.0);
+      grid.set_probability(c, r, float(p(rng)));
+    }
+    std::uniform_real_distribution<float> x(-2.6f, 2.6f), y(-2.2f, 1.9f);
+    for (int i = 0; i < num_points; ++i) points.emplace_back(x(rng), y(rng));
+  }
+};
+
+// score_surface_covariance's one-cell lattice goes through the correlative search's 16-bit SIMD row
+// accumulation; it must give exactly the sums of the plain per-offset loop.
+TEST(ScoreSurfaceCovariance, RowAccumulationEqualsPointwiseSums) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const RandomGridAndScan data(seed);
+    const ProbabilityGrid& grid = data.grid;
+    ScoreSurfaceOptions o;
+    o.max_points = 0;  // every point
+    o.window_m = 0.4;
+    const SE2 T(0.1, -0.05, 0.3);
+    // Reference: the same formula with every offset summed point by point.
+    const int k = 8, side = 2 * k + 1, w = grid.width(), h = grid.height();
+    std::vector<Eigen::Vector2i> cells;
+    for (const auto& p : data.points) cells.push_back(grid.cell_of(T * p.cast<double>()));
+    std::vector<double> score(size_t(side) * side);
+    for (int iy = 0; iy < side; ++iy) {
+      for (int ix = 0; ix < side; ++ix) {
+        int sum = 0;
+        for (const auto& c : cells) {
+          const int col = c.x() + ix - k, row = c.y() + iy - k;
+          if (col >= 0 && row >= 0 && col < w && row < h) sum += grid.field()[size_t(row) * w + col];
+        }
+        score[size_t(iy) * side + ix] = sum / (255.0 * double(cells.size()));
+      }
+    }
+    const double best = *std::max_element(score.begin(), score.end());
+    double s = 0.0;
+    Eigen::Vector2d u = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d K = Eigen::Matrix2d::Zero();
+    for (int iy = 0; iy < side; ++iy) {
+      for (int ix = 0; ix < side; ++ix) {
+        const double p = std::exp((score[size_t(iy) * side + ix] - best) / o.temperature);
+        const Eigen::Vector2d d = 0.05 * Eigen::Vector2d(ix - k, iy - k);
+        s += p;
+        u += p * d;
+        K += p * d * d.transpose();
+      }
+    }
+    const Eigen::Matrix2d expected =
+        K / s - (u / s) * (u / s).transpose() + Eigen::Matrix2d::Identity() * (0.05 * 0.05 / 12.0);
+    const Eigen::Matrix2d got = score_surface_covariance(grid, T, data.points, o);
+    for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(got(i), expected(i)) << "seed " << seed << "\n" << got << "\n" << expected;
+  }
+}
+
+// Reads the probability grid for ceres::BiCubicInterpolator the way the scan matcher's reference does.
+struct ProbabilityCostGrid {
+  enum { DATA_DIMENSION = 1 };
+  const ProbabilityGrid& grid;
+  void GetValue(int row, int col, double* f) const {
+    *f = 1.0 - double(grid.at(col, row, grid.fill_probability()));
+  }
+};
+
+// interpolated_score reads interior cells directly; it must equal Ceres' bicubic interpolator
+// everywhere, inside and across the grid's edges.
+TEST(CeresScanMatcher, InterpolatedScoreEqualsCeresBicubic) {
+  const RandomGridAndScan data(4, 300);
+  const ProbabilityCostGrid adapter{data.grid};
+  const ceres::BiCubicInterpolator<ProbabilityCostGrid> interpolator(adapter);
+  for (const SE2& T : {SE2(0, 0, 0), SE2(0.37, -0.21, 0.4), SE2(-1.3, 0.8, -2.0)}) {
+    double sum = 0.0;
+    for (const auto& p : data.points) {
+      const double c = std::cos(T.yaw()), s = std::sin(T.yaw()), px = p.x(), py = p.y();
+      const double col = (c * px - s * py + T.x() - data.grid.origin_m().x()) * (1.0 / 0.05) - 0.5;
+      const double row = (s * px + c * py + T.y() - data.grid.origin_m().y()) * (1.0 / 0.05) - 0.5;
+      double f;
+      interpolator.Evaluate(row, col, &f);
+      sum += 1.0 - f;
+    }
+    EXPECT_DOUBLE_EQ(interpolated_score(T, data.points, data.grid), sum / double(data.points.size()));
+  }
+}
+
+// The covariance is an output only: turning it off must not change the match.
+TEST(CeresScanMatcher, CovarianceIsOptionalAndDoesNotChangeTheMatch) {
+  const ProbabilityGrid grid = room_grid(testing::make_room());
+  const std::vector<Eigen::Vector2f> points = scan_to_points(testing::ray_cast(testing::make_room(), SE2(0.2, 0.1, 0.1), 0));
+  CeresScanMatcherOptions with, without;
+  without.compute_covariance = false;
+  const CeresMatch a = CeresScanMatcher(with).match(SE2(0.25, 0.05, 0.13), points, grid);
+  const CeresMatch b = CeresScanMatcher(without).match(SE2(0.25, 0.05, 0.13), points, grid);
+  ASSERT_TRUE(a.converged);
+  EXPECT_EQ(a.pose.vector(), b.pose.vector());
+  EXPECT_EQ(a.score, b.score);
+  EXPECT_NEAR(a.pose.x(), 0.2, 0.03);
+  EXPECT_NEAR(a.pose.y(), 0.1, 0.03);
+  const Eigen::SelfAdjointEigenSolver<Covariance3> es(a.covariance);
+  EXPECT_GT(es.eigenvalues().minCoeff(), 0.0) << a.covariance;  // positive definite, floor included
+  EXPECT_EQ(b.covariance, Covariance3::Identity());
+}
+
+// Rays crossing the same free cell lower it once per scan, however many of them cross it; no
+// update marker is left behind.
+TEST(RangeDataInserter, FreeCellsAreUpdatedOncePerScan) {
+  ProbabilityGrid grid(Eigen::Vector2d(-5, -5), 0.05, 200, 200);
+  RangeDataInserterOptions o;
+  const RangeDataInserter inserter(o);
+  std::vector<Eigen::Vector2f> points;
+  for (int i = 0; i < 360; ++i) points.emplace_back(3.0f * std::cos(i * kDeg), 3.0f * std::sin(i * kDeg));
+  inserter.insert(SE2(0.01, 0.02, 0.0), points, &grid);
+  const uint16_t once = compute_update_table(o.miss_probability)[kUnknownValue] - kUpdateMarker;
+  for (const Eigen::Vector2d q : {Eigen::Vector2d(0.06, 0.0), Eigen::Vector2d(0.0, -0.1), Eigen::Vector2d(1.0, 1.0)}) {
+    const Eigen::Vector2i c = grid.cell_of(q);
+    EXPECT_EQ(grid.values()[size_t(c.y()) * grid.width() + c.x()], once) << q.transpose();
+  }
+  for (uint16_t v : grid.values()) ASSERT_LT(v, kUpdateMarker);
+  inserter.insert(SE2(0.01, 0.02, 0.0), points, &grid);
+  const Eigen::Vector2i c = grid.cell_of({1.0, 1.0});
+  EXPECT_EQ(grid.values()[size_t(c.y()) * grid.width() + c.x()],
+            compute_update_table(o.miss_probability)[once] - kUpdateMarker);
 }
 
 TEST(PoseGraph2D, AnisotropicSqrtInformationWeakensTheUncertainDirectionOnly) {

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace cairn::agent {
 namespace {
 
@@ -50,6 +54,7 @@ void ProbabilityGrid::splat_hit(int col, int row, double sigma_cells) {
   if (sigma_cells != kernel_sigma_cells_) {  // the kernel is computed once per sigma
     kernel_sigma_cells_ = sigma_cells;
     kernel_.clear();
+    kernel_rows8_.clear();
     for (int dy = -radius; dy <= radius; ++dy) {
       for (int dx = -radius; dx <= radius; ++dx) {
         kernel_.push_back(uint8_t(std::lround(255.0 * std::exp(-0.5 * (dx * dx + dy * dy) / (sigma_cells * sigma_cells)))));
@@ -60,6 +65,24 @@ void ProbabilityGrid::splat_hit(int col, int row, double sigma_cells) {
   written_min_ = written_min_.cwiseMin(Eigen::Vector2i(std::max(0, col - radius), std::max(0, row - radius)));
   written_max_ = written_max_.cwiseMax(
       Eigen::Vector2i(std::min(width_ - 1, col + radius), std::min(height_ - 1, row + radius)));
+#if defined(__SSE2__)
+  // Kernel rows up to 8 wide: one 8-byte max per row, the kernel padded with zeros (max(f, 0) = f
+  // leaves the cells beyond the kernel as they were; they must lie inside the row).
+  if (inside && radius <= 3 && col - radius + 8 <= width_) {
+    const int side = 2 * radius + 1;
+    if (kernel_rows8_.size() != size_t(side) * 8) {
+      kernel_rows8_.assign(size_t(side) * 8, 0);
+      for (int r = 0; r < side; ++r) std::copy_n(&kernel_[size_t(r) * side], side, &kernel_rows8_[size_t(r) * 8]);
+    }
+    uint8_t* f = field_.data() + size_t(row - radius) * width_ + (col - radius);
+    for (int r = 0; r < side; ++r, f += width_) {
+      const __m128i v = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(f));
+      const __m128i k8 = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(&kernel_rows8_[size_t(r) * 8]));
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(f), _mm_max_epu8(v, k8));
+    }
+    return;
+  }
+#endif
   const uint8_t* k = kernel_.data();
   for (int dy = -radius; dy <= radius; ++dy) {
     for (int dx = -radius; dx <= radius; ++dx, ++k) {
@@ -94,10 +117,6 @@ ProbabilityGrid ProbabilityGrid::from_occupancy(const OccupancyGrid& grid, float
   return out;
 }
 
-Eigen::Vector2i ProbabilityGrid::cell_of(const Eigen::Vector2d& p_m) const {
-  const Eigen::Vector2d c = (p_m - origin_m_) / resolution_m_;
-  return {int(std::floor(c.x())), int(std::floor(c.y()))};
-}
 
 void ProbabilityGrid::grow_to_include(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m) {
   const Eigen::Vector2i lo = cell_of(min_m), hi = cell_of(max_m);

@@ -10,6 +10,7 @@
 // correlative and branch-and-bound searches see a smooth score even where walls were hit only once,
 // without rebuilding a blurred grid per scan.
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <new>
@@ -89,7 +90,10 @@ class ProbabilityGrid {
     include_written_cell(col, row);
   }
   bool known(int col, int row) const { return contains(col, row) && values_[size_t(row) * width_ + col] != 0; }
-  Eigen::Vector2i cell_of(const Eigen::Vector2d& p_m) const;
+  Eigen::Vector2i cell_of(const Eigen::Vector2d& p_m) const {
+    const Eigen::Vector2d c = (p_m - origin_m_) / resolution_m_;
+    return {int(std::floor(c.x())), int(std::floor(c.y()))};
+  }
   /// Continuous cell coordinates (col, row) where integer values are cell centres.
   Eigen::Vector2d continuous_cell(const Eigen::Vector2d& p_m) const {
     return (p_m - origin_m_) / resolution_m_ - Eigen::Vector2d(0.5, 0.5);
@@ -139,6 +143,7 @@ class ProbabilityGrid {
   Eigen::Vector2i written_min_{INT32_MAX, INT32_MAX}, written_max_{-1, -1};
   double kernel_sigma_cells_ = -1.0;
   std::vector<uint8_t> kernel_;  ///< splat_hit's Gaussian, row-major over [-radius, radius]^2
+  std::vector<uint8_t> kernel_rows8_;  ///< the same, each row zero-padded to 8 bytes (SSE2 path)
 };
 
 }  // namespace cairn::agent

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace cairn::agent {
 
@@ -23,7 +24,7 @@ RangeDataInserter::RangeDataInserter(const RangeDataInserterOptions& options)
       miss_table_(compute_update_table(options.miss_probability)) {}
 
 void RangeDataInserter::apply(size_t index, const std::vector<uint16_t>& table, ZeroedVector<uint16_t>* cells,
-                              std::vector<size_t>* touched) const {
+                              ZeroedVector<size_t>* touched) const {
   uint16_t& v = (*cells)[index];
   if (v >= kUpdateMarker) return;  // already updated by this scan
   v = table[v];
@@ -83,7 +84,7 @@ void RangeDataInserter::insert(const SE2& T, const std::vector<Eigen::Vector2f>&
   grid->include_written_box(lo, hi);
   ZeroedVector<uint16_t>& cells = grid->mutable_values();
   const int w = grid->width();
-  std::vector<size_t>& touched = touched_;
+  ZeroedVector<size_t>& touched = touched_;
   touched.clear();
   for (size_t i = 0; i < ends.size(); ++i) {
     if (!hit[i]) continue;
@@ -95,21 +96,37 @@ void RangeDataInserter::insert(const SE2& T, const std::vector<Eigen::Vector2f>&
   if (options_.insert_free_space) {
     const Eigen::Vector2i o = grid->cell_of(origin);
     const double free_m = options_.max_free_space_length_m;
+    uint16_t* const v = cells.data();
+    const uint16_t* const miss = miss_table_.data();
     for (const Eigen::Vector2d& end : ends) {
       // Bresenham from the sensor cell to (excluding) the endpoint cell.
       const double length_m = (end - origin).norm();
       const Eigen::Vector2d e = free_m > 0.0 && length_m > free_m ? Eigen::Vector2d(origin + (end - origin) * (free_m / length_m)) : end;
       const Eigen::Vector2i c = grid->cell_of(e);
-      int x = o.x(), y = o.y();
+      const int x = o.x(), y = o.y();
       const int dx = std::abs(c.x() - x), dy = -std::abs(c.y() - y);
-      const int sx = x < c.x() ? 1 : -1, sy = y < c.y() ? 1 : -1;
+      // The cells are inside the grid (grown to hold the origin and every end), so the linear index
+      // identifies (x, y): stepping it replaces x += sx, y += sy and the row multiply.
+      const ptrdiff_t step_x = x < c.x() ? 1 : -1, step_y = y < c.y() ? ptrdiff_t(w) : -ptrdiff_t(w);
+      const size_t last = size_t(c.y()) * w + c.x();
+      size_t index = size_t(y) * w + x;
       int err = dx + dy;
-      while (x != c.x() || y != c.y()) {
-        apply(size_t(y) * w + x, miss_table_, &cells, &touched);
+      // apply() without branches on the cell: every visited index is written to `touched`, which
+      // keeps it only when the cell had not been updated by this scan yet (at most dx - dy cells).
+      size_t count = touched.size();
+      touched.resize(count + size_t(dx - dy) + 1);
+      size_t* const t = touched.data();
+      while (index != last) {
+        const uint16_t old = v[index];
+        const bool fresh = old < kUpdateMarker;
+        v[index] = fresh ? miss[old & kMaxValue] : old;
+        t[count] = index;
+        count += fresh;
         const int e2 = 2 * err;
-        if (e2 >= dy) { err += dy; x += sx; }
-        if (e2 <= dx) { err += dx; y += sy; }
+        if (e2 >= dy) { err += dy; index += step_x; }
+        if (e2 <= dx) { err += dx; index += step_y; }
       }
+      touched.resize(count);
     }
   }
   for (size_t index : touched) cells[index] -= kUpdateMarker;

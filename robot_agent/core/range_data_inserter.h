@@ -48,7 +48,7 @@ class RangeDataInserter {
 
  private:
   void apply(size_t index, const std::vector<uint16_t>& table, ZeroedVector<uint16_t>* cells,
-             std::vector<size_t>* touched) const;
+             ZeroedVector<size_t>* touched) const;
   /// Hit kernel along the segments between consecutive hits closer than field_line_max_gap_m.
   void splat_segments(const std::vector<Eigen::Vector2d>& ends, const std::vector<bool>& hit,
                       ProbabilityGrid* grid) const;
@@ -56,7 +56,7 @@ class RangeDataInserter {
   RangeDataInserterOptions options_;
   std::vector<uint16_t> hit_table_;
   std::vector<uint16_t> miss_table_;
-  mutable std::vector<size_t> touched_;  ///< scratch: cells updated by the current scan
+  mutable ZeroedVector<size_t> touched_;  ///< scratch: cells updated by the current scan
 };
 
 }  // namespace cairn::agent

@@ -26,6 +26,8 @@ nlohmann::json stats_json(const cairn::slam::SlamRunStats& s, double total_wall_
           {"beams", {{"valid", s.beams.valid}, {"nan_or_inf", s.beams.nan_or_inf},
                      {"too_close", s.beams.too_close}, {"max_range", s.beams.max_range}}},
           {"log_duration_s", s.log_duration_s}, {"slam_wall_s", s.slam_wall_s}, {"slam_cpu_s", s.slam_cpu_s},
+          {"slam_sys_cpu_s", s.slam_sys_cpu_s}, {"slam_minor_faults", s.slam_minor_faults},
+          {"slam_major_faults", s.slam_major_faults},
           {"scans_per_s", s.scans_per_s()}, {"real_time_factor", s.real_time_factor()},
           {"scans_per_cpu_s", s.slam_cpu_s > 0 ? s.scans / s.slam_cpu_s : 0.0},
           {"real_time_factor_cpu", s.slam_cpu_s > 0 ? s.log_duration_s / s.slam_cpu_s : 0.0},

@@ -21,6 +21,17 @@ double peak_rss_mb() {
 
 namespace {
 
+struct ProcessUsage {
+  double sys_cpu_s = 0;
+  int64_t minor_faults = 0, major_faults = 0;
+};
+
+ProcessUsage process_usage() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return {double(u.ru_stime.tv_sec) + 1e-6 * double(u.ru_stime.tv_usec), int64_t(u.ru_minflt), int64_t(u.ru_majflt)};
+}
+
 std::vector<SE2> odometry_of(const CarmenLog& log, bool corrected, const OdometryNoiseOptions& noise) {
   std::vector<SE2> poses;
   poses.reserve(log.scans.size());
@@ -48,6 +59,7 @@ SlamRunResult run_slam(const CarmenLog& log, bool corrected, const SlamRunOption
   const std::vector<SE2> odometry = odometry_of(log, corrected, options.noise);
   const auto wall0 = std::chrono::steady_clock::now();
   const double cpu0 = process_cpu_s();
+  const ProcessUsage usage0 = process_usage();
   agent::LocalSlam slam(options.slam);
   for (size_t i = 0; i < log.scans.size(); ++i) {
     const CarmenScan& s = log.scans[i];
@@ -59,6 +71,10 @@ SlamRunResult run_slam(const CarmenLog& log, bool corrected, const SlamRunOption
   out.trajectory = slam.optimized_trajectory();
   out.stats.slam_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   out.stats.slam_cpu_s = process_cpu_s() - cpu0;
+  const ProcessUsage usage1 = process_usage();
+  out.stats.slam_sys_cpu_s = usage1.sys_cpu_s - usage0.sys_cpu_s;
+  out.stats.slam_minor_faults = usage1.minor_faults - usage0.minor_faults;
+  out.stats.slam_major_faults = usage1.major_faults - usage0.major_faults;
   for (size_t i = 0; i < log.scans.size(); ++i) out.odometry.push_back({log.scans[i].stamp_ns, odometry[i]});
   if (!log.scans.empty()) out.stats.log_duration_s = ns_to_sec(log.scans.back().stamp_ns - log.scans.front().stamp_ns);
   const agent::LoopClosure& lc = slam.loop_closure();
