@@ -17,6 +17,8 @@
 //                           [--refine-every N=MapperOptions::refine_every_updates]
 //                           [--refine-keyframes-per-update N=MapperOptions::refine_keyframes_per_update]
 //                           [--map-check-radius M=MapConsistencyOptions::local_radius_m; 0: whole map]
+//                           [--max-iterations N=MapperOptions::incremental_max_iterations]
+//                           [--cholmod: the pose graph's sparse Cholesky by CHOLMOD, not Eigen]
 //                           [--export-g2o FILE: the final graph, to time its solve with cairn_g2o_opt]
 // (--no-map-check: no map-consistency check of closures into linked pairs. That check compares
 // only the keyframes near the closure (MapConsistencyOptions::local_radius_m); it used to render
@@ -211,6 +213,8 @@ int main(int argc, char** argv) {
   int refine_per = cairn::base::MapperOptions{}.refine_keyframes_per_update;
   double check_radius_m = cairn::base::MapperOptions{}.map_check.local_radius_m;
   bool loops = false, map_check = true;
+  int max_iterations = cairn::base::MapperOptions{}.incremental_max_iterations;
+  bool cholmod = false;  // PoseGraphSolveOptions::eigen_sparse off
   std::string export_g2o;  // the final graph, to time and vary its solve offline (cairn_g2o_opt)
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--loops") == 0) {
@@ -225,16 +229,20 @@ int main(int argc, char** argv) {
       refine_every = std::atoi(argv[++i]);
     } else if (std::strcmp(argv[i], "--render-every") == 0 && i + 1 < argc) {
       render_every = std::atoi(argv[++i]);
+    } else if (std::strcmp(argv[i], "--cholmod") == 0) {
+      cholmod = true;
+    } else if (std::strcmp(argv[i], "--max-iterations") == 0 && i + 1 < argc) {
+      max_iterations = std::atoi(argv[++i]);
     } else if (std::strcmp(argv[i], "--export-g2o") == 0 && i + 1 < argc) {
       export_g2o = argv[++i];
     } else {
       total = std::atoi(argv[i]);
     }
   }
-  if (total <= 0 || render_every <= 0 || refine_every <= 0 || refine_per < 0) {
+  if (total <= 0 || render_every <= 0 || refine_every <= 0 || refine_per < 0 || max_iterations <= 0) {
     std::fprintf(stderr, "usage: bench_merger_scale [total_keyframes > 0] [--loops [--no-map-check]] [--render-every N > 0] "
                          "[--refine-every N > 0] [--refine-keyframes-per-update N >= 0] [--map-check-radius M] "
-                         "[--export-g2o FILE]\n");
+                         "[--max-iterations N > 0] [--cholmod] [--export-g2o FILE]\n");
     return 2;
   }
   constexpr int kWindow = 1000;
@@ -244,6 +252,8 @@ int main(int argc, char** argv) {
   options.check_map_consistency = map_check;
   options.refine_every_updates = refine_every;
   options.refine_keyframes_per_update = refine_per;
+  options.incremental_max_iterations = max_iterations;
+  options.solve.eigen_sparse = !cholmod;
   options.map_check.local_radius_m = check_radius_m;
   cairn::base::MultiRobotMapper mapper(options);
   std::mt19937 rng(42);

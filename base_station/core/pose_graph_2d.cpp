@@ -368,6 +368,7 @@ PoseGraphSolveResult PoseGraph2d::solve(const PoseGraphSolveOptions& options) {
   if (options.max_time_s > 0.0) so.max_solver_time_in_seconds = options.max_time_s;
   so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   so.num_threads = 1;
+  so.sparse_linear_algebra_library_type = options.eigen_sparse ? ceres::EIGEN_SPARSE : ceres::SUITE_SPARSE;
   so.logging_type = ceres::SILENT;
   so.minimizer_progress_to_stdout = false;
   ceres::Solver::Summary summary;

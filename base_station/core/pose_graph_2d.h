@@ -91,6 +91,13 @@ struct PoseGraphSolveOptions {
   /// update. It solves a problem built from their residual blocks only (every other node they
   /// touch held constant), so it costs O(window), not O(graph).
   std::vector<KeyframeId> active_nodes;
+  /// Sparse Cholesky of the normal equations by Eigen's simplicial LDLT (true) or SuiteSparse
+  /// CHOLMOD (false). Debian's CHOLMOD enters an OpenMP region per supernode with 4 threads on any
+  /// machine (OMP_NUM_THREADS is not honoured): ~27,000 futex calls per factorisation of the 10,000-
+  /// keyframe live graph, at microseconds each in these VMs. Eigen: the same solution, 10 iterations
+  /// 0.58-0.64 s CPU against 1.0-1.7 s there, and no slower on the SE-Sync benchmark graphs
+  /// (docs/benchmarks.md).
+  bool eigen_sparse = true;
 };
 
 struct PoseGraphSolveResult {

@@ -81,6 +81,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-lago", no_lago, "skip the LAGO initialisation (start from the file / odometry)");
   app.add_flag("--no-sesync-polish", no_polish, "skip the final solve on SE-Sync's objective");
   app.add_option("--iterations", iterations, "max Ceres iterations per solve");
+  bool cholmod = false;
+  app.add_flag("--cholmod", cholmod, "sparse Cholesky by SuiteSparse CHOLMOD instead of Eigen (pose_graph_2d.h)");
   CLI11_PARSE(app, argc, argv);
   try {
     G2oGraph g;
@@ -107,6 +109,7 @@ int main(int argc, char** argv) {
     }
     cairn::base::PoseGraphSolveOptions so;
     so.max_iterations = iterations;
+    so.eigen_sparse = !cholmod;
     t0 = Clock::now();
     auto r = graph.solve(so);
     print_stage("ceres", g, from_pose_graph(graph), ms_since(t0));
