@@ -188,21 +188,27 @@ Eigen::Matrix2d score_surface_covariance(const ProbabilityGrid& grid, const SE2&
       }
     }
   }
+  return covariance_of_score_lattice(score, k, step * res, options.temperature);
+}
+
+Eigen::Matrix2d covariance_of_score_lattice(const std::vector<double>& score, int k, double lattice_step_m,
+                                            double temperature) {
+  const int side = 2 * k + 1;
   const double best = *std::max_element(score.begin(), score.end());
   double s = 0.0;
   Eigen::Vector2d u = Eigen::Vector2d::Zero();
   Eigen::Matrix2d K = Eigen::Matrix2d::Zero();
   for (int iy = 0; iy < side; ++iy) {
     for (int ix = 0; ix < side; ++ix) {
-      const double p = std::exp((score[size_t(iy) * side + ix] - best) / options.temperature);
-      const Eigen::Vector2d d = res * step * Eigen::Vector2d(ix - k, iy - k);
+      const double p = std::exp((score[size_t(iy) * side + ix] - best) / temperature);
+      const Eigen::Vector2d d = lattice_step_m * Eigen::Vector2d(ix - k, iy - k);
       s += p;
       u += p * d;
       K += p * d * d.transpose();
     }
   }
   // The lattice cannot resolve less than its step: add the variance of a uniform step-wide cell.
-  const double floor = (step * res) * (step * res) / 12.0;
+  const double floor = lattice_step_m * lattice_step_m / 12.0;
   return K / s - (u / s) * (u / s).transpose() + Eigen::Matrix2d::Identity() * floor;
 }
 

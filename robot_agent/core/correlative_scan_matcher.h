@@ -70,5 +70,9 @@ struct ScoreSurfaceOptions {
 Eigen::Matrix2d score_surface_covariance(const ProbabilityGrid& grid, const SE2& T_grid_base,
                                          const std::vector<Eigen::Vector2f>& points_base,
                                          const ScoreSurfaceOptions& options = {});
+/// The covariance of a (2k+1)^2 lattice of scores (row-major, y rows; spacing lattice_step_m):
+/// weights exp((score - max) / temperature), plus the variance of a uniform step-wide cell.
+Eigen::Matrix2d covariance_of_score_lattice(const std::vector<double>& score, int k, double lattice_step_m,
+                                            double temperature);
 
 }  // namespace cairn::agent

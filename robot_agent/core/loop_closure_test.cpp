@@ -187,7 +187,7 @@ TEST(ScoreSurfaceCovariance, RowAccumulationEqualsPointwiseSums) {
     o.max_points = 0;  // every point
     o.window_m = 0.4;
     const SE2 T(0.1, -0.05, 0.3);
-    // Reference: the same formula with every offset summed point by point.
+    // Reference: every offset summed point by point, weighted the same way.
     const int k = 8, side = 2 * k + 1, w = grid.width(), h = grid.height();
     std::vector<Eigen::Vector2i> cells;
     for (const auto& p : data.points) cells.push_back(grid.cell_of(T * p.cast<double>()));
@@ -202,21 +202,7 @@ TEST(ScoreSurfaceCovariance, RowAccumulationEqualsPointwiseSums) {
         score[size_t(iy) * side + ix] = sum / (255.0 * double(cells.size()));
       }
     }
-    const double best = *std::max_element(score.begin(), score.end());
-    double s = 0.0;
-    Eigen::Vector2d u = Eigen::Vector2d::Zero();
-    Eigen::Matrix2d K = Eigen::Matrix2d::Zero();
-    for (int iy = 0; iy < side; ++iy) {
-      for (int ix = 0; ix < side; ++ix) {
-        const double p = std::exp((score[size_t(iy) * side + ix] - best) / o.temperature);
-        const Eigen::Vector2d d = 0.05 * Eigen::Vector2d(ix - k, iy - k);
-        s += p;
-        u += p * d;
-        K += p * d * d.transpose();
-      }
-    }
-    const Eigen::Matrix2d expected =
-        K / s - (u / s) * (u / s).transpose() + Eigen::Matrix2d::Identity() * (0.05 * 0.05 / 12.0);
+    const Eigen::Matrix2d expected = covariance_of_score_lattice(score, k, 0.05, o.temperature);
     const Eigen::Matrix2d got = score_surface_covariance(grid, T, data.points, o);
     for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(got(i), expected(i)) << "seed " << seed << "\n" << got << "\n" << expected;
   }
