@@ -64,11 +64,8 @@ MergeCheck check_same_object(const PlacedObjectReport& a, const PlacedObjectRepo
   const double gate = cross_robot ? o.max_gate_m : std::min(o.max_gate_m, std::max(o.min_gate_m, o.size_factor * extent));
   const ColoredCloud ca = placed_cloud(a), cb = placed_cloud(b);
   const bool clouds = int(ca.size()) >= o.min_cloud_points && int(cb.size()) >= o.min_cloud_points;
-  bool boxes = false;
-  if (clouds) {
-    const Eigen::AlignedBox3d ba = bounds(ca), bb = bounds(cb);
-    boxes = ba.exteriorDistance(bb) <= o.bbox_margin_m;
-  }
+  const Eigen::AlignedBox3d ba = bounds(ca), bb = bounds(cb);
+  const bool boxes = clouds && ba.exteriorDistance(bb) <= o.bbox_margin_m;
   c.candidate = d <= gate || (boxes && d <= o.max_gate_m);
   if (!c.candidate) return c.reason = "no overlap: centroids " + std::to_string(d) + " m apart", c;
   if (!clouds) {
@@ -121,8 +118,8 @@ MergeCheck check_same_object(const PlacedObjectReport& a, const PlacedObjectRepo
   // centre). Anything that overlapped but failed RMSE or correction stays two.
   const bool no_overlap = c.fitness < o.min_fitness;
   if (no_overlap && d <= o.max_coincident_centre_m) {
-    Eigen::AlignedBox3d both = bounds(ca);
-    both.extend(bounds(cb));
+    Eigen::AlignedBox3d both = ba;
+    both.extend(bb);
     const double union_xy_m = both.sizes().head<2>().maxCoeff();
     if (union_xy_m <= o.max_union_extent_factor * extent + o.bbox_margin_m) {
       c.accepted = true;
