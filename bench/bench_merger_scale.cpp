@@ -351,8 +351,10 @@ int main(int argc, char** argv) {
     std::printf("position error %s: rms %.3f m, max %.3f m over %d keyframes\n", what, n ? std::sqrt(sum2 / n) : 0.0,
                 worst, n);
   };
-  std::printf("closures refused by the map check: %d inconclusive (too little overlap), %d contradicted\n",
-              rejected_inconclusive, rejected_contradicted);
+  const int implausible = mapper.link_stats().linked_pair_implausible;
+  std::printf("closures refused: %d implausible for a linked pair (unchecked); by the map check %d inconclusive "
+              "(too little overlap), %d contradicted\n",
+              implausible, rejected_inconclusive, rejected_contradicted - implausible);
   int wrong = 0, inter = 0;  // accepted closures more than 0.3 m / 0.1 rad off the truth
   for (const cairn::base::LoopClosure& c : mapper.loop_closures()) {
     const SE2 E = truth[size_t(c.a.robot.value)][size_t(c.a.seq)].between(truth[size_t(c.b.robot.value)][size_t(c.b.seq)])

@@ -99,6 +99,38 @@ TEST(MergerAliasing, OverlappingRobotsAreLinkedPrecisely) {
   EXPECT_LT(worst_position_error_m(mapper, RobotId(1), p1, p0[0].inverse()), 0.05);
 }
 
+TEST(MergerAliasing, AClosureFarOffALinkedPairIsDroppedUnchecked) {
+  // Both starts told to the base (linked from the start), robots in the two identical wings: every
+  // inter-robot closure is an alias 12 m off the estimate, no drift correction.
+  const std::vector<SE2> p0 = along(west_route(0)), p1 = along(west_route(12));
+  auto run_linked = [&](const MapperOptions& options) {
+    MultiRobotMapper mapper(options);
+    mapper.set_robot_start(RobotId(0), SE2());
+    mapper.set_robot_start(RobotId(1), p0[0].inverse() * p1[0]);
+    const auto walls = two_wing_building();
+    const auto k0 = testing::make_keyframes(RobotId(0), p0, walls), k1 = testing::make_keyframes(RobotId(1), p1, walls);
+    for (size_t i = 0; i < std::max(k0.size(), k1.size()); ++i) {
+      if (i < k0.size()) mapper.add_keyframe(k0[i]);
+      if (i < k1.size()) mapper.add_keyframe(k1[i]);
+      if (i % 10 == 9) mapper.optimize();
+    }
+    mapper.optimize();
+    return mapper;
+  };
+  MapperOptions unbounded;
+  unbounded.linked_closure_max_correction_m = 1e9;
+  unbounded.linked_closure_max_correction_rad = 1e9;
+  const MultiRobotMapper checked = run_linked(unbounded);
+  ASSERT_GT(checked.link_stats().linked_pair_checked, 0) << "no aliased closure into the linked pair: the test lost its point";
+  EXPECT_EQ(checked.link_stats().linked_pair_implausible, 0);
+
+  const MultiRobotMapper mapper = run_linked(MapperOptions{});
+  EXPECT_GT(mapper.link_stats().linked_pair_implausible, 0);
+  EXPECT_EQ(mapper.link_stats().linked_pair_checked, 0);  // none needed the map check
+  for (const LoopClosure& c : mapper.loop_closures()) EXPECT_EQ(c.a.robot, c.b.robot) << "an aliased closure entered";
+  EXPECT_LT(worst_position_error_m(mapper, RobotId(1), p1, p0[0].inverse()), 0.1);
+}
+
 /// Worst disagreement of the accepted intra-robot closures of robot 0 with the true path.
 double worst_intra_closure_error_m(const MultiRobotMapper& mapper, const std::vector<SE2>& path) {
   double worst = 0;

@@ -65,6 +65,7 @@ struct LinkStats {
   int deferred_spread = 0;         ///< cliques whose closures cover too little of a trajectory
   int deferred_inconclusive = 0;   ///< cliques whose maps overlap too little to be checked
   int linked_pair_closures = 0;    ///< inter-robot closures into already linked pairs
+  int linked_pair_implausible = 0; ///< of those, disagreeing beyond any drift: dropped unchecked
   int linked_pair_checked = 0;     ///< of those, disagreeing with the estimate: map-checked
   int linked_pair_rejected = 0;    ///< of those, refuted and dropped
   int intra_closures = 0;          ///< verified closures within one robot's trajectory

@@ -139,6 +139,16 @@ bool MultiRobotMapper::accept_linked_pair_closure(const LoopClosure& c, Optimize
   if (E.translation().norm() <= options_.linked_closure_gate_m && std::abs(E.yaw()) <= options_.linked_closure_gate_rad) {
     return true;
   }
+  if (E.translation().norm() > options_.linked_closure_max_correction_m ||
+      std::abs(E.yaw()) > options_.linked_closure_max_correction_rad) {
+    ++link_stats_.linked_pair_implausible;
+    char why[160];
+    std::snprintf(why, sizeof(why), "disagrees with the linked estimate by %.1f m / %.0f deg, more than any drift",
+                  E.translation().norm(), std::abs(E.yaw()) * 180.0 / M_PI);
+    result->link_events.push_back(LinkEvent{c.b.robot, c.a.robot, 1, false, false, 0.0,
+                                            "closure " + to_string(c.a) + " - " + to_string(c.b) + " rejected: " + why});
+    return false;
+  }
   if (!options_.check_map_consistency) return true;
   ++link_stats_.linked_pair_checked;
   // Hypothesis: robot b moves rigidly so that the closure holds. Compared near the closure only
