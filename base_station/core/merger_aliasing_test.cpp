@@ -4,6 +4,8 @@
 // ends, outer walls) tells the hypothesis is wrong. Runs without DDS.
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include "base_station/core/map_consistency.h"
 #include "base_station/core/multi_robot_mapper.h"
 #include "base_station/core/synthetic_world_test_util.h"
@@ -38,9 +40,15 @@ std::vector<Eigen::Vector2d> west_route(double ox) {
   return w;
 }
 
+/// Both robots through the two-wing building; `robot1_start` (robot 1's start in robot 0's frame)
+/// is told to the base when given, so the pair is linked from the start.
 MultiRobotMapper run(const std::vector<SE2>& p0, const std::vector<SE2>& p1, const MapperOptions& options,
-                     OptimizeResult* last) {
+                     OptimizeResult* last, std::optional<SE2> robot1_start = std::nullopt) {
   MultiRobotMapper mapper(options);
+  if (robot1_start) {
+    mapper.set_robot_start(RobotId(0), SE2());
+    mapper.set_robot_start(RobotId(1), *robot1_start);
+  }
   const auto walls = two_wing_building();
   const auto k0 = testing::make_keyframes(RobotId(0), p0, walls), k1 = testing::make_keyframes(RobotId(1), p1, walls);
   // Interleaved arrival, optimised every 10 keyframes as the base does.
@@ -103,28 +111,16 @@ TEST(MergerAliasing, AClosureFarOffALinkedPairIsDroppedUnchecked) {
   // Both starts told to the base (linked from the start), robots in the two identical wings: every
   // inter-robot closure is an alias 12 m off the estimate, no drift correction.
   const std::vector<SE2> p0 = along(west_route(0)), p1 = along(west_route(12));
-  auto run_linked = [&](const MapperOptions& options) {
-    MultiRobotMapper mapper(options);
-    mapper.set_robot_start(RobotId(0), SE2());
-    mapper.set_robot_start(RobotId(1), p0[0].inverse() * p1[0]);
-    const auto walls = two_wing_building();
-    const auto k0 = testing::make_keyframes(RobotId(0), p0, walls), k1 = testing::make_keyframes(RobotId(1), p1, walls);
-    for (size_t i = 0; i < std::max(k0.size(), k1.size()); ++i) {
-      if (i < k0.size()) mapper.add_keyframe(k0[i]);
-      if (i < k1.size()) mapper.add_keyframe(k1[i]);
-      if (i % 10 == 9) mapper.optimize();
-    }
-    mapper.optimize();
-    return mapper;
-  };
+  const SE2 robot1_start = p0[0].inverse() * p1[0];
+  OptimizeResult r;
   MapperOptions unbounded;
   unbounded.linked_closure_max_correction_m = 1e9;
   unbounded.linked_closure_max_correction_rad = 1e9;
-  const MultiRobotMapper checked = run_linked(unbounded);
+  const MultiRobotMapper checked = run(p0, p1, unbounded, &r, robot1_start);
   ASSERT_GT(checked.link_stats().linked_pair_checked, 0) << "no aliased closure into the linked pair: the test lost its point";
   EXPECT_EQ(checked.link_stats().linked_pair_implausible, 0);
 
-  const MultiRobotMapper mapper = run_linked(MapperOptions{});
+  const MultiRobotMapper mapper = run(p0, p1, MapperOptions{}, &r, robot1_start);
   EXPECT_GT(mapper.link_stats().linked_pair_implausible, 0);
   EXPECT_EQ(mapper.link_stats().linked_pair_checked, 0);  // none needed the map check
   for (const LoopClosure& c : mapper.loop_closures()) EXPECT_EQ(c.a.robot, c.b.robot) << "an aliased closure entered";
