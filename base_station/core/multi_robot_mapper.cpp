@@ -148,6 +148,22 @@ SE2 MultiRobotMapper::correction(RobotId robot) const {
   return start_of(robot);
 }
 
+PoseGraphEdge MultiRobotMapper::chain_edge(const Keyframe& prev, const Keyframe& kf, bool* gap) const {
+  PoseGraphEdge edge{prev.id, kf.id, {}, {}, EdgeKind::kOdometry};
+  const int steps = kf.id.seq - prev.id.seq;
+  const auto info = information_of(kf.edge_covariance);
+  *gap = steps != 1 || !info;
+  if (!*gap) {
+    edge.T_from_to = kf.T_prev_this;
+    edge.information = *info;
+  } else {
+    edge.T_from_to = prev.T_local_base.between(kf.T_local_base);
+    edge.information = diag_information(options_.gap_sigma_xy_m_per_step * std::sqrt(double(steps)),
+                                        options_.gap_sigma_yaw_rad_per_step * std::sqrt(double(steps)));
+  }
+  return edge;
+}
+
 void MultiRobotMapper::add_robot_chain(RobotId robot, OptimizeResult* result) {
   const SE2 T_global_local = correction(robot);
   const Keyframe* prev = nullptr;
@@ -165,20 +181,9 @@ void MultiRobotMapper::add_robot_chain(RobotId robot, OptimizeResult* result) {
       prev_initial = *graph_.estimate(kf.id);
       continue;
     }
-    PoseGraphEdge edge{prev ? prev->id : kf.id, kf.id, {}, {}, EdgeKind::kOdometry};
-    if (prev) {
-      const int steps = kf.id.seq - prev->id.seq;
-      const auto info = information_of(kf.edge_covariance);
-      if (steps == 1 && info) {
-        edge.T_from_to = kf.T_prev_this;
-        edge.information = *info;
-      } else {
-        edge.T_from_to = prev->T_local_base.between(kf.T_local_base);
-        edge.information = diag_information(options_.gap_sigma_xy_m_per_step * std::sqrt(double(steps)),
-                                            options_.gap_sigma_yaw_rad_per_step * std::sqrt(double(steps)));
-        ++result->gap_edges;
-      }
-    }
+    bool gap = false;
+    const PoseGraphEdge edge = prev ? chain_edge(*prev, kf, &gap) : PoseGraphEdge{kf.id, kf.id, {}, {}, EdgeKind::kOdometry};
+    result->gap_edges += gap;
     auto opt = optimized_.find(kf.id);
     const SE2 initial = opt != optimized_.end() ? opt->second
                         : prev                  ? prev_initial * edge.T_from_to
@@ -327,6 +332,7 @@ OptimizeResult MultiRobotMapper::optimize() {
   choose_anchor();
   if (options_.detect_loops) {
     detect_new_loops(&result);
+    refresh_own_frames();  // multi_robot_mapper_linking.cpp
     link_robot_pairs(&result);
   }
   place_new_robots();

@@ -123,6 +123,13 @@ class MultiRobotMapper {
   Trajectory global_trajectory(RobotId robot) const;
   /// nullopt when the keyframe is unknown or its robot is not linked.
   std::optional<SE2> global_pose(KeyframeId id) const;
+  /// A stored keyframe's pose in its robot's local frame as refined by the base: a linked robot's
+  /// global pose taken back to its local frame; an unlinked robot's own-frame solution (its
+  /// keyframes, front-end edges and its own accepted loop closures, solved at optimize()), later
+  /// keyframes carried by the front end. Link hypotheses are judged by these poses: the front end's
+  /// drift (0.29 m ATE over the middle third of MIT CSAIL) would go into the clique's transform
+  /// and the map check.
+  SE2 refined_local_pose(KeyframeId id) const;
   const std::map<KeyframeId, Keyframe>& keyframes() const { return keyframes_; }
   const std::map<ObjectId, ObjectReport>& object_reports() const { return reports_; }
   /// Reports whose anchor keyframe has not arrived yet.
@@ -163,6 +170,9 @@ class MultiRobotMapper {
   /// Current T_global_local of a linked robot from its latest optimised keyframe.
   SE2 correction(RobotId robot) const;
   void add_robot_chain(RobotId robot, OptimizeResult* result);
+  /// The odometry edge from prev to kf: the front end's measured edge, or (seq gap or no valid
+  /// covariance; *gap set) their local poses' difference with the gap uncertainty.
+  PoseGraphEdge chain_edge(const Keyframe& prev, const Keyframe& kf, bool* gap) const;
   std::vector<GlobalObject> compute_objects() const;
   // Automatic linking (multi_robot_mapper_linking.cpp).
   void choose_anchor();
@@ -171,6 +181,10 @@ class MultiRobotMapper {
   /// PCM clique -> spread -> map check for one unlinked pair; true when the pair got linked.
   bool try_link_pair(RobotId ra, RobotId rb, std::vector<LoopClosure>* candidates, OptimizeResult* result);
   void place_new_robots();
+  /// Re-solves the own-frame graph of each unlinked robot whose accepted intra-robot loop closures
+  /// changed (multi_robot_mapper_linking.cpp).
+  void refresh_own_frames();
+
   RobotId component_of(RobotId robot) const;
   void update_graph(OptimizeResult* result);
   void add_loop_edges();
@@ -228,6 +242,12 @@ class MultiRobotMapper {
   std::map<KeyframeId, Keyframe> keyframes_;
   std::map<ObjectId, ObjectReport> reports_;
   std::map<KeyframeId, SE2> optimized_;  ///< global poses from the last optimize()
+  /// Unlinked robots with intra-robot loop closures: own-frame poses and the loops they solved.
+  struct OwnFrame {
+    size_t loops = 0;
+    std::map<KeyframeId, SE2> poses;
+  };
+  std::map<RobotId, OwnFrame> own_frames_;
   PoseGraph2d graph_;
   uint64_t version_ = 1;        ///< anything changed
   uint64_t poses_version_ = 1;  ///< keyframes, starts or optimised poses changed

@@ -53,7 +53,7 @@ PlacedScans MultiRobotMapper::robot_scans(RobotId robot, const SE2& T_frame_loca
   PlacedScans out;
   for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0}); it != keyframes_.end() && it->first.robot == robot; ++it) {
     out.keyframes.push_back(&it->second);
-    out.T_frame_base.push_back(T_frame_local * it->second.T_local_base);
+    out.T_frame_base.push_back(T_frame_local * refined_local_pose(it->first));
   }
   return out;
 }
@@ -61,8 +61,8 @@ PlacedScans MultiRobotMapper::robot_scans(RobotId robot, const SE2& T_frame_loca
 std::string MultiRobotMapper::spread_deficit(const std::vector<LoopClosure>& closures) const {
   std::vector<Eigen::Vector2d> pa, pb;
   for (const LoopClosure& c : closures) {
-    pa.push_back(keyframes_.at(c.a).T_local_base.translation());
-    pb.push_back(keyframes_.at(c.b).T_local_base.translation());
+    pa.push_back(refined_local_pose(c.a).translation());
+    pb.push_back(refined_local_pose(c.b).translation());
   }
   const double ea = extent_m(pa), eb = extent_m(pb);
   if (ea >= options_.min_link_spread_m && eb >= options_.min_link_spread_m) return {};
@@ -88,9 +88,9 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
   std::vector<SE2> T_A_blocal;
   std::vector<Eigen::Vector2d> b_in_local, b_in_A;  // each closure's b keyframe in both frames
   for (const LoopClosure& c : closures) {
-    const SE2 T_A_a = a_global ? *global_pose(c.a) : keyframes_.at(c.a).T_local_base;
-    T_A_blocal.push_back(T_A_a * c.T_a_b * keyframes_.at(c.b).T_local_base.inverse());
-    b_in_local.push_back(keyframes_.at(c.b).T_local_base.translation());
+    const SE2 T_A_a = a_global ? *global_pose(c.a) : refined_local_pose(c.a);
+    T_A_blocal.push_back(T_A_a * c.T_a_b * refined_local_pose(c.b).inverse());
+    b_in_local.push_back(refined_local_pose(c.b).translation());
     b_in_A.push_back((T_A_a * c.T_a_b).translation());
   }
   // The hypothesis: the rigid transform that best fits the closures' positions when they are

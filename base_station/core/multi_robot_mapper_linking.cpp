@@ -82,9 +82,60 @@ void MultiRobotMapper::link_robot_pairs(OptimizeResult* result) {
   }
 }
 
+void MultiRobotMapper::refresh_own_frames() {
+  std::map<RobotId, std::vector<const LoopClosure*>> own_loops;
+  for (const LoopClosure& c : loops_) {
+    if (c.a.robot == c.b.robot && !linked(c.a.robot)) own_loops[c.a.robot].push_back(&c);
+  }
+  for (auto it = own_frames_.begin(); it != own_frames_.end();) {
+    it = own_loops.count(it->first) ? std::next(it) : own_frames_.erase(it);  // linked meanwhile
+  }
+  for (const auto& [robot, list] : own_loops) {
+    OwnFrame& frame = own_frames_[robot];
+    if (frame.loops == list.size()) continue;  // newer keyframes: carried in refined_local_pose
+    PoseGraph2d graph(options_.graph);
+    const Keyframe* prev = nullptr;
+    SE2 prev_initial;
+    for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0}); it != keyframes_.end() && it->first.robot == robot; ++it) {
+      const Keyframe& kf = it->second;
+      bool gap = false;
+      const PoseGraphEdge edge = prev ? chain_edge(*prev, kf, &gap) : PoseGraphEdge{};
+      auto solved = frame.poses.find(kf.id);  // warm start from the last solve
+      const SE2 initial = solved != frame.poses.end() ? solved->second
+                          : prev                      ? prev_initial * edge.T_from_to
+                                                      : kf.T_local_base;
+      graph.add_node(kf.id, initial);
+      if (prev) {
+        graph.add_edge(edge);
+      } else {
+        graph.set_prior(PosePrior{kf.id, kf.T_local_base});  // the gauge: the robot's own start
+      }
+      prev = &kf;
+      prev_initial = initial;
+    }
+    for (const LoopClosure* c : list) {
+      graph.add_edge(PoseGraphEdge{c->a, c->b, c->T_a_b, information_or_identity(c->covariance), EdgeKind::kLoop});
+    }
+    graph.solve(options_.solve);
+    frame.poses = graph.estimates();
+    frame.loops = list.size();
+  }
+}
+
+SE2 MultiRobotMapper::refined_local_pose(KeyframeId id) const {
+  const Keyframe& kf = keyframes_.at(id);
+  if (linked(id.robot)) return correction(id.robot).inverse() * *global_pose(id);
+  const auto frame = own_frames_.find(id.robot);
+  if (frame == own_frames_.end()) return kf.T_local_base;
+  auto solved = frame->second.poses.upper_bound(id);  // the last solved keyframe at or before id
+  if (solved == frame->second.poses.begin()) return kf.T_local_base;
+  --solved;
+  return solved->second * keyframes_.at(solved->first).T_local_base.between(kf.T_local_base);
+}
+
 bool MultiRobotMapper::try_link_pair(RobotId ra, RobotId rb, std::vector<LoopClosure>* candidates,
                                      OptimizeResult* result) {
-  const LocalPoseFn local_pose = [this](KeyframeId id) { return keyframes_.at(id).T_local_base; };
+  const LocalPoseFn local_pose = [this](KeyframeId id) { return refined_local_pose(id); };
   const std::pair<RobotId, RobotId> key{ra, rb};
   while (true) {
     const std::vector<size_t> clique = pcm_max_clique(*candidates, local_pose, options_.pcm);

@@ -1,0 +1,81 @@
+// An unlinked robot's map as the base judges a link by it: the front end's keyframe poses drift, the
+// base's own-frame solution (the robot's keyframes and its own loop closures) does not
+// (MultiRobotMapper::refined_local_pose). Runs without DDS.
+#include <gtest/gtest.h>
+
+#include "base_station/core/map_consistency.h"
+#include "base_station/core/multi_robot_mapper.h"
+#include "base_station/core/synthetic_world_test_util.h"
+
+namespace cairn::base {
+namespace {
+
+using testing::along;
+
+/// The keyframes of a robot on `path_world` whose front end turns its heading by `yaw_drift_rad_per_m`
+/// more than it really turned on every metre: the scans are true, the poses bend.
+std::vector<Keyframe> drifting_keyframes(RobotId robot, const std::vector<SE2>& path_world,
+                                         const std::vector<testing::Segment>& walls, double yaw_drift_rad_per_m) {
+  std::vector<Keyframe> out = testing::make_keyframes(robot, path_world, walls);
+  for (size_t i = 1; i < out.size(); ++i) {
+    const SE2 step = path_world[i - 1].between(path_world[i]);
+    out[i].T_prev_this = SE2(step.x(), step.y(), step.yaw() + yaw_drift_rad_per_m * step.translation().norm());
+    out[i].T_local_base = out[i - 1].T_local_base * out[i].T_prev_this;
+  }
+  return out;
+}
+
+/// Worst position error of robot 1's poses (by `pose`) against its true path, in its own frame.
+template <typename PoseFn>
+double worst_error_m(const std::vector<SE2>& path_world, PoseFn pose) {
+  double worst = 0;
+  for (size_t i = 0; i < path_world.size(); ++i) {
+    const SE2 truth = path_world.front().between(path_world[i]);
+    worst = std::max(worst, (pose(int32_t(i)).translation() - truth.translation()).norm());
+  }
+  return worst;
+}
+
+TEST(MergerOwnFrame, AnUnlinkedRobotsOwnLoopClosuresStraightenTheMapItIsJudgedBy) {
+  // Robot 1 tours wing W twice (corridor, both rooms) with 0.3 deg/m of heading drift; robot 0,
+  // the anchor, is in another building, so robot 1 stays unlinked.
+  std::vector<Eigen::Vector2d> route = testing::west_route(0), back = testing::west_route(0);
+  std::reverse(back.begin(), back.end());
+  route.insert(route.end(), back.begin() + 1, back.end());
+  const std::vector<SE2> path1 = along(route);
+  const auto k1 = drifting_keyframes(RobotId(1), path1, testing::two_wing_building(), 0.3 * M_PI / 180.0);
+  const auto k0 = testing::make_keyframes(RobotId(0), testing::left_path(), testing::room_walls());
+
+  MultiRobotMapper mapper;
+  for (const Keyframe& kf : k0) mapper.add_keyframe(kf);
+  for (size_t i = 0; i < k1.size(); ++i) {
+    mapper.add_keyframe(k1[i]);
+    if (i % 10 == 9) mapper.optimize();
+  }
+  mapper.optimize();
+  ASSERT_FALSE(mapper.linked(RobotId(1))) << "robot 1 was linked to another building";
+
+  // Precondition: the front end's map is bent by more than the map check's wall tolerance.
+  const double front_end_m = worst_error_m(path1, [&](int32_t i) { return k1[size_t(i)].T_local_base; });
+  ASSERT_GT(front_end_m, 0.6) << "the drift no longer bends the map: the test lost its point";
+  const double refined_m = worst_error_m(path1, [&](int32_t i) { return mapper.refined_local_pose({RobotId(1), i}); });
+  EXPECT_LT(refined_m, 0.2) << "front end " << front_end_m << " m";
+
+  // The first half of the tour against the second, each placed by the refined poses: one map. By
+  // the front end's poses the two passes contradict each other.
+  auto half = [&](bool first, bool refined) {
+    PlacedScans s;
+    const size_t mid = k1.size() / 2;
+    for (size_t i = first ? 0 : mid; i < (first ? mid : k1.size()); ++i) {
+      s.keyframes.push_back(&k1[i]);
+      s.T_frame_base.push_back(refined ? mapper.refined_local_pose(k1[i].id) : k1[i].T_local_base);
+    }
+    return s;
+  };
+  EXPECT_FALSE(check_map_consistency(half(true, false), half(false, false)).consistent);
+  const MapConsistencyResult m = check_map_consistency(half(true, true), half(false, true));
+  EXPECT_TRUE(m.consistent && m.conclusive) << m.reason;
+}
+
+}  // namespace
+}  // namespace cairn::base
