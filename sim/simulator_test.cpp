@@ -1,6 +1,7 @@
 #include "sim/simulator.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -130,7 +131,7 @@ TEST(Simulator, DeterministicForASeed) {
 TEST(GroundTruth, WritesTheFiles) {
   Simulator sim(small_world(), fast_options(1));
   for (int i = 0; i < 20; ++i) sim.step();
-  const std::string dir = (std::filesystem::temp_directory_path() / "cairn_sim_gt_test").string();
+  const std::string dir = (std::filesystem::temp_directory_path() / ("cairn_sim_gt_test_" + std::to_string(::getpid()))).string();
   std::filesystem::remove_all(dir);
   ASSERT_TRUE(write_ground_truth(sim, dir));
   const Trajectory t = read_trajectory_csv(dir + "/gt_robot3.csv");

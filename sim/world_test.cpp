@@ -1,6 +1,7 @@
 #include "sim/world.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -87,7 +88,8 @@ TEST(ShippedWorlds, Collapsed) { check_shipped_world("collapsed", 120.0, 180.0);
 class BadInput : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() / "cairn_sim_world_test";
+    // One folder per process: ctest -j runs the BadInput tests side by side.
+    dir_ = std::filesystem::temp_directory_path() / ("cairn_sim_world_test_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir_);
     std::ofstream img(dir_ / "plan.pgm", std::ios::binary);
     img << "P5\n80 80\n255\n";
