@@ -85,6 +85,25 @@ TEST(MergerAliasing, OverlappingRobotsAreLinkedPrecisely) {
   EXPECT_LT(worst_position_error_m(mapper, RobotId(1), p1, p0[0].inverse()), 0.05);
 }
 
+TEST(MergerAliasing, ARobotSeeingOnePlaceOfAnotherFromAlongItsPathIsLinked) {
+  // Robot 0 only looks around in the corridor at room A's door; robot 1 drives the corridor and
+  // tours room B. The closures join one place of robot 0 (< 2 m) to metres of robot 1's path:
+  // their lever arm is on robot 1's side, and the map check judges the rest.
+  std::vector<SE2> p0;
+  for (int i = 0; i < 12; ++i) p0.emplace_back(3.0 + 0.1 * (i % 3), 1.0 + 0.02 * i, i * 0.5);
+  const std::vector<SE2> p1 = along({{0.8, 1}, {10.5, 1}, {9, 1}, {9, 5}, {10.5, 7}, {8, 6.5}, {9, 5}, {9, 1}});
+  std::vector<Eigen::Vector2d> xy0;
+  for (const SE2& p : p0) xy0.push_back(p.translation());
+  double extent0 = 0;
+  for (const auto& p : xy0)
+    for (const auto& q : xy0) extent0 = std::max(extent0, (p - q).norm());
+  ASSERT_LT(extent0, MapperOptions().min_link_spread_m) << "robot 0 must stay in one place";
+  OptimizeResult r;
+  MultiRobotMapper mapper = run(p0, p1, MapperOptions{}, &r);
+  ASSERT_TRUE(mapper.linked(RobotId(1)));
+  EXPECT_LT(worst_position_error_m(mapper, RobotId(1), p1, p0[0].inverse()), 0.05);
+}
+
 TEST(MergerAliasing, AClosureFarOffALinkedPairIsDroppedUnchecked) {
   // Both starts told to the base (linked from the start), robots in the two identical wings: every
   // inter-robot closure is an alias 12 m off the estimate, no drift correction.

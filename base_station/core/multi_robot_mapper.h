@@ -64,6 +64,7 @@ struct LinkStats {
   int rejected_map_contradiction = 0;  ///< cliques refuted by the map check (closures dropped)
   int deferred_spread = 0;         ///< cliques whose closures cover too little of a trajectory
   int deferred_inconclusive = 0;   ///< cliques whose maps overlap too little to be checked
+  int link_members_held = 0;       ///< members of accepted cliques off their common fit: held for the map check
   int linked_pair_closures = 0;    ///< inter-robot closures into already linked pairs
   int linked_pair_implausible = 0; ///< of those, disagreeing beyond any drift: dropped unchecked
   int linked_pair_checked = 0;     ///< of those, disagreeing with the estimate: map-checked
@@ -204,8 +205,14 @@ class MultiRobotMapper {
   // Link hypothesis checks (multi_robot_mapper_checks.cpp).
   /// Why the clique `closures` (a = ra, b = rb) covers too little of a trajectory; empty if not.
   std::string spread_deficit(const std::vector<LoopClosure>& closures) const;
+  /// The clique's link as T_A_blocal (A: the global frame when ra is placed, else ra's local
+  /// frame): the best rigid fit of both keyframes of every closure when either side's span
+  /// min_link_spread_m, else the mean of the closures' transforms.
+  SE2 link_hypothesis(RobotId ra, const std::vector<LoopClosure>& closures) const;
   /// Map check of the clique as a link of rb to ra (accepted, or the reason).
   LinkEvent judge_link(RobotId ra, RobotId rb, const std::vector<LoopClosure>& closures) const;
+  /// Whether closure c (a = ra) agrees with the link T_A_blocal within the linked-pair gate.
+  bool agrees_with_link(RobotId ra, const SE2& T_A_blocal, const LoopClosure& c) const;
   /// Whether an inter-robot closure between two robots of one component may join the graph.
   bool accept_linked_pair_closure(const LoopClosure& c, OptimizeResult* result);
   /// Whether a closure within one robot agrees with its own local poses up to its possible drift.

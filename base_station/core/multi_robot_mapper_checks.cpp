@@ -65,9 +65,33 @@ std::string MultiRobotMapper::spread_deficit(const std::vector<LoopClosure>& clo
     pb.push_back(refined_local_pose(c.b).translation());
   }
   const double ea = extent_m(pa), eb = extent_m(pb);
-  if (ea >= options_.min_link_spread_m && eb >= options_.min_link_spread_m) return {};
+  if (ea >= options_.min_link_spread_m || eb >= options_.min_link_spread_m) return {};
   return "closures span " + format_m(ea) + " m / " + format_m(eb) + " m of the trajectories (< " +
-         format_m(options_.min_link_spread_m) + " m): waiting for closures from other places";
+         format_m(options_.min_link_spread_m) + " m on both): waiting for closures from other places";
+}
+
+SE2 MultiRobotMapper::link_hypothesis(RobotId ra, const std::vector<LoopClosure>& closures) const {
+  const bool a_global = linked(ra);
+  std::vector<SE2> T_A_blocal;
+  // Both keyframes of each closure, in rb's local frame and in frame A.
+  std::vector<Eigen::Vector2d> in_blocal, in_A, a_in_blocal, b_in_blocal;
+  for (const LoopClosure& c : closures) {
+    const SE2 T_A_a = a_global ? *global_pose(c.a) : refined_local_pose(c.a);
+    const SE2 T_blocal_b = refined_local_pose(c.b);
+    T_A_blocal.push_back(T_A_a * c.T_a_b * T_blocal_b.inverse());
+    in_blocal.push_back(T_blocal_b.translation());
+    in_A.push_back((T_A_a * c.T_a_b).translation());
+    in_blocal.push_back((T_blocal_b * c.T_a_b.inverse()).translation());
+    in_A.push_back(T_A_a.translation());
+    a_in_blocal.push_back(in_blocal[in_blocal.size() - 1]);
+    b_in_blocal.push_back(in_blocal[in_blocal.size() - 2]);
+  }
+  // The rigid transform that best fits the closures' keyframe positions when either side's are
+  // spread out (a few degrees of error in each closure's own yaw, 2-7 deg on the MIT CSAIL split,
+  // swing a 30 m map by metres; the lever arm between closures pins the rotation far better),
+  // else the mean of the closures' transforms.
+  const bool spread = std::max(extent_m(a_in_blocal), extent_m(b_in_blocal)) >= options_.min_link_spread_m;
+  return spread ? align_points_2d(in_blocal, in_A) : mean_transform(T_A_blocal);
 }
 
 LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector<LoopClosure>& closures) const {
@@ -84,22 +108,8 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
     return e;
   }
   // Frame A: the global frame when ra is placed, else ra's local frame.
-  const bool a_global = linked(ra);
-  std::vector<SE2> T_A_blocal;
-  std::vector<Eigen::Vector2d> b_in_local, b_in_A;  // each closure's b keyframe in both frames
-  for (const LoopClosure& c : closures) {
-    const SE2 T_A_a = a_global ? *global_pose(c.a) : refined_local_pose(c.a);
-    T_A_blocal.push_back(T_A_a * c.T_a_b * refined_local_pose(c.b).inverse());
-    b_in_local.push_back(refined_local_pose(c.b).translation());
-    b_in_A.push_back((T_A_a * c.T_a_b).translation());
-  }
-  // The hypothesis: the rigid transform that best fits the closures' positions when they are
-  // spread out (a few degrees of error in each closure's own yaw, 2-7 deg on the MIT CSAIL split,
-  // swing a 30 m map by metres; the lever arm between closures pins the rotation far better),
-  // else the mean of the closures' transforms.
-  const SE2 T_hypothesis = extent_m(b_in_local) >= options_.min_link_spread_m ? align_points_2d(b_in_local, b_in_A)
-                                                                               : mean_transform(T_A_blocal);
-  const PlacedScans side_a = a_global ? linked_scans(SE2(), RobotId()) : robot_scans(ra, SE2());
+  const SE2 T_hypothesis = link_hypothesis(ra, closures);
+  const PlacedScans side_a = linked(ra) ? linked_scans(SE2(), RobotId()) : robot_scans(ra, SE2());
   const PlacedScans side_b = robot_scans(rb, T_hypothesis);
   const MapConsistencyResult m = check_map_consistency(side_a, side_b, options_.map_check);
   ev.contradiction_ratio = m.contradiction_ratio;
@@ -107,6 +117,12 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
   ev.inconclusive = m.consistent && !m.conclusive;
   ev.reason = ev.accepted ? "linked" : m.reason;
   return ev;
+}
+
+bool MultiRobotMapper::agrees_with_link(RobotId ra, const SE2& T_A_blocal, const LoopClosure& c) const {
+  const SE2 T_A_a = linked(ra) ? *global_pose(c.a) : refined_local_pose(c.a);
+  const SE2 E = (T_A_blocal * refined_local_pose(c.b)).between(T_A_a * c.T_a_b);
+  return E.translation().norm() <= options_.linked_closure_gate_m && std::abs(E.yaw()) <= options_.linked_closure_gate_rad;
 }
 
 bool MultiRobotMapper::accept_intra_robot_closure(const LoopClosure& c) {

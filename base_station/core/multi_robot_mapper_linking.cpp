@@ -172,7 +172,18 @@ bool MultiRobotMapper::try_link_pair(RobotId ra, RobotId rb, std::vector<LoopClo
       continue;
     }
     ++link_stats_.linked;
-    for (const LoopClosure& c : members) loops_.push_back(c);
+    // A member off the clique's common fit by more than a linked pair's gate (PCM's pairwise test
+    // lets a 0.5 m / 4 deg closure join three right ones on the MIT CSAIL split) waits, held, for
+    // the map check a closure into a linked pair gets once the robots are placed.
+    const SE2 T_fit = link_hypothesis(ra, members);
+    for (const LoopClosure& c : members) {
+      if (agrees_with_link(ra, T_fit, c)) {
+        loops_.push_back(c);
+      } else {
+        held_closures_.push_back(c);
+        ++link_stats_.link_members_held;
+      }
+    }
     const RobotId ca = component_of(ra), cb = component_of(rb);
     // The anchor's component keeps its root.
     if (anchor_ && component_of(*anchor_) == cb) {
