@@ -103,6 +103,22 @@ void check_split(const ReplayLog& log, int robots, const char* name, std::vector
                 e.other.value, e.closures, true_members, errors.c_str(), e.reason.c_str());
   }
   for (int k : must_link) EXPECT_TRUE(mapper.linked(RobotId(k))) << name << ": robot " << k << " not linked";
+  if (std::getenv("CAIRN_MULTIROBOT_FUNNEL")) {  // each robot's map as the base refined it, against the reference
+    for (int k = 0; k < robots; ++k) {
+      std::vector<Eigen::Vector2d> est, ref;
+      for (size_t i = 0; i < runs[size_t(k)].keyframes.size(); ++i) {
+        est.push_back(mapper.refined_local_pose(runs[size_t(k)].keyframes[i].id).translation());
+        ref.push_back(runs[size_t(k)].reference[i].translation());
+      }
+      const SE2 T = align_points_2d(est, ref);
+      double se = 0, worst = 0;
+      for (size_t i = 0; i < est.size(); ++i) {
+        se += (T * est[i] - ref[i]).squaredNorm();
+        worst = std::max(worst, (T * est[i] - ref[i]).norm());
+      }
+      std::printf("[%s] robot %d refined own-frame ATE %.3f m (max %.3f)\n", name, k, std::sqrt(se / est.size()), worst);
+    }
+  }
 
   int inter = 0;
   double worst_m = 0, worst_rad = 0;
@@ -146,7 +162,19 @@ void check_split(const ReplayLog& log, int robots, const char* name, std::vector
 //   artefact (glass, glossy walls): robot 0 saw through every cell of that 2.7 m diagonal piece
 //   head-on (beam within 15-40 deg of the wall's normal) from 5-12 keyframes, so something there
 //   really moved between the visits.
-//   Run it with --gtest_also_run_disabled_tests.
+// Measured next steps (2026-11-22, not landed):
+// - "Explained" pieces: 69 % of robot 0's 26 returned beams through that piece end on walls robot 2
+//   mapped too (both know what lies behind it); through the look-alike wings' pieces 0-7 %, wrong
+//   MIT hypotheses 26-35 %. Excusing pieces at >= 60 % links robot 2 (robots 0+2 merged ATE
+//   0.090 m), but robot 1 is then judged against robots 0+2 and refuted (16 %): its own map has
+//   drifted 0.6 m at the far end (base own-frame ATE 0.16 m; cairn_slam over the same third 0.084 m:
+//   the agent's loop closures do not reach the base), and no closure ties it to robot 2 there.
+// - Judged against the closures' partner robot only, all 3 link, but that drift puts the merged
+//   ATE at 0.166 m > 1.5 x 0.105 m.
+// - The reference yaw between the corrected log's scans is uncertain by degrees (leave-one-out over
+//   its 406 scans: median 2.5 deg, 90th percentile 9 deg), so accepted closures "off" by 6-13 deg at
+//   interpolated keyframes agreed within 0.75 deg with a full-log cairn_slam run.
+// Run it with --gtest_also_run_disabled_tests.
 ReplayLog mit_csail_replay() {
   const std::string raw_path = kData + "mit-csail/mit-csail.clf", ref_path = kData + "mit-csail/csail.corrected.log";
   if (!std::ifstream(raw_path) || !std::ifstream(ref_path)) return {};
@@ -162,7 +190,8 @@ TEST(MultiRobotSplit, DISABLED_MitCsailRawInThreeRobots) {
   check_split(log, 3, "mit-csail");
 }
 
-// What of the MIT CSAIL split works today, guarded: robot 1 (the middle third) sees robot 0's
+// What of the MIT CSAIL split works today, guarded (its worst accepted closure is 0.296 m off the
+// interpolated reference, whose own position error is ~5 cm median): robot 1 (the middle third) sees robot 0's
 // corridor junction from 5.9 m of its own path (0.6 m of robot 0's) and links on that lever arm;
 // of its 4-closure clique the one 0.51 m / 4.3 deg off the common fit is held back and then refuted
 // by the map check. Robot 2 is the known gap above.

@@ -33,24 +33,52 @@ ReplayLog replay_from_raw(const CarmenLog& raw, const CarmenLog& corrected, int*
     ++*matched;
   }
   if (*matched == 0) return out;
-  // Nearest matched scan (by index) for each scan, then carried by odometry.
-  int last = -1;
-  std::vector<int> nearest(raw.scans.size(), -1);
-  for (size_t i = 0; i < raw.scans.size(); ++i) {
-    if (twin[i] >= 0) last = int(i);
-    nearest[i] = last;
+  // Between two matched scans the reference is carried by raw odometry from the previous one, and
+  // the odometry's disagreement with the next one is spread over the gap: yaw by the odometry's
+  // turning, position by its travel. (Carried from the nearest matched scan alone, the reference
+  // of in-place turns was up to 16 deg off: inter-robot closures that agree with a full-log SLAM
+  // run within 0.75 deg scored 7-16 deg "off" at keyframes 1-2 scans from a matched one.)
+  std::vector<int> prev(raw.scans.size(), -1), next(raw.scans.size(), -1);
+  for (size_t i = 0, last = size_t(-1); i < raw.scans.size(); ++i) {
+    if (twin[i] >= 0) last = i;
+    prev[i] = last == size_t(-1) ? -1 : int(last);
   }
-  int next = -1;
-  for (size_t k = raw.scans.size(); k-- > 0;) {
-    if (twin[k] >= 0) next = int(k);
-    if (nearest[k] < 0 || (next >= 0 && next - int(k) < int(k) - nearest[k])) nearest[k] = next;
+  for (size_t k = raw.scans.size(), last = size_t(-1); k-- > 0;) {
+    if (twin[k] >= 0) last = k;
+    next[k] = last == size_t(-1) ? -1 : int(last);
   }
+  const auto odom = [&](size_t i) { return raw.scans[i].T_odom_laser; };
   for (size_t i = 0; i < raw.scans.size(); ++i) {
-    const CarmenScan& s = raw.scans[i];
-    const int j = nearest[i];
-    out.scans.push_back(s);
-    out.odometry.push_back(s.T_odom_laser);
-    out.reference.push_back(ref[size_t(j)] * raw.scans[size_t(j)].T_odom_laser.between(s.T_odom_laser));
+    out.scans.push_back(raw.scans[i]);
+    out.odometry.push_back(odom(i));
+    const int p = prev[i], n = next[i];
+    if (p < 0 || n < 0 || p == n) {  // before the first or after the last matched scan, or matched
+      const int j = p >= 0 ? p : n;
+      out.reference.push_back(ref[size_t(j)] * odom(size_t(j)).between(odom(i)));
+      continue;
+    }
+    // Odometry turning and travel from p to i, and from p to n.
+    double turn_i = 0, turn_n = 0, travel_i = 0, travel_n = 0;
+    for (int k = p; k < n; ++k) {
+      const SE2 step = odom(size_t(k)).between(odom(size_t(k + 1)));
+      turn_n += std::abs(step.yaw());
+      travel_n += step.translation().norm();
+      if (k < int(i)) turn_i += std::abs(step.yaw()), travel_i += step.translation().norm();
+    }
+    const double by_index = double(int(i) - p) / double(n - p);
+    const double f_yaw = turn_n > 1e-6 ? turn_i / turn_n : by_index;
+    const double f_xy = travel_n > 1e-6 ? travel_i / travel_n : by_index;
+    const SE2 carried = ref[size_t(p)] * odom(size_t(p)).between(odom(i));
+    const SE2 carried_n = ref[size_t(p)] * odom(size_t(p)).between(odom(size_t(n)));
+    // The correction that moves the carried pose at n onto n's reference: a turn about p's
+    // reference position (f_yaw of it at i), then a shift (f_xy of it at i).
+    const double dyaw = normalize_angle(ref[size_t(n)].yaw() - carried_n.yaw());
+    const Eigen::Vector2d pivot = ref[size_t(p)].translation();
+    const Eigen::Vector2d dxy =
+        ref[size_t(n)].translation() - (pivot + Eigen::Rotation2Dd(dyaw).toRotationMatrix() * (carried_n.translation() - pivot));
+    const Eigen::Vector2d t =
+        pivot + Eigen::Rotation2Dd(f_yaw * dyaw).toRotationMatrix() * (carried.translation() - pivot) + f_xy * dxy;
+    out.reference.emplace_back(t.x(), t.y(), carried.yaw() + f_yaw * dyaw);
   }
   return out;
 }
