@@ -74,6 +74,30 @@ TEST(LoopVerifier, FindsTheOffsetWithoutAGuess) {
   EXPECT_GT(v.covariance(0, 0), 0.0);
 }
 
+TEST(LoopVerifier, ACorridorMatchIsUncertainAlongTheCorridorOnly) {
+  // A long corridor (walls y = 0 and y = 2) with one door jamb far away: the walls fix y and the
+  // heading, little fixes x. The covariance must say so (a point-to-point Hessian would not).
+  std::vector<testing::Segment> walls = {{{-30, 0}, {30, 0}}, {{-30, 2}, {30, 2}}};
+  const SE2 map_pose(0.0, 1.0, 0.0), query_pose(0.3, 1.1, 0.05);
+  const auto map_points = scan_to_points(testing::simulate_scan(map_pose, walls));
+  const auto query = scan_to_points(testing::simulate_scan(query_pose, walls));
+  LoopVerifierOptions o;
+  o.linear_window_m = 1.0;
+  o.angular_window_rad = 0.3;
+  const LoopVerification v = verify_loop(map_points, query, SE2(0.3, 0.1, 0.05), o);
+  ASSERT_TRUE(v.accepted) << v.reason;
+  const double sigma_along_m = std::sqrt(v.covariance(0, 0)), sigma_across_m = std::sqrt(v.covariance(1, 1));
+  EXPECT_LT(sigma_across_m, 0.05);
+  EXPECT_GT(sigma_along_m, 10 * sigma_across_m) << "along " << sigma_along_m << " across " << sigma_across_m;
+  // In a room every direction is fixed.
+  const auto room = testing::room_walls();
+  const LoopVerification r = verify_loop(scan_to_points(testing::simulate_scan(SE2(3, 3, 0), room)),
+                                         scan_to_points(testing::simulate_scan(SE2(3.2, 3.1, 0.1), room)), SE2(0.2, 0.1, 0.1), o);
+  ASSERT_TRUE(r.accepted) << r.reason;
+  EXPECT_LT(std::sqrt(r.covariance(0, 0)), 0.05);
+  EXPECT_LT(std::sqrt(r.covariance(1, 1)), 0.05);
+}
+
 /// Robot 1 retraces robot 0's path in the room, offset and turned: loops between them.
 std::vector<SE2> retrace(const std::vector<SE2>& path) {
   std::vector<SE2> out;
