@@ -111,6 +111,16 @@ void refine(const std::vector<Eigen::Vector2f>& map_points, const std::vector<Ei
   auto key = [&](double x, double y) { return (int64_t(std::floor(x / cell)) << 32) ^ uint32_t(int32_t(std::floor(y / cell))); };
   std::unordered_map<int64_t, std::vector<Eigen::Vector2d>> hash;
   for (const auto& p : map_points) hash[key(p.x(), p.y())].push_back(p.cast<double>());
+  // Calls f(m, squared distance) for every map point m in the 3 x 3 hash cells around p.
+  const auto for_each_near = [&](const Eigen::Vector2d& p, const auto& f) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        auto cell_points = hash.find(key(p.x() + dx * cell, p.y() + dy * cell));
+        if (cell_points == hash.end()) continue;
+        for (const auto& m : cell_points->second) f(m, (m - p).squaredNorm());
+      }
+    }
+  };
   SE2 T = v->T_map_query;
   Eigen::Matrix3d H = Eigen::Matrix3d::Identity();
   double sq_sum = 0;
@@ -126,16 +136,9 @@ void refine(const std::vector<Eigen::Vector2f>& map_points, const std::vector<Ei
       const Eigen::Vector2d q = qf.cast<double>(), p = T * q;
       double best = gate * gate;
       Eigen::Vector2d nn;
-      for (int dx = -1; dx <= 1; ++dx) {
-        for (int dy = -1; dy <= 1; ++dy) {
-          auto f = hash.find(key(p.x() + dx * cell, p.y() + dy * cell));
-          if (f == hash.end()) continue;
-          for (const auto& m : f->second) {
-            const double d2 = (m - p).squaredNorm();
-            if (d2 < best) { best = d2; nn = m; }
-          }
-        }
-      }
+      for_each_near(p, [&](const Eigen::Vector2d& m, double d2) {
+        if (d2 < best) best = d2, nn = m;
+      });
       if (best >= gate * gate) continue;
       const Eigen::Vector2d e = p - nn;
       Eigen::Matrix<double, 2, 3> J;
@@ -170,17 +173,10 @@ void refine(const std::vector<Eigen::Vector2f>& map_points, const std::vector<Ei
     Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     int near = 0;
-    for (int dx = -1; dx <= 1; ++dx) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        auto f = hash.find(key(p.x() + dx * cell, p.y() + dy * cell));
-        if (f == hash.end()) continue;
-        for (const auto& m : f->second) {
-          const double d2 = (m - p).squaredNorm();
-          if (d2 < best) best = d2, nn = m;
-          if (d2 < cell * cell) sum += m, scatter += m * m.transpose(), ++near;
-        }
-      }
-    }
+    for_each_near(p, [&](const Eigen::Vector2d& m, double d2) {
+      if (d2 < best) best = d2, nn = m;
+      if (d2 < cell * cell) sum += m, scatter += m * m.transpose(), ++near;
+    });
     if (best >= o.icp_inlier_distance_m * o.icp_inlier_distance_m || near < 3) continue;
     const Eigen::Vector2d mean = sum / near;
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter / near - mean * mean.transpose());
