@@ -116,7 +116,19 @@ void check_split(const ReplayLog& log, int robots, const char* name, std::vector
         se += (T * est[i] - ref[i]).squaredNorm();
         worst = std::max(worst, (T * est[i] - ref[i]).norm());
       }
-      std::printf("[%s] robot %d refined own-frame ATE %.3f m (max %.3f)\n", name, k, std::sqrt(se / est.size()), worst);
+      // Its own closures at the base, against the reference (translation: the reference's yaw
+      // between corrected scans is uncertain by degrees, see replay_from_raw).
+      int own = 0, own_off = 0;
+      double own_worst_m = 0;
+      for (const base::LoopClosure& c : mapper.loop_closures()) {
+        if (c.a.robot != RobotId(k) || c.b.robot != RobotId(k)) continue;
+        const double off_m = closure_error(c, runs).translation_m;
+        ++own;
+        own_off += off_m > kMaxClosureErrorM;
+        own_worst_m = std::max(own_worst_m, off_m);
+      }
+      std::printf("[%s] robot %d refined own-frame ATE %.3f m (max %.3f); own closures %d, %d more than %.1f m off "
+                  "(worst %.2f m)\n", name, k, std::sqrt(se / est.size()), worst, own, own_off, kMaxClosureErrorM, own_worst_m);
     }
   }
 
