@@ -211,8 +211,9 @@ class MultiRobotMapper {
   SE2 link_hypothesis(RobotId ra, const std::vector<LoopClosure>& closures) const;
   /// Map check of the clique as a link of rb to ra (accepted, or the reason).
   LinkEvent judge_link(RobotId ra, RobotId rb, const std::vector<LoopClosure>& closures) const;
-  /// Whether closure c (a = ra) agrees with the link T_A_blocal within the linked-pair gate.
-  bool agrees_with_link(RobotId ra, const SE2& T_A_blocal, const LoopClosure& c) const;
+  /// How far closure c (a = ra) is off the link T_A_blocal, in units of the linked-pair gate
+  /// (at most 1: within it in translation and yaw).
+  double link_misfit(RobotId ra, const SE2& T_A_blocal, const LoopClosure& c) const;
   /// Whether an inter-robot closure between two robots of one component may join the graph.
   bool accept_linked_pair_closure(const LoopClosure& c, OptimizeResult* result);
   /// Whether a closure within one robot agrees with its own local poses up to its possible drift.

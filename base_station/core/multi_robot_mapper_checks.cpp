@@ -119,10 +119,10 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
   return ev;
 }
 
-bool MultiRobotMapper::agrees_with_link(RobotId ra, const SE2& T_A_blocal, const LoopClosure& c) const {
+double MultiRobotMapper::link_misfit(RobotId ra, const SE2& T_A_blocal, const LoopClosure& c) const {
   const SE2 T_A_a = linked(ra) ? *global_pose(c.a) : refined_local_pose(c.a);
   const SE2 E = (T_A_blocal * refined_local_pose(c.b)).between(T_A_a * c.T_a_b);
-  return E.translation().norm() <= options_.linked_closure_gate_m && std::abs(E.yaw()) <= options_.linked_closure_gate_rad;
+  return std::max(E.translation().norm() / options_.linked_closure_gate_m, std::abs(E.yaw()) / options_.linked_closure_gate_rad);
 }
 
 bool MultiRobotMapper::accept_intra_robot_closure(const LoopClosure& c) {

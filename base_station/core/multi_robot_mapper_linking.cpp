@@ -175,12 +175,17 @@ bool MultiRobotMapper::try_link_pair(RobotId ra, RobotId rb, std::vector<LoopClo
     // A member off the clique's common fit by more than a linked pair's gate (PCM's pairwise test
     // lets a 0.5 m / 4 deg closure join three right ones on the MIT CSAIL split) waits, held, for
     // the map check a closure into a linked pair gets once the robots are placed.
+    // The member nearest the fit always enters: the robot is placed through accepted closures.
     const SE2 T_fit = link_hypothesis(ra, members);
-    for (const LoopClosure& c : members) {
-      if (agrees_with_link(ra, T_fit, c)) {
-        loops_.push_back(c);
+    size_t nearest = 0;
+    for (size_t i = 1; i < members.size(); ++i) {
+      if (link_misfit(ra, T_fit, members[i]) < link_misfit(ra, T_fit, members[nearest])) nearest = i;
+    }
+    for (size_t i = 0; i < members.size(); ++i) {
+      if (i == nearest || link_misfit(ra, T_fit, members[i]) <= 1.0) {
+        loops_.push_back(members[i]);
       } else {
-        held_closures_.push_back(c);
+        held_closures_.push_back(members[i]);
         ++link_stats_.link_members_held;
       }
     }
