@@ -74,24 +74,24 @@ SE2 MultiRobotMapper::link_hypothesis(RobotId ra, const std::vector<LoopClosure>
   const bool a_global = linked(ra);
   std::vector<SE2> T_A_blocal;
   // Both keyframes of each closure, in rb's local frame and in frame A.
-  std::vector<Eigen::Vector2d> in_blocal, in_A, a_in_blocal, b_in_blocal;
+  std::vector<Eigen::Vector2d> a_in_blocal, b_in_blocal, a_in_A, b_in_A;
   for (const LoopClosure& c : closures) {
     const SE2 T_A_a = a_global ? *global_pose(c.a) : refined_local_pose(c.a);
     const SE2 T_blocal_b = refined_local_pose(c.b);
     T_A_blocal.push_back(T_A_a * c.T_a_b * T_blocal_b.inverse());
-    in_blocal.push_back(T_blocal_b.translation());
-    in_A.push_back((T_A_a * c.T_a_b).translation());
-    in_blocal.push_back((T_blocal_b * c.T_a_b.inverse()).translation());
-    in_A.push_back(T_A_a.translation());
-    a_in_blocal.push_back(in_blocal[in_blocal.size() - 1]);
-    b_in_blocal.push_back(in_blocal[in_blocal.size() - 2]);
+    b_in_blocal.push_back(T_blocal_b.translation());
+    b_in_A.push_back((T_A_a * c.T_a_b).translation());
+    a_in_blocal.push_back((T_blocal_b * c.T_a_b.inverse()).translation());
+    a_in_A.push_back(T_A_a.translation());
   }
   // The rigid transform that best fits the closures' keyframe positions when either side's are
   // spread out (a few degrees of error in each closure's own yaw, 2-7 deg on the MIT CSAIL split,
   // swing a 30 m map by metres; the lever arm between closures pins the rotation far better),
   // else the mean of the closures' transforms.
-  const bool spread = std::max(extent_m(a_in_blocal), extent_m(b_in_blocal)) >= options_.min_link_spread_m;
-  return spread ? align_points_2d(in_blocal, in_A) : mean_transform(T_A_blocal);
+  if (std::max(extent_m(a_in_blocal), extent_m(b_in_blocal)) < options_.min_link_spread_m) return mean_transform(T_A_blocal);
+  b_in_blocal.insert(b_in_blocal.end(), a_in_blocal.begin(), a_in_blocal.end());
+  b_in_A.insert(b_in_A.end(), a_in_A.begin(), a_in_A.end());
+  return align_points_2d(b_in_blocal, b_in_A);
 }
 
 LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector<LoopClosure>& closures) const {

@@ -1,6 +1,7 @@
 // MultiRobotMapper: automatic linking of robots with unknown relative starts, and the incremental
 // pose-graph update (see multi_robot_mapper.h).
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <deque>
 #include <set>
 
@@ -177,12 +178,11 @@ bool MultiRobotMapper::try_link_pair(RobotId ra, RobotId rb, std::vector<LoopClo
     // the map check a closure into a linked pair gets once the robots are placed.
     // The member nearest the fit always enters: the robot is placed through accepted closures.
     const SE2 T_fit = link_hypothesis(ra, members);
-    size_t nearest = 0;
-    for (size_t i = 1; i < members.size(); ++i) {
-      if (link_misfit(ra, T_fit, members[i]) < link_misfit(ra, T_fit, members[nearest])) nearest = i;
-    }
+    std::vector<double> misfit;
+    for (const LoopClosure& c : members) misfit.push_back(link_misfit(ra, T_fit, c));
+    const size_t nearest = size_t(std::min_element(misfit.begin(), misfit.end()) - misfit.begin());
     for (size_t i = 0; i < members.size(); ++i) {
-      if (i == nearest || link_misfit(ra, T_fit, members[i]) <= 1.0) {
+      if (i == nearest || misfit[i] <= 1.0) {
         loops_.push_back(members[i]);
       } else {
         held_closures_.push_back(members[i]);
