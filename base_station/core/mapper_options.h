@@ -62,7 +62,7 @@ struct MapperOptions {
   /// decides by the start of the solve which cluster wins (the two-robot mission under CPU load:
   /// 26 closures 5 m off, robots placed 4-5 m wrong).
   double intra_closure_gate_m = 0.5;
-  double intra_closure_gate_m_per_m = 0.03;
+  double intra_closure_gate_m_per_m = 0.01;
   double intra_closure_gate_rad = 0.1;
   double intra_closure_gate_rad_per_m = 0.005;
   /// Max Ceres iterations of an incremental update (warm-started); a full re-solve with LAGO
