@@ -50,8 +50,9 @@ ReplayLog replay_from_raw(const CarmenLog& raw, const CarmenLog& corrected, int*
   const auto odom = [&](size_t i) { return raw.scans[i].T_odom_laser; };
   for (size_t i = 0; i < raw.scans.size(); ++i) {
     out.scans.push_back(raw.scans[i]);
-    out.odometry.push_back(odom(i));
     const int p = prev[i], n = next[i];
+    out.measured_reference.push_back(p < 0 ? n : n < 0 ? p : int(i) - p <= n - int(i) ? p : n);
+    out.odometry.push_back(odom(i));
     if (p < 0 || n < 0 || p == n) {  // before the first or after the last matched scan, or matched
       const int j = p >= 0 ? p : n;
       out.reference.push_back(ref[size_t(j)] * odom(size_t(j)).between(odom(i)));
@@ -88,6 +89,7 @@ ReplayLog replay_from_corrected(const CarmenLog& corrected, uint32_t seed) {
   for (const CarmenScan& s : corrected.scans) {
     out.scans.push_back(s);
     out.reference.push_back(s.T_world_laser);
+    out.measured_reference.push_back(int(out.scans.size()) - 1);
   }
   OdometryNoiseOptions noise;  // 10 % of distance, 3 deg per metre
   noise.seed = seed;
@@ -113,6 +115,13 @@ RobotRun run_agent(const ReplayLog& log, size_t begin, size_t end, RobotId robot
   for (const Keyframe& kf : run.keyframes) {
     auto it = scan_of.find(kf.stamp_ns);
     run.reference.push_back(it != scan_of.end() ? log.reference[it->second] : SE2(NAN, NAN, NAN));
+    const int m = it != scan_of.end() && it->second < log.measured_reference.size() ? log.measured_reference[it->second] : -1;
+    if (m < int(begin) || m >= int(end)) {
+      run.closure_reference.push_back(run.reference.back());
+      continue;
+    }
+    const SE2 T_measured_kf = pipeline.pose_at(log.scans[size_t(m)].stamp_ns).between(pipeline.pose_at(kf.stamp_ns));
+    run.closure_reference.push_back(log.reference[size_t(m)] * T_measured_kf);
   }
   return run;
 }
@@ -172,7 +181,7 @@ double merged_ate_m(const std::vector<RobotRun>& runs, const base::MultiRobotMap
 ClosureError closure_error(const base::LoopClosure& c, const std::vector<RobotRun>& runs) {
   auto ref = [&](KeyframeId id) {
     const RobotRun& r = runs.at(size_t(id.robot.value));
-    return r.reference.at(size_t(id.seq));
+    return r.closure_reference.at(size_t(id.seq));
   };
   const SE2 truth = ref(c.a).between(ref(c.b));
   const SE2 e = truth.between(c.T_a_b);

@@ -17,6 +17,9 @@ struct ReplayLog {
   std::vector<CarmenScan> scans;
   std::vector<SE2> odometry;   ///< per scan, odometry frame of the whole log
   std::vector<SE2> reference;  ///< per scan, reference pose (world frame of the log)
+  /// Per scan, the nearest scan whose reference is measured (a corrected scan), not carried by
+  /// odometry; -1 when there is none.
+  std::vector<int> measured_reference;
 };
 
 /// Raw log + GMapping-corrected twin: reference from the corrected scan with identical ranges,
@@ -28,6 +31,11 @@ ReplayLog replay_from_corrected(const CarmenLog& corrected, uint32_t seed);
 struct RobotRun {
   std::vector<Keyframe> keyframes;
   std::vector<SE2> reference;  ///< per keyframe (world frame of the log)
+  /// Per keyframe, the reference closures are judged by: the nearest measured reference in this
+  /// robot's segment, carried to the keyframe by the agent's own scan-matched poses (1-2 scans on
+  /// MIT CSAIL, centimetres and tenths of a degree) instead of by odometry, whose interpolated yaw
+  /// is off by degrees (ReplayLog::reference).
+  std::vector<SE2> closure_reference;
 };
 
 /// Replays scans [begin, end) as robot `robot`: odometry re-zeroed at `begin`.
@@ -48,7 +56,7 @@ MergeStats merge(const std::vector<RobotRun>& runs, base::MultiRobotMapper* mapp
 /// best SE2 alignment of the whole map. `matched` gets the number of keyframes compared.
 double merged_ate_m(const std::vector<RobotRun>& runs, const base::MultiRobotMapper& mapper, int* matched);
 
-/// Translation / rotation error of a closure against the reference.
+/// Translation / rotation error of a closure against RobotRun::closure_reference.
 struct ClosureError {
   double translation_m = 0, rotation_rad = 0;
 };
