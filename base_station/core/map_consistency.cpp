@@ -87,19 +87,19 @@ std::vector<Eigen::Vector2i> count(const Rendered& side, const OccupancyGrid& ot
   return contradicting;
 }
 
-/// Size of the largest 8-connected cluster of `cells` (a wall segment, not scattered noise).
-int largest_cluster(const std::vector<Eigen::Vector2i>& cells) {
+/// The 8-connected pieces of `cells` (wall segments, not scattered noise).
+std::vector<std::vector<Eigen::Vector2i>> pieces_of(const std::vector<Eigen::Vector2i>& cells) {
   std::set<std::pair<int, int>> left;
   for (const auto& c : cells) left.insert({c.x(), c.y()});
-  int best = 0;
+  std::vector<std::vector<Eigen::Vector2i>> out;
   while (!left.empty()) {
     std::vector<std::pair<int, int>> stack{*left.begin()};
     left.erase(left.begin());
-    int size = 0;
+    std::vector<Eigen::Vector2i> piece;
     while (!stack.empty()) {
       const auto [x, y] = stack.back();
       stack.pop_back();
-      ++size;
+      piece.emplace_back(x, y);
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
           auto it = left.find({x + dx, y + dy});
@@ -109,9 +109,87 @@ int largest_cluster(const std::vector<Eigen::Vector2i>& cells) {
         }
       }
     }
-    best = std::max(best, size);
+    out.push_back(std::move(piece));
   }
-  return best;
+  return out;
+}
+
+/// A piece of one side's wall in the other side's free space, and the other side's returned beams
+/// through it: how many, and how many end on (within tolerance of) a wall of the piece's side.
+struct Piece {
+  int cells = 0;
+  int beams = 0;
+  int beams_on_walls = 0;
+};
+
+/// Counts `seer`'s beams that pass through the cell at `p_m` and return beyond it.
+void count_beams_through(const PlacedScans& seer, const OccupancyGrid& walls, const Eigen::Vector2d& p_m,
+                         const MapConsistencyOptions& o, Piece* piece) {
+  const int radius = int(std::ceil(o.tolerance_m / o.resolution_m));
+  const size_t n = std::min(seer.keyframes.size(), seer.T_frame_base.size());
+  for (size_t k = 0; k < n; ++k) {
+    const SE2& T = seer.T_frame_base[k];
+    const LaserScan& scan = seer.keyframes[k]->scan;
+    const Eigen::Vector2d d = p_m - T.translation();
+    const double dist_m = d.norm();
+    if (dist_m < 1e-6 || dist_m > o.max_range_m || scan.ranges_m.empty() || scan.angle_increment_rad <= 0) continue;
+    // The beam nearest the cell's bearing (scans may wrap the full circle).
+    const double bearing = normalize_angle(std::atan2(d.y(), d.x()) - T.yaw() - scan.angle_min_rad);
+    long i = std::lround((bearing < 0 ? bearing + 2 * M_PI : bearing) / scan.angle_increment_rad);
+    const long count = long(scan.ranges_m.size());
+    if (i >= count && std::abs(count * scan.angle_increment_rad - 2 * M_PI) < 1e-3) i -= count;
+    if (i < 0 || i >= count) continue;
+    const float r = scan.ranges_m[size_t(i)];
+    if (!std::isfinite(r) || r >= scan.range_max_m || r <= dist_m + o.resolution_m) continue;  // no return, or ends here
+    const double a = T.yaw() + beam_angle_rad(scan, size_t(i));
+    const Eigen::Vector2d end_m = T.translation() + double(r) * Eigen::Vector2d(std::cos(a), std::sin(a));
+    ++piece->beams;
+    piece->beams_on_walls += wall_near(walls, walls.cell_of(end_m), radius, o.occupied_log_odds);
+  }
+}
+
+/// The pieces of `contradicting` (cells of `side`'s walls in the other side's free space); large
+/// ones with the other side's beams through them counted.
+std::vector<Piece> judge_pieces(const std::vector<Eigen::Vector2i>& contradicting, const Rendered& side,
+                                const PlacedScans& other, const MapConsistencyOptions& o) {
+  std::vector<Piece> out;
+  for (const auto& cells : pieces_of(contradicting)) {
+    Piece p;
+    p.cells = int(cells.size());
+    if (o.explained_min_fraction > 0 && p.cells >= o.max_contradiction_cluster_cells) {
+      for (const auto& c : cells) count_beams_through(other, side.grid, side.grid.cell_center_m(c.x(), c.y()), o, &p);
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
+/// The largest piece not explained. A large piece is explained alone (enough beams, enough of
+/// them on walls), or all are together when none with enough beams of its own is unexplained
+/// and the pooled beams are.
+int largest_unexplained(const std::vector<Piece>& all, const MapConsistencyOptions& o, int* explained) {
+  auto is_large = [&](const Piece& p) { return p.cells >= o.max_contradiction_cluster_cells; };
+  auto explains = [&](int beams, int on_walls) {
+    return o.explained_min_fraction > 0 && beams >= o.explained_min_beams && on_walls >= o.explained_min_fraction * beams;
+  };
+  int beams = 0, on_walls = 0;
+  bool unexplained_alone = false;
+  for (const Piece& p : all) {
+    if (!is_large(p)) continue;
+    beams += p.beams;
+    on_walls += p.beams_on_walls;
+    unexplained_alone |= p.beams >= o.explained_min_beams && !explains(p.beams, p.beams_on_walls);
+  }
+  const bool pooled = !unexplained_alone && explains(beams, on_walls);
+  int largest = 0;
+  for (const Piece& p : all) {
+    if (is_large(p) && (pooled || explains(p.beams, p.beams_on_walls))) {
+      ++*explained;
+      continue;
+    }
+    largest = std::max(largest, p.cells);
+  }
+  return largest;
 }
 
 }  // namespace
@@ -152,8 +230,9 @@ MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedSca
     return r;
   }
   const Rendered ra = render(a, o), rb = render(b, o);
-  r.largest_contradiction_cells = std::max(largest_cluster(count(ra, rb.grid, o, &r)),
-                                           largest_cluster(count(rb, ra.grid, o, &r)));
+  std::vector<Piece> all = judge_pieces(count(ra, rb.grid, o, &r), ra, b, o);
+  for (const Piece& p : judge_pieces(count(rb, ra.grid, o, &r), rb, a, o)) all.push_back(p);
+  r.largest_contradiction_cells = largest_unexplained(all, o, &r.explained_pieces);
   r.contradiction_ratio = r.checked_cells > 0 ? double(r.contradicting_cells) / r.checked_cells : 0.0;
   r.conclusive = r.checked_cells >= o.min_checked_cells ||
                  r.largest_contradiction_cells >= o.max_contradiction_cluster_cells;
@@ -163,7 +242,8 @@ MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedSca
   }
   const std::string counts = std::to_string(r.contradicting_cells) + "/" + std::to_string(r.checked_cells) +
                              " wall cells in the other robot's free space, largest wall piece " +
-                             std::to_string(r.largest_contradiction_cells) + " cells";
+                             std::to_string(r.largest_contradiction_cells) + " cells" +
+                             (r.explained_pieces > 0 ? ", " + std::to_string(r.explained_pieces) + " explained" : "");
   if (r.contradiction_ratio > o.max_contradiction_ratio) {
     r.consistent = false;
     r.reason = "map contradiction " + std::to_string(int(std::lround(100 * r.contradiction_ratio))) + " % (" + counts + ")";
