@@ -27,4 +27,18 @@ struct Keyframe {
   std::vector<LandmarkObservation> landmarks;
 };
 
+/// The agent's latest estimate of its keyframes' poses, after its own loop closures (the DDS
+/// `KeyframePoses` message mirrors this). Same local frame as Keyframe::T_local_base (the agent's
+/// loop closing keeps its first pose fixed), better than the front-end poses the keyframes carry.
+/// The base takes the relative poses between consecutive keyframes from it.
+struct KeyframePose {
+  int32_t seq = 0;
+  SE2 T_local_base;
+};
+struct KeyframePoses {
+  RobotId robot;
+  StampNs stamp_ns = 0;  ///< of the latest scan the estimate includes
+  std::vector<KeyframePose> poses;  ///< ascending seq
+};
+
 }  // namespace cairn

@@ -161,6 +161,35 @@ std::optional<RgbdFrame> from_msg(const cairn_msgs::RgbdFrame& m, std::string* e
   return f;
 }
 
+cairn_msgs::KeyframePoses to_msg(const KeyframePoses& poses) {
+  cairn_msgs::KeyframePoses m;
+  m.robot_id(poses.robot.value);
+  m.stamp_ns(poses.stamp_ns);
+  for (const KeyframePose& p : poses.poses) {
+    m.seqs().push_back(p.seq);
+    m.T_local_base().push_back(to_msg(p.T_local_base));
+  }
+  return m;
+}
+
+std::optional<KeyframePoses> from_msg(const cairn_msgs::KeyframePoses& m, std::string* error) {
+  if (!valid_robot(m.robot_id(), error)) return std::nullopt;
+  if (m.seqs().size() != m.T_local_base().size()) {
+    fail(error, "keyframe_poses: " + std::to_string(m.seqs().size()) + " seqs but " +
+                    std::to_string(m.T_local_base().size()) + " poses");
+    return std::nullopt;
+  }
+  KeyframePoses out{RobotId(m.robot_id()), m.stamp_ns(), {}};
+  for (size_t i = 0; i < m.seqs().size(); ++i) {
+    if (!finite_pose(m.T_local_base()[i])) {
+      fail(error, "keyframe_poses: non-finite T_local_base of seq " + std::to_string(m.seqs()[i]));
+      return std::nullopt;
+    }
+    out.poses.push_back(KeyframePose{m.seqs()[i], from_to_msg(m.T_local_base()[i])});
+  }
+  return out;
+}
+
 cairn_msgs::Keyframe to_msg(const Keyframe& kf) {
   cairn_msgs::Keyframe m;
   m.robot_id(kf.id.robot.value);

@@ -30,6 +30,10 @@ std::optional<RgbdFrame> from_msg(const cairn_msgs::RgbdFrame& msg, std::string*
 cairn_msgs::Keyframe to_msg(const Keyframe& kf);
 std::optional<Keyframe> from_msg(const cairn_msgs::Keyframe& msg, std::string* error);
 
+cairn_msgs::KeyframePoses to_msg(const KeyframePoses& poses);
+/// Rejects mismatched lengths and non-finite poses (order and seqs are the mapper's to check).
+std::optional<KeyframePoses> from_msg(const cairn_msgs::KeyframePoses& msg, std::string* error);
+
 cairn_msgs::ObjectReport to_msg(const ObjectReport& obj);
 std::optional<ObjectReport> from_msg(const cairn_msgs::ObjectReport& msg, std::string* error);
 

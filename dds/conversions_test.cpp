@@ -74,6 +74,26 @@ TEST(Conversions, KeyframeLandmarksRoundTripAndNanIsRejected) {
   EXPECT_NE(error.find("landmarks[0]: invalid landmark id"), std::string::npos) << error;
 }
 
+TEST(Conversions, KeyframePosesRoundTripAndBadSamplesAreNamed) {
+  const KeyframePoses poses{RobotId(2), 7'000'000'000, {{0, SE2(0, 0, 0)}, {1, SE2(1.5, -0.25, 0.3)}}};
+  std::string error;
+  const auto back = from_msg(to_msg(poses), &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_EQ(back->robot, RobotId(2));
+  EXPECT_EQ(back->stamp_ns, poses.stamp_ns);
+  ASSERT_EQ(back->poses.size(), 2u);
+  EXPECT_EQ(back->poses[1].seq, 1);
+  EXPECT_TRUE(back->poses[1].T_local_base.vector().isApprox(poses.poses[1].T_local_base.vector()));
+  cairn_msgs::KeyframePoses nan = to_msg(poses);
+  nan.T_local_base()[1].yaw_rad(std::nan(""));
+  EXPECT_FALSE(from_msg(nan, &error));
+  EXPECT_NE(error.find("non-finite T_local_base of seq 1"), std::string::npos) << error;
+  cairn_msgs::KeyframePoses short_poses = to_msg(poses);
+  short_poses.T_local_base().pop_back();
+  EXPECT_FALSE(from_msg(short_poses, &error));
+  EXPECT_NE(error.find("2 seqs but 1 poses"), std::string::npos) << error;
+}
+
 TEST(Conversions, ObjectRoundTripAndBadConfidence) {
   ObjectReport o;
   o.id = {RobotId(1), 3};

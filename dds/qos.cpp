@@ -73,11 +73,12 @@ DataWriterQos writer_qos(TopicKind kind, const QosOptions& options) {
       break;
     case TopicKind::kAck:
     case TopicKind::kCorrection:
+    case TopicKind::kKeyframePoses:
       reliable_common(q);
-      if (kind == TopicKind::kCorrection) q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+      if (kind != TopicKind::kAck) q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
       q.history().kind = KEEP_LAST_HISTORY_QOS;
       q.history().depth = 1;
-      set_limits(q, kMaxRobots, 1);  // the base writes one instance per robot
+      set_limits(q, kMaxRobots, 1);  // one instance per robot
       break;
   }
   return q;
@@ -104,6 +105,7 @@ DataReaderQos reader_qos(TopicKind kind) {
       break;
     case TopicKind::kClock:
     case TopicKind::kCorrection:
+    case TopicKind::kKeyframePoses:
       q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
       q.history().kind = KEEP_LAST_HISTORY_QOS;
       q.history().depth = 1;

@@ -18,6 +18,7 @@ enum class TopicKind {
   kStatus,      ///< best effort, keep last 1
   kAck,         ///< reliable, keep last 1 per robot
   kCorrection,  ///< reliable, transient local, keep last 1 per robot
+  kKeyframePoses,  ///< like kCorrection, agent -> base: only the newest estimate matters
 };
 
 struct QosOptions {
@@ -41,5 +42,6 @@ constexpr const char* kObjectTopic = "cairn/object";
 constexpr const char* kStatusTopic = "cairn/status";
 constexpr const char* kAckTopic = "cairn/ack";
 constexpr const char* kCorrectionTopic = "cairn/correction";
+constexpr const char* kKeyframePosesTopic = "cairn/keyframe_poses";
 
 }  // namespace cairn::dds

@@ -1,6 +1,8 @@
 // The agent replays a recorded CARMEN log (instead of the simulator's topics) to a real base
 // station over DDS; a truncated log is refused with its line number.
 #include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include <filesystem>
@@ -49,6 +51,11 @@ TEST(LogReplay, AgentReplaysACarmenLogToTheBaseOverDds) {
   for (size_t i = 1; i < t.size(); ++i) path_m += (t[i].pose.translation() - t[i - 1].pose.translation()).norm();
   EXPECT_GT(path_m, 20.0);
   EXPECT_TRUE(fs::exists(dir / "map" / "map.pgm"));
+  // The agent's loop-closed keyframe poses reached the base (cairn/keyframe_poses).
+  std::ifstream in(dir / "map" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["robots"].size(), 1u);
+  EXPECT_GE(summary["robots"][0]["link"]["keyframe_pose_updates"].get<int>(), 1) << summary.dump();
 }
 
 TEST(LogReplay, TruncatedLogIsRefusedWithItsLineNumber) {

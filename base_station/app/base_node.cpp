@@ -48,11 +48,13 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
       p, dds::kObjectTopic, TopicKind::kObject);
   n->status_in_ = std::make_unique<R<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>>(
       p, dds::kStatusTopic, TopicKind::kStatus);
+  n->keyframe_poses_in_ = std::make_unique<R<cairn_msgs::KeyframePoses, cairn_msgs::KeyframePosesPubSubType>>(
+      p, dds::kKeyframePosesTopic, TopicKind::kKeyframePoses);
   n->ack_out_ = std::make_unique<W<cairn_msgs::Ack, cairn_msgs::AckPubSubType>>(p, dds::kAckTopic, TopicKind::kAck);
   n->correction_out_ = std::make_unique<W<cairn_msgs::Correction, cairn_msgs::CorrectionPubSubType>>(
       p, dds::kCorrectionTopic, TopicKind::kCorrection);
-  if (!n->keyframe_in_->ok() || !n->object_in_->ok() || !n->status_in_->ok() || !n->ack_out_->ok() ||
-      !n->correction_out_->ok()) {
+  if (!n->keyframe_in_->ok() || !n->object_in_->ok() || !n->status_in_->ok() || !n->keyframe_poses_in_->ok() ||
+      !n->ack_out_->ok() || !n->correction_out_->ok()) {
     *error = "cannot create the base station's DDS readers/writers";
     return nullptr;
   }
@@ -71,27 +73,39 @@ double BaseNode::now_s() const { return std::chrono::duration<double>(Clock::now
 bool BaseNode::poll_inputs() {
   bool any = false;
   std::string error;
-  for (const auto& m : keyframe_in_->take_all()) {
+  // Stores one converted sample (dds::from_msg validated it); a bad one is counted against its robot.
+  auto store = [&](int32_t robot_id, const auto& parsed, auto&& add) {
     any = true;
-    auto kf = dds::from_msg(m, &error);
-    const AddResult r = kf ? mapper_.add_keyframe(*kf) : AddResult{AddStatus::kRejected, error};
+    const AddResult r = parsed ? add(*parsed) : AddResult{AddStatus::kRejected, error};
     if (r.status == AddStatus::kRejected) {
       ++rejected_samples_;
-      ++links_[RobotId(m.robot_id())].bad_samples;
+      ++links_[RobotId(robot_id)].bad_samples;
+    }
+    return r;
+  };
+  for (const auto& m : keyframe_in_->take_all()) {
+    const AddResult r = store(m.robot_id(), dds::from_msg(m, &error), [&](const Keyframe& kf) { return mapper_.add_keyframe(kf); });
+    if (r.status == AddStatus::kRejected) {
       CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe robot{}/{}: {}", m.robot_id(),
                             m.seq(), r.reason);
     }
   }
-  for (const auto& m : object_in_->take_all()) {
-    any = true;
-    auto obj = dds::from_msg(m, &error);
-    const AddResult r = obj ? mapper_.add_object(*obj) : AddResult{AddStatus::kRejected, error};
+  for (const auto& m : keyframe_poses_in_->take_all()) {  // after this poll's keyframes
+    const AddResult r = store(m.robot_id(), dds::from_msg(m, &error),
+                              [&](const KeyframePoses& poses) { return mapper_.add_keyframe_poses(poses); });
     if (r.status == AddStatus::kRejected) {
-      ++rejected_samples_;
-      ++links_[RobotId(m.robot_id())].bad_samples;
+      CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe poses of robot{}: {}", m.robot_id(), r.reason);
+    } else {
+      ++links_[RobotId(m.robot_id())].keyframe_pose_updates;
+    }
+  }
+  for (const auto& m : object_in_->take_all()) {
+    const auto obj = dds::from_msg(m, &error);
+    const AddResult r = store(m.robot_id(), obj, [&](const ObjectReport& o) { return mapper_.add_object(o); });
+    if (r.status == AddStatus::kRejected) {
       CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected object robot{}/{}: {}", m.robot_id(),
                             m.object_seq(), r.reason);
-    } else if (obj) {
+    } else {
       CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 1.0, "{} {} from robot{} ({})", obj->class_name,
                             obj->id.seq, obj->id.robot.value, to_string(r.status));
     }
@@ -142,6 +156,7 @@ nlohmann::json BaseNode::link_stats() const {
                  : "lost";
     j["bytes_rx"] = link.has_status ? link.last_status.bytes_sent() : 0;
     j["bad_samples"] = link.bad_samples;
+    j["keyframe_pose_updates"] = link.keyframe_pose_updates;
     links[std::to_string(robot.value)] = j;
   }
   return links;

@@ -48,6 +48,7 @@ class BaseNode {
     bool has_status = false;
     double last_heard_s = -1;     ///< wall seconds since start
     int bad_samples = 0;
+    int keyframe_pose_updates = 0;  ///< the agent's loop-closed keyframe poses, stored
   };
   BaseNode(const BaseNodeOptions& options, const MapperOptions& mapper_options);
   bool poll_inputs();
@@ -72,6 +73,7 @@ class BaseNode {
   std::unique_ptr<R<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>> keyframe_in_;
   std::unique_ptr<R<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>> object_in_;
   std::unique_ptr<R<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>> status_in_;
+  std::unique_ptr<R<cairn_msgs::KeyframePoses, cairn_msgs::KeyframePosesPubSubType>> keyframe_poses_in_;
   std::unique_ptr<W<cairn_msgs::Ack, cairn_msgs::AckPubSubType>> ack_out_;
   std::unique_ptr<W<cairn_msgs::Correction, cairn_msgs::CorrectionPubSubType>> correction_out_;
   std::unique_ptr<ConsoleServer> console_;

@@ -55,8 +55,9 @@ struct MapperOptions {
   double linked_closure_max_correction_m = 5.0;
   double linked_closure_max_correction_rad = 0.5;
   /// A closure within one robot's trajectory must agree with the robot's keyframe poses as its
-  /// agent sent them (the front end's, before the agent's own loop closures) up to the drift its
-  /// SLAM can have accumulated between the two keyframes:
+  /// agent last estimated them (MultiRobotMapper::agent_local_pose: loop-closed once the agent sent
+  /// KeyframePoses, else the front end's) up to the drift its SLAM can have accumulated between
+  /// the two keyframes:
   /// base + per metre of path travelled between them. Look-alike rooms otherwise give verified
   /// closures that are metres off and all agree with each other, and the robust loss alone then
   /// decides by the start of the solve which cluster wins (the two-robot mission under CPU load:

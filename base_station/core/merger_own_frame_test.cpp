@@ -77,5 +77,54 @@ TEST(MergerOwnFrame, AnUnlinkedRobotsOwnLoopClosuresStraightenTheMapItIsJudgedBy
   EXPECT_TRUE(m.consistent && m.conclusive) << m.reason;
 }
 
+/// What a robot agent whose own loop closing got its keyframes right sends (KeyframePoses).
+KeyframePoses true_poses(RobotId robot, const std::vector<SE2>& path_world) {
+  KeyframePoses update{robot, 0, {}};
+  for (size_t i = 0; i < path_world.size(); ++i) update.poses.push_back({int32_t(i), path_world.front().between(path_world[i])});
+  return update;
+}
+
+TEST(MergerOwnFrame, TheAgentsLoopClosedPosesReplaceTheDriftingFrontEndChain) {
+  // Robot 0 (the anchor, placed) and robot 1 (another building, unlinked) both tour with 0.5 deg/m
+  // of heading drift in their front ends; their agents then send loop-closed poses.
+  const std::vector<SE2> path0 = along(testing::west_route(0));
+  const std::vector<SE2> path1 = along({{1.5, 1.0}, {8.5, 1.0}, {8.5, 4.5}, {1.5, 4.5}});
+  const double drift = 0.5 * M_PI / 180.0;
+  const auto k0 = drifting_keyframes(RobotId(0), path0, testing::two_wing_building(), drift);
+  const auto k1 = drifting_keyframes(RobotId(1), path1, testing::room_walls(), drift);
+  MultiRobotMapper mapper;
+  for (const Keyframe& kf : k0) mapper.add_keyframe(kf);
+  for (const Keyframe& kf : k1) mapper.add_keyframe(kf);
+  mapper.optimize();
+  ASSERT_TRUE(mapper.linked(RobotId(0)));
+  ASSERT_FALSE(mapper.linked(RobotId(1)));
+  auto global0 = [&](int32_t i) { return *mapper.global_pose({RobotId(0), i}); };
+  auto refined1 = [&](int32_t i) { return mapper.refined_local_pose({RobotId(1), i}); };
+  const double before0_m = worst_error_m(path0, global0), before1_m = worst_error_m(path1, refined1);
+  ASSERT_GT(before0_m, 0.3) << "the drift no longer bends the map: the test lost its point";
+  ASSERT_GT(before1_m, 0.1) << "the drift no longer bends the map: the test lost its point";
+
+  EXPECT_TRUE(mapper.add_keyframe_poses(true_poses(RobotId(0), path0)).stored());
+  EXPECT_TRUE(mapper.add_keyframe_poses(true_poses(RobotId(1), path1)).stored());
+  mapper.optimize();
+  EXPECT_LT(worst_error_m(path0, global0), 0.05) << "before " << before0_m << " m";
+  EXPECT_LT(worst_error_m(path1, refined1), 0.05) << "before " << before1_m << " m";
+
+  // Bad estimates are refused whole, naming what is wrong; the last good one stays in force.
+  KeyframePoses nan = true_poses(RobotId(1), path1);
+  nan.poses[3].T_local_base = SE2(NAN, 0, 0);
+  const AddResult r_nan = mapper.add_keyframe_poses(nan);
+  EXPECT_EQ(r_nan.status, AddStatus::kRejected);
+  EXPECT_NE(r_nan.reason.find("non-finite pose of seq 3"), std::string::npos) << r_nan.reason;
+  KeyframePoses unordered = true_poses(RobotId(1), path1);
+  std::swap(unordered.poses[1], unordered.poses[2]);
+  unordered.poses[1].T_local_base = SE2(5, 5, 0);  // would bend the map if taken
+  const AddResult r_order = mapper.add_keyframe_poses(unordered);
+  EXPECT_EQ(r_order.status, AddStatus::kRejected);
+  EXPECT_NE(r_order.reason.find("not ascending"), std::string::npos) << r_order.reason;
+  mapper.optimize();
+  EXPECT_LT(worst_error_m(path1, refined1), 0.05);
+}
+
 }  // namespace
 }  // namespace cairn::base

@@ -136,6 +136,42 @@ AddResult MultiRobotMapper::add_keyframe(const Keyframe& kf) {
   return result;
 }
 
+AddResult MultiRobotMapper::add_keyframe_poses(const KeyframePoses& update) {
+  const std::string who = to_string(update.robot) + " keyframe poses";
+  if (!update.robot.valid()) return {AddStatus::kRejected, "keyframe poses: invalid robot id " + std::to_string(update.robot.value)};
+  for (size_t i = 0; i < update.poses.size(); ++i) {
+    const KeyframePose& p = update.poses[i];
+    if (p.seq < 0) return {AddStatus::kRejected, who + ": negative seq at index " + std::to_string(i)};
+    if (i > 0 && p.seq <= update.poses[i - 1].seq) {
+      return {AddStatus::kRejected, who + ": seq " + std::to_string(p.seq) + " not ascending at index " + std::to_string(i)};
+    }
+    if (!finite(p.T_local_base)) return {AddStatus::kRejected, who + ": non-finite pose of seq " + std::to_string(p.seq)};
+  }
+  agent_poses_.erase(agent_poses_.lower_bound(KeyframeId{update.robot, 0}),
+                     agent_poses_.upper_bound(KeyframeId{update.robot, INT32_MAX}));
+  for (const KeyframePose& p : update.poses) agent_poses_.emplace(KeyframeId{update.robot, p.seq}, p.T_local_base);
+  own_frames_.erase(update.robot);  // re-solved on the new chain at the next optimize()
+  if (linked(update.robot)) {
+    rebuild_graph_ = true;  // its chain edges change
+    refine_pending_ = true;
+    map_all_moved_ = true;
+  }
+  ++version_;
+  return {AddStatus::kAccepted, {}};
+}
+
+SE2 MultiRobotMapper::agent_local_pose(KeyframeId id) const {
+  const Keyframe& kf = keyframes_.at(id);
+  // The latest keyframe at or before id that the agent's estimate covers and that is stored.
+  for (auto it = agent_poses_.upper_bound(id); it != agent_poses_.begin();) {
+    --it;
+    if (it->first.robot != id.robot) break;
+    auto stored = keyframes_.find(it->first);
+    if (stored != keyframes_.end()) return it->second * stored->second.T_local_base.between(kf.T_local_base);
+  }
+  return kf.T_local_base;
+}
+
 SE2 MultiRobotMapper::correction(RobotId robot) const {
   auto it = optimized_.upper_bound(KeyframeId{robot, INT32_MAX});
   if (it != optimized_.begin()) {
@@ -154,10 +190,11 @@ PoseGraphEdge MultiRobotMapper::chain_edge(const Keyframe& prev, const Keyframe&
   const auto info = information_of(kf.edge_covariance);
   *gap = steps != 1 || !info;
   if (!*gap) {
-    edge.T_from_to = kf.T_prev_this;
+    const auto a = agent_poses_.find(prev.id), b = agent_poses_.find(kf.id);
+    edge.T_from_to = a != agent_poses_.end() && b != agent_poses_.end() ? a->second.between(b->second) : kf.T_prev_this;
     edge.information = *info;
   } else {
-    edge.T_from_to = prev.T_local_base.between(kf.T_local_base);
+    edge.T_from_to = agent_local_pose(prev.id).between(agent_local_pose(kf.id));
     edge.information = diag_information(options_.gap_sigma_xy_m_per_step * std::sqrt(double(steps)),
                                         options_.gap_sigma_yaw_rad_per_step * std::sqrt(double(steps)));
   }

@@ -114,6 +114,13 @@ class MultiRobotMapper {
   /// Links a robot: its local frame sits at T_global_local in the global frame.
   void set_robot_start(RobotId robot, const SE2& T_global_local);
   AddResult add_keyframe(const Keyframe& keyframe);
+  /// The agent's loop-closed estimate of its keyframes (common/keyframe.h): from the next
+  /// optimize() the chain between consecutive keyframes follows it instead of the front end's
+  /// edges, for the robot's own-frame solution, the intra-robot gate and the global graph (rebuilt,
+  /// warm-started). It replaces the robot's previous one; poses of keyframes not received yet are
+  /// kept for when they arrive. Rejected whole (nothing changes) when a pose is not finite, a seq
+  /// is negative or repeated.
+  AddResult add_keyframe_poses(const KeyframePoses& update);
   AddResult add_object(const ObjectReport& report);
   /// Rebuilds the pose graph of all linked robots (warm-started from the last solution) and solves.
   OptimizeResult optimize();
@@ -131,6 +138,10 @@ class MultiRobotMapper {
   /// drift (0.29 m ATE over the middle third of MIT CSAIL) would go into the clique's transform
   /// and the map check.
   SE2 refined_local_pose(KeyframeId id) const;
+  /// A stored keyframe's pose as its agent last estimated it (add_keyframe_poses); keyframes newer
+  /// than that estimate carried by the front end from the latest one it covers; the front end's pose
+  /// when the agent sent none.
+  SE2 agent_local_pose(KeyframeId id) const;
   const std::map<KeyframeId, Keyframe>& keyframes() const { return keyframes_; }
   const std::map<ObjectId, ObjectReport>& object_reports() const { return reports_; }
   /// Reports whose anchor keyframe has not arrived yet.
@@ -250,6 +261,7 @@ class MultiRobotMapper {
   std::map<KeyframeId, Keyframe> keyframes_;
   std::map<ObjectId, ObjectReport> reports_;
   std::map<KeyframeId, SE2> optimized_;  ///< global poses from the last optimize()
+  std::map<KeyframeId, SE2> agent_poses_;  ///< add_keyframe_poses: the agents' loop-closed local poses
   /// Unlinked robots with intra-robot loop closures: own-frame poses and the loops they solved.
   struct OwnFrame {
     size_t loops = 0;

@@ -134,7 +134,7 @@ bool MultiRobotMapper::accept_intra_robot_closure(const LoopClosure& c) {
     if (prev) path_m += prev->T_local_base.between(it->second.T_local_base).translation().norm();
     prev = &it->second;
   }
-  const SE2 E = keyframes_.at(c.a).T_local_base.between(keyframes_.at(c.b).T_local_base).between(c.T_a_b);
+  const SE2 E = agent_local_pose(c.a).between(agent_local_pose(c.b)).between(c.T_a_b);
   if (E.translation().norm() <= options_.intra_closure_gate_m + options_.intra_closure_gate_m_per_m * path_m &&
       std::abs(E.yaw()) <= options_.intra_closure_gate_rad + options_.intra_closure_gate_rad_per_m * path_m) {
     return true;

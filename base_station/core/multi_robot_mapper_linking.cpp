@@ -127,9 +127,9 @@ SE2 MultiRobotMapper::refined_local_pose(KeyframeId id) const {
   const Keyframe& kf = keyframes_.at(id);
   if (linked(id.robot)) return correction(id.robot).inverse() * *global_pose(id);
   const auto frame = own_frames_.find(id.robot);
-  if (frame == own_frames_.end()) return kf.T_local_base;
+  if (frame == own_frames_.end()) return agent_local_pose(id);
   auto solved = frame->second.poses.upper_bound(id);  // the last solved keyframe at or before id
-  if (solved == frame->second.poses.begin()) return kf.T_local_base;
+  if (solved == frame->second.poses.begin()) return agent_local_pose(id);
   --solved;
   return solved->second * keyframes_.at(solved->first).T_local_base.between(kf.T_local_base);
 }

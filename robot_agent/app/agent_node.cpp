@@ -54,10 +54,13 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
       p, dds::kKeyframeTopic, TopicKind::kKeyframe, large);
   n->object_out_ = std::make_unique<W<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>>(
       p, dds::kObjectTopic, TopicKind::kObject, large);
+  n->keyframe_poses_out_ = std::make_unique<W<cairn_msgs::KeyframePoses, cairn_msgs::KeyframePosesPubSubType>>(
+      p, dds::kKeyframePosesTopic, TopicKind::kKeyframePoses);
   n->status_out_ = std::make_unique<W<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>>(
       p, dds::kStatusTopic, TopicKind::kStatus);
   if (!n->odometry_in_->ok() || !n->laser_in_->ok() || !n->rgbd_in_->ok() || !n->clock_in_->ok() ||
-      !n->ack_in_->ok() || !n->keyframe_out_->ok() || !n->object_out_->ok() || !n->status_out_->ok()) {
+      !n->ack_in_->ok() || !n->keyframe_out_->ok() || !n->object_out_->ok() || !n->keyframe_poses_out_->ok() ||
+      !n->status_out_->ok()) {
     *error = "cannot create the agent's DDS readers/writers";
     return nullptr;
   }
@@ -110,6 +113,10 @@ void AgentNode::publish(const AgentOutputs& outputs) {
     }
     last_keyframe_seq_ = kf.id.seq;
   }
+  // Keep last 1: a newer estimate replaces one not delivered yet.
+  if (outputs.keyframe_poses && !keyframe_poses_out_->write(dds::to_msg(*outputs.keyframe_poses))) {
+    log_->warn("keyframe poses ({} keyframes) could not be queued", outputs.keyframe_poses->poses.size());
+  }
   for (const auto& obj : outputs.objects) {
     if (!object_out_->write(dds::to_msg(obj))) {
       log_->error("object {} could not be queued", obj.id.seq);
@@ -130,7 +137,7 @@ void AgentNode::publish_status(bool finished) {
   st.battery_pct(100.f);  // the simulator models no battery; a driver fills this in
   st.keyframes_sent(last_keyframe_seq_ + 1);
   st.objects_sent(int32_t(objects_published_.size()));
-  st.bytes_sent(int64_t(keyframe_out_->bytes_written() + object_out_->bytes_written()));
+  st.bytes_sent(int64_t(keyframe_out_->bytes_written() + object_out_->bytes_written() + keyframe_poses_out_->bytes_written()));
   st.keyframe_bytes(int64_t(keyframe_out_->bytes_written()));
   st.object_bytes(int64_t(object_out_->bytes_written()));
   st.object_messages(int32_t(object_out_->samples_written()));
@@ -184,6 +191,9 @@ int AgentNode::run() {
     }
     if (!got) std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
+  // The final loop-closed keyframe poses are not acknowledged by the base's Ack: wait for them
+  // (best effort, as for a lost link the base keeps the previous estimate).
+  if (!keyframe_poses_out_->wait_for_acknowledgments(2.0)) log_->warn("final keyframe poses not acknowledged within 2 s");
   // Status is best effort: say "finished" a few times so the base hears it.
   for (int i = 0; i < 5; ++i) {
     publish_status(true);
@@ -193,7 +203,8 @@ int AgentNode::run() {
   log_->info("done: {} keyframes, {} objects, {} bytes sent; {} bad samples dropped; beams: {} valid, {} NaN/inf, "
              "{} too close, {} max range",
              last_keyframe_seq_ + 1, objects_published_.size(),
-             keyframe_out_->bytes_written() + object_out_->bytes_written(), bad_samples_, s.beams.valid,
+             keyframe_out_->bytes_written() + object_out_->bytes_written() + keyframe_poses_out_->bytes_written(),
+             bad_samples_, s.beams.valid,
              s.beams.nan_or_inf, s.beams.too_close, s.beams.max_range);
   return 0;
 }

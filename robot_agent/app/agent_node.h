@@ -65,6 +65,7 @@ class AgentNode {
   std::unique_ptr<R<cairn_msgs::Ack, cairn_msgs::AckPubSubType>> ack_in_;
   std::unique_ptr<W<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>> keyframe_out_;
   std::unique_ptr<W<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>> object_out_;
+  std::unique_ptr<W<cairn_msgs::KeyframePoses, cairn_msgs::KeyframePosesPubSubType>> keyframe_poses_out_;
   std::unique_ptr<W<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>> status_out_;
 
   std::unique_ptr<LogSource> log_source_;  ///< set when replaying a log instead of DDS input

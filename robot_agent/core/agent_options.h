@@ -21,6 +21,10 @@ struct AgentOptions {
   /// agent. Only reached when odometry is missing or far behind.
   int max_pending_scans = 100;
   bool enable_objects = true;
+  /// After the agent's loop closing has moved its keyframes, their new poses go out
+  /// (AgentOutputs::keyframe_poses) at most this often in mission time, and once more at the end
+  /// of input. 0 = after every optimisation.
+  double keyframe_poses_min_interval_s = 5.0;
 };
 
 }  // namespace cairn::agent

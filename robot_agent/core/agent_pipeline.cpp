@@ -144,7 +144,32 @@ AgentOutputs AgentPipeline::process(bool flush) {
       break;
     }
   }
+  out.keyframe_poses = keyframe_poses(flush);
   return out;
+}
+
+std::optional<KeyframePoses> AgentPipeline::keyframe_poses(bool flush) {
+  if (flush && any_scan_processed_ && finished_ns_ != last_scan_stamp_ns_) {  // the final optimisation, once
+    local_slam_.finish();
+    finished_ns_ = last_scan_stamp_ns_;
+  }
+  const int optimizations = local_slam_.loop_closure().stats().optimizations;
+  if (optimizations == optimizations_sent_ || anchor_stamps_ns_.empty()) return std::nullopt;
+  const StampNs interval_ns = StampNs(options_.keyframe_poses_min_interval_s * 1e9);
+  if (!flush && poses_sent_ns_ && last_scan_stamp_ns_ - *poses_sent_ns_ < interval_ns) return std::nullopt;
+  // Keyframe stamps are scan stamps: one merge pass over the optimised trajectory (stamp order).
+  const Trajectory optimized = local_slam_.optimized_trajectory();
+  KeyframePoses update{robot_, last_scan_stamp_ns_, {}};
+  auto it = optimized.begin();
+  for (size_t i = 0; i < anchors_.size(); ++i) {
+    while (it != optimized.end() && it->stamp_ns < anchor_stamps_ns_[i]) ++it;
+    if (it == optimized.end() || it->stamp_ns != anchor_stamps_ns_[i]) continue;
+    update.poses.push_back(KeyframePose{anchors_[i].seq, it->pose});
+  }
+  optimizations_sent_ = optimizations;
+  poses_sent_ns_ = last_scan_stamp_ns_;
+  ++stats_.keyframe_pose_updates;
+  return update;
 }
 
 SE2 AgentPipeline::pose_at(StampNs t) const {

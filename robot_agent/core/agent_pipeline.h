@@ -5,6 +5,7 @@
 // stamp >= t is present; an RGB-D frame at t once a scan with stamp >= t has been processed), so
 // the outputs do not depend on arrival order. No clocks, no I/O, no threads.
 #include <deque>
+#include <optional>
 #include <vector>
 
 #include "common/ids.h"
@@ -24,7 +25,10 @@ namespace cairn::agent {
 struct AgentOutputs {
   std::vector<Keyframe> keyframes;
   std::vector<ObjectReport> objects;
-  bool empty() const { return keyframes.empty() && objects.empty(); }
+  /// Every emitted keyframe's pose after the agent's own loop closing, when that moved them
+  /// (AgentOptions::keyframe_poses_min_interval_s).
+  std::optional<KeyframePoses> keyframe_poses;
+  bool empty() const { return keyframes.empty() && objects.empty() && !keyframe_poses; }
 };
 
 struct AgentStats {
@@ -53,6 +57,7 @@ struct AgentStats {
   int landmarks_received = 0;      ///< identified landmark (marker) observations
   int landmarks_invalid = 0;       ///< NaN / negative / zero-sigma values: dropped
   int landmarks_in_keyframes = 0;  ///< attached to an emitted keyframe
+  int keyframe_pose_updates = 0;   ///< AgentOutputs::keyframe_poses emitted
 };
 
 class AgentPipeline {
@@ -87,6 +92,7 @@ class AgentPipeline {
   std::optional<SE2> odometry_at(StampNs stamp_ns) const;
   Anchor anchor_at(StampNs stamp_ns) const;
   void attach_landmarks(Keyframe* kf);
+  std::optional<KeyframePoses> keyframe_poses(bool flush);
 
   RobotId robot_;
   AgentOptions options_;
@@ -107,6 +113,9 @@ class AgentPipeline {
   std::vector<Anchor> anchors_;    ///< emitted keyframes' poses, by seq
   std::deque<Keyframe> recent_keyframes_;  ///< last emitted ones, for the place descriptor
   std::vector<StampNs> anchor_stamps_ns_;
+  int optimizations_sent_ = 0;          ///< loop-closing optimisations included in the last keyframe_poses
+  std::optional<StampNs> poses_sent_ns_;  ///< last scan stamp when keyframe_poses went out
+  std::optional<StampNs> finished_ns_;    ///< last scan stamp of the final optimisation (flush)
   AgentStats stats_;
 };
 

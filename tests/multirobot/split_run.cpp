@@ -104,14 +104,18 @@ RobotRun run_agent(const ReplayLog& log, size_t begin, size_t end, RobotId robot
   RobotRun run;
   const SE2 T_zero = log.odometry[begin].inverse();
   std::unordered_map<StampNs, size_t> scan_of;
+  auto collect = [&run](agent::AgentOutputs out) {
+    for (Keyframe& kf : out.keyframes) run.keyframes.push_back(std::move(kf));
+    if (out.keyframe_poses) run.keyframe_poses.emplace_back(run.keyframes.size(), std::move(*out.keyframe_poses));
+  };
   for (size_t i = begin; i < end; ++i) {
     const CarmenScan& s = log.scans[i];
     scan_of[s.stamp_ns] = i;
     pipeline.add_odometry({s.stamp_ns, T_zero * log.odometry[i], 0.0, 0.0});
     pipeline.add_scan(s.scan);
-    for (Keyframe& kf : pipeline.process().keyframes) run.keyframes.push_back(std::move(kf));
+    collect(pipeline.process());
   }
-  for (Keyframe& kf : pipeline.process(true).keyframes) run.keyframes.push_back(std::move(kf));
+  collect(pipeline.process(true));
   for (const Keyframe& kf : run.keyframes) {
     auto it = scan_of.find(kf.stamp_ns);
     run.reference.push_back(it != scan_of.end() ? log.reference[it->second] : SE2(NAN, NAN, NAN));
@@ -146,12 +150,18 @@ MergeStats merge(const std::vector<RobotRun>& runs, base::MultiRobotMapper* mapp
     stats.max_optimize_s = std::max(stats.max_optimize_s, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   };
   int added = 0;
+  std::vector<size_t> next_poses(runs.size(), 0);
   for (size_t step = 0; step < longest; ++step) {
-    for (const RobotRun& r : runs) {
+    for (size_t k = 0; k < runs.size(); ++k) {
+      const RobotRun& r = runs[k];
       // Same progress fraction for every robot.
       const size_t from = r.keyframes.size() * step / longest, to = r.keyframes.size() * (step + 1) / longest;
       for (size_t i = from; i < to; ++i) {
         mapper->add_keyframe(r.keyframes[i]);
+        // The agent's loop-closed poses, once the base has the keyframes it had sent with them.
+        for (size_t& u = next_poses[k]; u < r.keyframe_poses.size() && r.keyframe_poses[u].first <= i + 1; ++u) {
+          mapper->add_keyframe_poses(r.keyframe_poses[u].second);
+        }
         if (++added % optimize_every == 0) optimize();
       }
     }

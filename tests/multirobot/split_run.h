@@ -36,6 +36,9 @@ struct RobotRun {
   /// MIT CSAIL, centimetres and tenths of a degree) instead of by odometry, whose interpolated yaw
   /// is off by degrees (ReplayLog::reference).
   std::vector<SE2> closure_reference;
+  /// The agent's loop-closed keyframe poses as it sent them, each with the number of keyframes
+  /// it had emitted by then (merge() hands them to the base at that point).
+  std::vector<std::pair<size_t, KeyframePoses>> keyframe_poses;
 };
 
 /// Replays scans [begin, end) as robot `robot`: odometry re-zeroed at `begin`.
