@@ -20,6 +20,9 @@
 //                           [--max-iterations N=MapperOptions::incremental_max_iterations]
 //                           [--cholmod: the pose graph's sparse Cholesky by CHOLMOD, not Eigen]
 //                           [--export-g2o FILE: the final graph, to time its solve with cairn_g2o_opt]
+//                           [--agent-poses-every N: every N updates one robot (in turn) sends its
+//                            agent's loop-closed keyframe poses (KeyframePoses: here its true local
+//                            poses), which rebuilds the graph; 0 = never]
 // (--no-map-check: no map-consistency check of closures into linked pairs. That check compares
 // only the keyframes near the closure (MapConsistencyOptions::local_radius_m); it used to render
 // every linked keyframe per check, O(keyframes), and dominated the --loops run. --refine-every 1
@@ -216,6 +219,7 @@ int main(int argc, char** argv) {
   int max_iterations = cairn::base::MapperOptions{}.incremental_max_iterations;
   bool cholmod = false;  // PoseGraphSolveOptions::eigen_sparse off
   std::string export_g2o;  // the final graph, to time and vary its solve offline (cairn_g2o_opt)
+  int agent_poses_every = 0;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--loops") == 0) {
       loops = true;
@@ -233,16 +237,18 @@ int main(int argc, char** argv) {
       cholmod = true;
     } else if (std::strcmp(argv[i], "--max-iterations") == 0 && i + 1 < argc) {
       max_iterations = std::atoi(argv[++i]);
+    } else if (std::strcmp(argv[i], "--agent-poses-every") == 0 && i + 1 < argc) {
+      agent_poses_every = std::atoi(argv[++i]);
     } else if (std::strcmp(argv[i], "--export-g2o") == 0 && i + 1 < argc) {
       export_g2o = argv[++i];
     } else {
       total = std::atoi(argv[i]);
     }
   }
-  if (total <= 0 || render_every <= 0 || refine_every <= 0 || refine_per < 0 || max_iterations <= 0) {
+  if (total <= 0 || render_every <= 0 || refine_every <= 0 || refine_per < 0 || max_iterations <= 0 || agent_poses_every < 0) {
     std::fprintf(stderr, "usage: bench_merger_scale [total_keyframes > 0] [--loops [--no-map-check]] [--render-every N > 0] "
                          "[--refine-every N > 0] [--refine-keyframes-per-update N >= 0] [--map-check-radius M] "
-                         "[--max-iterations N > 0] [--cholmod] [--export-g2o FILE]\n");
+                         "[--max-iterations N > 0] [--cholmod] [--export-g2o FILE] [--agent-poses-every N >= 0]\n");
     return 2;
   }
   constexpr int kWindow = 1000;
@@ -262,15 +268,19 @@ int main(int argc, char** argv) {
   std::vector<Walker> walkers(kRobots);
   std::vector<SE2> pose(kRobots);
   std::vector<std::vector<SE2>> truth(kRobots);  // true global pose of each keyframe, by seq
+  std::vector<SE2> start(kRobots);                // where each robot's local frame sits
+  std::vector<std::vector<SE2>> agent_local(kRobots);  // what a loop-closing agent would send: true local poses
   for (int r = 0; r < kRobots; ++r) {
     if (loops) {
       Walker& w = walkers[size_t(r)];
       w.x = (r * 3) % kRoomsX;
       w.y = (r * 7) % kRoomsY;
       w.true_pose = SE2((w.x + 0.5) * kRoomM, (w.y + 0.5) * kRoomM, 0.0);
+      start[size_t(r)] = w.true_pose;
       mapper.set_robot_start(RobotId(r), w.true_pose);
     } else {
-      mapper.set_robot_start(RobotId(r), SE2(30.0 * r, 0, 0));
+      start[size_t(r)] = SE2(30.0 * r, 0, 0);
+      mapper.set_robot_start(RobotId(r), start[size_t(r)]);
     }
   }
   std::printf("%d robots, loop detection %s%s, map rendered every %d updates, loop refinement every max(%d, "
@@ -298,10 +308,19 @@ int main(int argc, char** argv) {
       const SE2 next = cur * SE2(0.5, 0.0, dyaw);
       kf = make_keyframe(RobotId(r), walkers[size_t(r)].seq++, pose[size_t(r)], next);
       pose[size_t(r)] = next;
-      truth[size_t(r)].push_back(next);
+      truth[size_t(r)].push_back(start[size_t(r)] * next);  // global, like the --loops world's
     }
+    agent_local[size_t(r)].push_back(start[size_t(r)].inverse() * truth[size_t(r)].back());
     const auto t0 = std::chrono::steady_clock::now();
     const double c0 = cpu_ms();
+    if (agent_poses_every > 0 && (k + 1) % agent_poses_every == 0) {
+      const int sender = ((k + 1) / agent_poses_every) % kRobots;
+      cairn::KeyframePoses update{RobotId(sender), 0, {}};
+      for (size_t s = 0; s < agent_local[size_t(sender)].size(); ++s) {
+        update.poses.push_back({int32_t(s), agent_local[size_t(sender)][s]});
+      }
+      mapper.add_keyframe_poses(update);
+    }
     mapper.add_keyframe(kf);
     const cairn::base::OptimizeResult result = mapper.optimize();
     closures = result.loop_closures;
