@@ -150,12 +150,8 @@ AddResult MultiRobotMapper::add_keyframe_poses(const KeyframePoses& update) {
   agent_poses_.erase(agent_poses_.lower_bound(KeyframeId{update.robot, 0}),
                      agent_poses_.upper_bound(KeyframeId{update.robot, INT32_MAX}));
   for (const KeyframePose& p : update.poses) agent_poses_.emplace(KeyframeId{update.robot, p.seq}, p.T_local_base);
-  own_frames_.erase(update.robot);  // re-solved on the new chain at the next optimize()
-  if (linked(update.robot)) {
-    rebuild_graph_ = true;  // its chain edges change
-    refine_pending_ = true;
-    map_all_moved_ = true;
-  }
+  own_frames_.erase(update.robot);       // re-solved on the new chain at the next optimize()
+  chains_changed_.insert(update.robot);  // its edges in the global graph: update_graph()
   ++version_;
   return {AddStatus::kAccepted, {}};
 }
@@ -297,6 +293,20 @@ void MultiRobotMapper::update_graph(OptimizeResult* result) {
     loop_in_graph_.assign(loops_.size(), false);
     object_edges_in_graph_.clear();
     rebuild_graph_ = false;
+  }
+  // Chains re-measured by their agents' loop closing: edge measurements replaced in place (the
+  // live problem is kept), then a full warm-started solve. O(edges), no rebuild.
+  if (!chains_changed_.empty()) {
+    const std::vector<PoseGraphEdge>& edges = graph_.edges();
+    for (size_t i = 0; i < edges.size(); ++i) {
+      const PoseGraphEdge& e = edges[i];
+      if (e.kind != EdgeKind::kOdometry || e.from.robot != e.to.robot || !chains_changed_.count(e.from.robot)) continue;
+      bool gap = false;
+      const PoseGraphEdge chain = chain_edge(keyframes_.at(e.from), keyframes_.at(e.to), &gap);
+      graph_.set_edge_measurement(i, chain.T_from_to, chain.information);
+    }
+    refine_pending_ = true;
+    chains_changed_.clear();
   }
   // New keyframes of each linked robot (O(robots + new keyframes), not O(keyframes)).
   const int window = std::max(0, options_.incremental_window_keyframes);

@@ -116,10 +116,10 @@ class MultiRobotMapper {
   AddResult add_keyframe(const Keyframe& keyframe);
   /// The agent's loop-closed estimate of its keyframes (common/keyframe.h): from the next
   /// optimize() the chain between consecutive keyframes follows it instead of the front end's
-  /// edges, for the robot's own-frame solution, the intra-robot gate and the global graph (rebuilt,
-  /// warm-started). It replaces the robot's previous one; poses of keyframes not received yet are
-  /// kept for when they arrive. Rejected whole (nothing changes) when a pose is not finite, a seq
-  /// is negative or repeated.
+  /// edges, for the robot's own-frame solution, the intra-robot gate and the global graph (edges
+  /// re-measured in place, then a full warm-started solve). It replaces the robot's previous one;
+  /// poses of keyframes not received yet are kept for when they arrive. Rejected whole (nothing
+  /// changes) when a pose is not finite, a seq is negative or repeated.
   AddResult add_keyframe_poses(const KeyframePoses& update);
   AddResult add_object(const ObjectReport& report);
   /// Rebuilds the pose graph of all linked robots (warm-started from the last solution) and solves.
@@ -262,6 +262,7 @@ class MultiRobotMapper {
   std::map<ObjectId, ObjectReport> reports_;
   std::map<KeyframeId, SE2> optimized_;  ///< global poses from the last optimize()
   std::map<KeyframeId, SE2> agent_poses_;  ///< add_keyframe_poses: the agents' loop-closed local poses
+  std::set<RobotId> chains_changed_;       ///< robots whose chain edges in graph_ need re-measuring
   /// Unlinked robots with intra-robot loop closures: own-frame poses and the loops they solved.
   struct OwnFrame {
     size_t loops = 0;

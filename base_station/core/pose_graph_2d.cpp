@@ -169,6 +169,10 @@ struct PoseGraph2d::Problem {
   ceres::AutoDiffManifold<PoseManifold, 3, 3> manifold;
   ceres::Problem problem;
   size_t edges_added = 0;
+  /// Per added edge, its residual's functor (the one of the graph's residual type; the other
+  /// nullptr), owned by Ceres: set_edge_measurement() rewrites the measurement in place.
+  std::vector<RelativePoseResidual*> relative_residuals;
+  std::vector<SeSyncResidual*> sesync_residuals;
   std::vector<KeyframeId> new_nodes;  ///< added to the graph since the last sync
   std::vector<ceres::ResidualBlockId> prior_blocks;
   bool priors_dirty = true;
@@ -227,6 +231,19 @@ bool PoseGraph2d::add_edge(const PoseGraphEdge& edge) {
   return true;
 }
 
+bool PoseGraph2d::set_edge_measurement(size_t index, const SE2& T_from_to, const Eigen::Matrix3d& information) {
+  if (index >= edges_.size() || !finite(T_from_to)) return false;
+  const std::optional<Eigen::Matrix3d> sqrt_info = sqrt_information(information);
+  if (!sqrt_info) return false;
+  edges_[index].T_from_to = T_from_to;
+  edges_[index].information = information;
+  if (problem_ && index < problem_->edges_added) {
+    if (RelativePoseResidual* r = problem_->relative_residuals[index]) *r = RelativePoseResidual(T_from_to, *sqrt_info);
+    if (SeSyncResidual* r = problem_->sesync_residuals[index]) *r = SeSyncResidual(T_from_to, information);
+  }
+  return true;
+}
+
 bool PoseGraph2d::set_prior(const PosePrior& prior) {
   if (!nodes_.count(prior.node) || !finite(prior.T_world_node) || !sqrt_information(prior.information)) {
     return false;
@@ -265,12 +282,16 @@ void PoseGraph2d::sync_problem() {
   for (; p.edges_added < edges_.size(); ++p.edges_added) {
     const PoseGraphEdge& e = edges_[p.edges_added];
     ceres::CostFunction* cost = nullptr;
+    SeSyncResidual* sesync = nullptr;
+    RelativePoseResidual* relative = nullptr;
     if (options_.residual == EdgeResidualType::kSeSync) {
-      cost = new ceres::AutoDiffCostFunction<SeSyncResidual, 3, 3, 3>(new SeSyncResidual(e.T_from_to, e.information));
+      cost = new ceres::AutoDiffCostFunction<SeSyncResidual, 3, 3, 3>(sesync = new SeSyncResidual(e.T_from_to, e.information));
     } else {
       cost = new ceres::AutoDiffCostFunction<RelativePoseResidual, 3, 3, 3>(
-          new RelativePoseResidual(e.T_from_to, *sqrt_information(e.information)));
+          relative = new RelativePoseResidual(e.T_from_to, *sqrt_information(e.information)));
     }
+    p.sesync_residuals.push_back(sesync);
+    p.relative_residuals.push_back(relative);
     const RobustLossOptions& loss = e.kind == EdgeKind::kLoop ? options_.loop_loss : options_.odometry_loss;
     p.problem.AddResidualBlock(cost, make_loss(loss), nodes_.at(e.from).pose, nodes_.at(e.to).pose);
   }

@@ -126,6 +126,10 @@ class PoseGraph2d {
   /// Adds a relative edge. False (graph unchanged) if a node is unknown, from == to, or a value
   /// is not finite. kind must be kOdometry or kLoop.
   bool add_edge(const PoseGraphEdge& edge);
+  /// Replaces the measurement of edge `index` (of edges()), also in the live Ceres problem (no
+  /// rebuild): a robot's chain re-measured by its agent's loop closing. False (unchanged) if out of
+  /// range or a value is not finite / not positive definite.
+  bool set_edge_measurement(size_t index, const SE2& T_from_to, const Eigen::Matrix3d& information);
   /// Sets (or replaces) the prior of a node. False if the node is unknown or values not finite.
   bool set_prior(const PosePrior& prior);
   bool remove_prior(KeyframeId id);

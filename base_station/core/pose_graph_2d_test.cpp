@@ -15,6 +15,37 @@ double position_rmse(const PoseGraph2d& graph, const std::map<KeyframeId, SE2>& 
   return std::sqrt(sum / truth.size());
 }
 
+TEST(PoseGraph2d, AnEdgeReMeasuredInTheLiveProblemSolvesLikeAFreshGraph) {
+  // A chain of 4 with a loop edge; solved once (the live Ceres problem exists), then the middle
+  // edge re-measured in place: the new solution equals a graph built with that measurement.
+  auto build = [](const SE2& middle) {
+    PoseGraph2d g;
+    for (int i = 0; i < 4; ++i) g.add_node(kf(0, i), SE2(1.0 * i, 0, 0));
+    g.add_edge({kf(0, 0), kf(0, 1), SE2(1, 0, 0), Eigen::Matrix3d::Identity() * 100, EdgeKind::kOdometry});
+    g.add_edge({kf(0, 1), kf(0, 2), middle, Eigen::Matrix3d::Identity() * 100, EdgeKind::kOdometry});
+    g.add_edge({kf(0, 2), kf(0, 3), SE2(1, 0, 0), Eigen::Matrix3d::Identity() * 100, EdgeKind::kOdometry});
+    g.add_edge({kf(0, 0), kf(0, 3), SE2(3, 0.3, 0.1), Eigen::Matrix3d::Identity(), EdgeKind::kLoop});
+    g.set_prior({kf(0, 0), SE2(), Eigen::Matrix3d::Identity() * 1e6});
+    return g;
+  };
+  const SE2 remeasured(0.9, 0.2, 0.15);
+  PoseGraph2d live = build(SE2(1, 0, 0));
+  ASSERT_TRUE(live.solve().converged);
+  const SE2 before = *live.estimate(kf(0, 3));
+  ASSERT_TRUE(live.set_edge_measurement(1, remeasured, Eigen::Matrix3d::Identity() * 100));
+  EXPECT_FALSE(live.set_edge_measurement(4, remeasured, Eigen::Matrix3d::Identity()));  // no such edge
+  EXPECT_FALSE(live.set_edge_measurement(1, SE2(NAN, 0, 0), Eigen::Matrix3d::Identity()));
+  EXPECT_FALSE(live.set_edge_measurement(1, remeasured, Eigen::Matrix3d::Zero()));
+  EXPECT_TRUE(live.edges()[1].T_from_to.vector().isApprox(remeasured.vector()));  // the failed calls changed nothing
+  ASSERT_TRUE(live.solve().converged);
+  PoseGraph2d fresh = build(remeasured);
+  ASSERT_TRUE(fresh.solve().converged);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_LT((live.estimate(kf(0, i))->vector() - fresh.estimate(kf(0, i))->vector()).norm(), 1e-6) << i;
+  }
+  EXPECT_GT((live.estimate(kf(0, 3))->translation() - before.translation()).norm(), 0.05) << "the re-measured edge moved nothing";
+}
+
 TEST(PoseGraph2d, SquareWithLoopIsExact) {
   // g2o-like square, 2 m sides, yaw crossing +-pi; initial estimates perturbed.
   const std::vector<SE2> truth = {{0, 0, 0}, {2, 0, M_PI / 2}, {2, 2, M_PI}, {0, 2, -M_PI / 2}};
