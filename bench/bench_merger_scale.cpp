@@ -22,7 +22,7 @@
 //                           [--export-g2o FILE: the final graph, to time its solve with cairn_g2o_opt]
 //                           [--agent-poses-every N: every N updates one robot (in turn) sends its
 //                            agent's loop-closed keyframe poses (KeyframePoses: here its true local
-//                            poses), which rebuilds the graph; 0 = never]
+//                            poses), whose chain edges the base re-measures in place; 0 = never]
 // (--no-map-check: no map-consistency check of closures into linked pairs. That check compares
 // only the keyframes near the closure (MapConsistencyOptions::local_radius_m); it used to render
 // every linked keyframe per check, O(keyframes), and dominated the --loops run. --refine-every 1

@@ -137,7 +137,7 @@ void AgentNode::publish_status(bool finished) {
   st.battery_pct(100.f);  // the simulator models no battery; a driver fills this in
   st.keyframes_sent(last_keyframe_seq_ + 1);
   st.objects_sent(int32_t(objects_published_.size()));
-  st.bytes_sent(int64_t(keyframe_out_->bytes_written() + object_out_->bytes_written() + keyframe_poses_out_->bytes_written()));
+  st.bytes_sent(int64_t(bytes_sent()));
   st.keyframe_bytes(int64_t(keyframe_out_->bytes_written()));
   st.object_bytes(int64_t(object_out_->bytes_written()));
   st.object_messages(int32_t(object_out_->samples_written()));
@@ -151,6 +151,10 @@ void AgentNode::publish_status(bool finished) {
   st.collision_risk(s.collision_risk >= 0.5f);  // optical-flow time-to-contact test (objects/optical_flow.h)
   st.finished(finished);
   status_out_->write(st);
+}
+
+uint64_t AgentNode::bytes_sent() const {
+  return keyframe_out_->bytes_written() + object_out_->bytes_written() + keyframe_poses_out_->bytes_written();
 }
 
 bool AgentNode::base_has_everything() {
@@ -203,8 +207,7 @@ int AgentNode::run() {
   log_->info("done: {} keyframes, {} objects, {} bytes sent; {} bad samples dropped; beams: {} valid, {} NaN/inf, "
              "{} too close, {} max range",
              last_keyframe_seq_ + 1, objects_published_.size(),
-             keyframe_out_->bytes_written() + object_out_->bytes_written() + keyframe_poses_out_->bytes_written(),
-             bad_samples_, s.beams.valid,
+             bytes_sent(), bad_samples_, s.beams.valid,
              s.beams.nan_or_inf, s.beams.too_close, s.beams.max_range);
   return 0;
 }

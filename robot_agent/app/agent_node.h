@@ -47,6 +47,8 @@ class AgentNode {
   void publish(const AgentOutputs& outputs);
   void publish_status(bool finished);
   bool base_has_everything();
+  /// Keyframe, object and keyframe-pose payloads written so far.
+  uint64_t bytes_sent() const;
 
   template <typename M, typename T>
   using R = dds::Reader<M, T>;

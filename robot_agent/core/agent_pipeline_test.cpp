@@ -4,7 +4,7 @@
 
 #include <algorithm>
 #include <fstream>
-#include <unordered_map>
+#include <limits>
 
 #include "common/carmen_log.h"
 #include "common/odometry_noise.h"
@@ -142,19 +142,6 @@ TEST(AgentPipeline, DeterministicUnderInterleavings) {
   EXPECT_EQ(st.object_tracks, 1);
 }
 
-/// RMSE of `poses` (by stamp) against `reference` after the best SE2 alignment.
-double ate_m(const std::vector<std::pair<StampNs, SE2>>& poses, const std::unordered_map<StampNs, SE2>& reference) {
-  std::vector<Eigen::Vector2d> est, ref;
-  for (const auto& [stamp, pose] : poses) {
-    est.push_back(pose.translation());
-    ref.push_back(reference.at(stamp).translation());
-  }
-  const SE2 T = align_points_2d(est, ref);
-  double se = 0;
-  for (size_t i = 0; i < est.size(); ++i) se += (T * est[i] - ref[i]).squaredNorm();
-  return std::sqrt(se / double(est.size()));
-}
-
 TEST(AgentPipeline, KeyframePosesCarryTheAgentsLoopClosuresOnARealLog) {
   // The Intel lab with 10 % / 3 deg per metre odometry noise (issue 3's protocol): the keyframes
   // carry the front end's poses; the agent's loop closing straightens them, and what it sends as
@@ -163,8 +150,8 @@ TEST(AgentPipeline, KeyframePosesCarryTheAgentsLoopClosuresOnARealLog) {
   if (!std::ifstream(path)) GTEST_SKIP() << "data absent: " << path;
   const CarmenLog log = read_carmen_log(path);
   std::vector<SE2> reference;
-  std::unordered_map<StampNs, SE2> reference_at;
-  for (const CarmenScan& s : log.scans) reference.push_back(s.T_world_laser), reference_at[s.stamp_ns] = s.T_world_laser;
+  Trajectory reference_trajectory;
+  for (const CarmenScan& s : log.scans) reference.push_back(s.T_world_laser), reference_trajectory.push_back({s.stamp_ns, s.T_world_laser});
   const std::vector<SE2> odometry = add_odometry_noise(reference, OdometryNoiseOptions{});
   AgentOptions options;
   options.enable_objects = false;
@@ -186,15 +173,20 @@ TEST(AgentPipeline, KeyframePosesCarryTheAgentsLoopClosuresOnARealLog) {
   for (size_t u = 1; u + 1 < updates.size(); ++u) EXPECT_GE(updates[u].stamp_ns - updates[u - 1].stamp_ns, 5 * kNsPerSec);
   const KeyframePoses& last = updates.back();
   ASSERT_EQ(last.poses.size(), keyframes.size()) << "the final estimate covers every keyframe";
-  std::vector<std::pair<StampNs, SE2>> front_end, loop_closed;
+  Trajectory front_end, loop_closed;
   for (size_t i = 0; i < keyframes.size(); ++i) {
     ASSERT_EQ(last.poses[i].seq, keyframes[i].id.seq);
-    front_end.emplace_back(keyframes[i].stamp_ns, keyframes[i].T_local_base);
-    loop_closed.emplace_back(keyframes[i].stamp_ns, last.poses[i].T_local_base);
+    front_end.push_back({keyframes[i].stamp_ns, keyframes[i].T_local_base});
+    loop_closed.push_back({keyframes[i].stamp_ns, last.poses[i].T_local_base});
   }
   EXPECT_LT((last.poses[0].T_local_base.translation() - keyframes[0].T_local_base.translation()).norm(), 1e-3)
       << "the agent's loop closing keeps its start";
-  const double front_end_m = ate_m(front_end, reference_at), loop_closed_m = ate_m(loop_closed, reference_at);
+  TrajectoryErrorOptions exact;  // keyframe stamps are scan stamps: no interpolation across log gaps
+  exact.max_gap_ns = std::numeric_limits<StampNs>::max();
+  const auto front_end_error = trajectory_error(front_end, reference_trajectory, exact);
+  const auto loop_closed_error = trajectory_error(loop_closed, reference_trajectory, exact);
+  ASSERT_TRUE(front_end_error && loop_closed_error);
+  const double front_end_m = front_end_error->ate_rmse_m, loop_closed_m = loop_closed_error->ate_rmse_m;
   std::printf("intel keyframes: front end ATE %.3f m, loop-closed %.3f m, %zu updates\n", front_end_m, loop_closed_m, updates.size());
   EXPECT_LT(loop_closed_m, 0.1);
   EXPECT_LT(loop_closed_m, 0.7 * front_end_m);

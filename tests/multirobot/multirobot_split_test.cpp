@@ -1,7 +1,8 @@
 // Real multi-robot merging (the "Real multi-robot" criterion): raw MIT CSAIL split into 3
 // robots and the Intel lab (corrected log + seeded odometry noise, 10 % / 3 deg per m) into 4, each
 // a contiguous segment starting at its own origin, replayed through AgentPipelines; the base's
-// MultiRobotMapper knows robot 0's start only. Asserts: every robot linked; no accepted
+// MultiRobotMapper knows robot 0's start only. Asserts: every robot linked (MIT CSAIL: two of
+// three, the known gap below); no accepted
 // inter-robot closure off the reference by more than 0.3 m / 5 deg (RobotRun::closure_reference:
 // the nearest measured reference pose, carried by the agent's own poses); merged ATE (one SE2
 // alignment of the whole map) at most 1.5x the single-robot run's.
