@@ -41,6 +41,24 @@ std::vector<Eigen::Vector2f> LoopCloser::local_map(KeyframeId center, const std:
   return points;
 }
 
+std::vector<Eigen::Vector2f> LoopCloser::query_points(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes) const {
+  std::vector<Eigen::Vector2f> query = scan_to_points(kf.scan);
+  for (int back = 1; back <= options_.query_submap_keyframes; ++back) {
+    auto it = keyframes.find(KeyframeId{kf.id.robot, kf.id.seq - back});
+    if (it != keyframes.end()) append_points(kf, it->second, &query);
+  }
+  return query;
+}
+
+std::optional<LoopClosure> LoopCloser::verify_guided(KeyframeId candidate, KeyframeId query, const SE2& T_candidate_query,
+                                                     const std::map<KeyframeId, Keyframe>& keyframes,
+                                                     const LoopVerifierOptions& verifier) const {
+  const LoopVerification v =
+      verify_loop(local_map(candidate, keyframes), query_points(keyframes.at(query), keyframes), T_candidate_query, verifier);
+  if (!v.accepted) return std::nullopt;
+  return LoopClosure{candidate, query, v.T_map_query, v.covariance, v.score};
+}
+
 std::vector<LoopClosure> LoopCloser::add_and_detect(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes) {
   std::vector<LoopClosure> out;
   last_candidates_.clear();
@@ -70,11 +88,7 @@ std::vector<LoopClosure> LoopCloser::add_and_detect(const Keyframe& kf, const st
   }
   std::sort(matches.begin(), matches.end(), [](const auto& a, const auto& b) { return a.first.distance < b.first.distance; });
   stats_.descriptor_matches += int(matches.size());
-  std::vector<Eigen::Vector2f> query = scan_to_points(kf.scan);
-  for (int back = 1; back <= options_.query_submap_keyframes; ++back) {
-    auto it = keyframes.find(KeyframeId{kf.id.robot, kf.id.seq - back});
-    if (it != keyframes.end()) append_points(kf, it->second, &query);
-  }
+  const std::vector<Eigen::Vector2f> query = query_points(kf, keyframes);
   std::map<RobotId, LoopClosure> best_per_robot;
   for (size_t i = 0; i < matches.size() && int(i) < options_.max_verifications; ++i) {
     ++stats_.verifications;

@@ -6,6 +6,7 @@
 // best few by full Scan Context distance are verified by scan matching against a local map of the
 // candidate's neighbouring keyframes (loop_verifier.h). Output: verified closures with covariance.
 #include <map>
+#include <optional>
 #include <vector>
 
 #include "base_station/core/loop_verifier.h"
@@ -59,6 +60,12 @@ class LoopCloser {
   /// Adds `kf` (already stored in `keyframes`) to the database and returns the verified closures
   /// with keyframes already in the database: a = the older candidate, b = kf.
   std::vector<LoopClosure> add_and_detect(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes);
+  /// Verifies one given pair around a pose guess (no place recognition): `query`'s scan against the
+  /// local map of `candidate`, searched within `verifier`'s windows around T_candidate_query.
+  /// The merger's guided search around a link hypothesis (MultiRobotMapper::guided_closures).
+  std::optional<LoopClosure> verify_guided(KeyframeId candidate, KeyframeId query, const SE2& T_candidate_query,
+                                           const std::map<KeyframeId, Keyframe>& keyframes,
+                                           const LoopVerifierOptions& verifier) const;
   const LoopCloserStats& stats() const { return stats_; }
   const std::vector<float>* descriptor(KeyframeId id) const;
   /// The ring-key candidates of the last add_and_detect call, best ring key first.
@@ -69,6 +76,8 @@ class LoopCloser {
     std::vector<float> descriptor, ring_key;
   };
   std::vector<float> descriptor_of(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes) const;
+  /// The query side of a verification (LoopCloserOptions::query_submap_keyframes).
+  std::vector<Eigen::Vector2f> query_points(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes) const;
   std::vector<Eigen::Vector2f> local_map(KeyframeId center, const std::map<KeyframeId, Keyframe>& keyframes) const;
 
   LoopCloserOptions options_;

@@ -13,6 +13,22 @@
 
 namespace cairn::base {
 
+/// Guided search around a link hypothesis before its map check (multi_robot_mapper_guided.cpp).
+struct GuidedLinkOptions {
+  bool enabled = true;
+  double sample_spacing_m = 1.0;    ///< one query keyframe of the new robot per this much of its path
+  int max_verifications = 150;      ///< per hypothesis, spread evenly over the queries
+  double max_distance_m = 1.5;      ///< the nearest keyframe of the placed side within this ...
+  double max_yaw_difference_rad = M_PI / 2;  ///< ... and heading the same way give or take this
+  /// A guided closure the tentative placement (the new robot solved against the clique and every
+  /// guided closure) leaves off by more than this is dropped: on the Intel split one 0.88 m off the
+  /// reference was left 0.59 m off, the right ones at most 0.27 m / 1.5 deg.
+  double max_residual_m = 0.2;
+  double max_residual_rad = 0.035;
+  /// Windows around the hypothesis: a robot's own drift (decimetres, a few degrees), not aliasing.
+  LoopVerifierOptions verifier{0.05, 0.08, 6, 0.5, 0.1};
+};
+
 struct MapperOptions {
   OccupancyGridOptions grid;                ///< global map; resolution 0.05 m by default
   /// Max-range beams (no return) clear free space up to min(scan range_max, this).
@@ -46,6 +62,7 @@ struct MapperOptions {
   /// already linked pair when it disagrees with the current estimate by more than the gate below.
   bool check_map_consistency = true;
   MapConsistencyOptions map_check;
+  GuidedLinkOptions guided_link;
   double linked_closure_gate_m = 0.3;
   double linked_closure_gate_rad = 0.1;
   /// ...but one that disagrees by more than this is no drift correction of the linked robots: it is

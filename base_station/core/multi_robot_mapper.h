@@ -55,7 +55,13 @@ struct LinkEvent {
   double contradiction_ratio = 0.0;  ///< map check (0 when not run)
   std::string reason;       ///< why rejected / deferred, or "linked"
   std::vector<LoopClosure> members;  ///< the judged closures (a link hypothesis' clique)
+  /// Closures found around the hypothesis by the guided search (MapperOptions::guided_link), a on
+  /// the placed side: the map check compared the robot as they place it.
+  std::vector<LoopClosure> guided;
 };
+
+/// The pose-graph edge of a loop closure: its covariance inverted (identity if not positive definite).
+PoseGraphEdge loop_edge(const LoopClosure& c);
 
 /// Counters of link decisions since construction.
 struct LinkStats {
@@ -220,8 +226,22 @@ class MultiRobotMapper {
   /// frame): the best rigid fit of both keyframes of every closure when either side's span
   /// min_link_spread_m, else the mean of the closures' transforms.
   SE2 link_hypothesis(RobotId ra, const std::vector<LoopClosure>& closures) const;
-  /// Map check of the clique as a link of rb to ra (accepted, or the reason).
+  /// Map check of the clique as a link of rb to ra (accepted, or the reason), with rb placed by
+  /// the clique and the guided search's closures (ev.guided).
   LinkEvent judge_link(RobotId ra, RobotId rb, const std::vector<LoopClosure>& closures) const;
+  // Guided search around a link hypothesis (multi_robot_mapper_guided.cpp).
+  /// Frame A's keyframes with their poses there: every linked robot's (global) when ra is linked,
+  /// else ra's own (refined local poses).
+  std::vector<std::pair<KeyframeId, SE2>> placed_side(RobotId ra) const;
+  /// Verified closures (a in frame A, b = rb) between rb's keyframes placed by T_A_blocal and the
+  /// nearest keyframes of frame A, each searched in a small window around the hypothesis.
+  std::vector<LoopClosure> guided_closures(RobotId ra, RobotId rb, const SE2& T_A_blocal) const;
+  /// rb's keyframes in frame A solved against the clique and the guided closures (a in frame A,
+  /// held fixed), starting from T_A_blocal and keeping rb's own map as stiff as its front end's
+  /// uncertainty says. Guided closures the solution leaves off by more than
+  /// GuidedLinkOptions::max_residual_* are dropped from *guided, and the rest solved again.
+  PlacedScans tentative_placement(RobotId ra, RobotId rb, const SE2& T_A_blocal, const std::vector<LoopClosure>& clique,
+                                  std::vector<LoopClosure>* guided) const;
   /// How far closure c (a = ra) is off the link T_A_blocal, in units of the linked-pair gate
   /// (at most 1: within it in translation and yaw).
   double link_misfit(RobotId ra, const SE2& T_A_blocal, const LoopClosure& c) const;

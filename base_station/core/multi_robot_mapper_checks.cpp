@@ -110,7 +110,9 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
   // Frame A: the global frame when ra is placed, else ra's local frame.
   const SE2 T_hypothesis = link_hypothesis(ra, closures);
   const PlacedScans side_a = linked(ra) ? linked_scans(SE2(), RobotId()) : robot_scans(ra, SE2());
-  const PlacedScans side_b = robot_scans(rb, T_hypothesis);
+  ev.guided = guided_closures(ra, rb, T_hypothesis);
+  const PlacedScans side_b =
+      ev.guided.empty() ? robot_scans(rb, T_hypothesis) : tentative_placement(ra, rb, T_hypothesis, closures, &ev.guided);
   const MapConsistencyResult m = check_map_consistency(side_a, side_b, options_.map_check);
   ev.contradiction_ratio = m.contradiction_ratio;
   ev.accepted = m.consistent && m.conclusive;

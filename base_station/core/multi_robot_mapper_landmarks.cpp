@@ -94,6 +94,7 @@ bool MultiRobotMapper::try_link_by_landmarks(RobotId ra, RobotId rb) {
   ev.reason = "linked via " + what + (map.accepted ? ", map consistent" : ", map inconclusive");
   record(ev);
   loops_.push_back(closures.front());  // places the robot (place_new_robots); landmarks do the rest
+  loops_.insert(loops_.end(), map.guided.begin(), map.guided.end());  // as in try_link_pair
   const RobotId ca = component_of(ra), cb = component_of(rb);
   if (anchor_ && component_of(*anchor_) == cb) {  // the anchor's component keeps its root
     component_parent_[ca] = cb;

@@ -8,15 +8,12 @@
 #include "base_station/core/multi_robot_mapper.h"
 
 namespace cairn::base {
-namespace {
-
-Eigen::Matrix3d information_or_identity(const Covariance3& covariance) {
-  Eigen::LLT<Eigen::Matrix3d> llt(0.5 * (covariance + covariance.transpose()));
-  if (llt.info() != Eigen::Success) return Eigen::Matrix3d::Identity();
-  return llt.solve(Eigen::Matrix3d::Identity());
+PoseGraphEdge loop_edge(const LoopClosure& c) {
+  Eigen::LLT<Eigen::Matrix3d> llt(0.5 * (c.covariance + c.covariance.transpose()));
+  const Eigen::Matrix3d information =
+      llt.info() == Eigen::Success ? Eigen::Matrix3d(llt.solve(Eigen::Matrix3d::Identity())) : Eigen::Matrix3d::Identity();
+  return PoseGraphEdge{c.a, c.b, c.T_a_b, information, EdgeKind::kLoop};
 }
-
-}  // namespace
 
 void MultiRobotMapper::choose_anchor() {
   if (anchor_committed_ || keyframes_.empty()) return;
@@ -115,7 +112,7 @@ void MultiRobotMapper::refresh_own_frames() {
       prev_initial = initial;
     }
     for (const LoopClosure* c : list) {
-      graph.add_edge(PoseGraphEdge{c->a, c->b, c->T_a_b, information_or_identity(c->covariance), EdgeKind::kLoop});
+      graph.add_edge(loop_edge(*c));
     }
     graph.solve(options_.solve);
     frame.poses = graph.estimates();
@@ -189,6 +186,9 @@ bool MultiRobotMapper::try_link_pair(RobotId ra, RobotId rb, std::vector<LoopClo
         ++link_stats_.link_members_held;
       }
     }
+    // The guided search's closures tied the robot's map to the others' where they overlap when it
+    // was judged: they join the graph with the clique.
+    loops_.insert(loops_.end(), ev.guided.begin(), ev.guided.end());
     const RobotId ca = component_of(ra), cb = component_of(rb);
     // The anchor's component keeps its root.
     if (anchor_ && component_of(*anchor_) == cb) {
@@ -229,8 +229,7 @@ void MultiRobotMapper::add_loop_edges() {
   for (size_t i = 0; i < loops_.size(); ++i) {
     const LoopClosure& c = loops_[i];
     if (loop_in_graph_[i] || !graph_.has_node(c.a) || !graph_.has_node(c.b)) continue;
-    loop_in_graph_[i] = graph_.add_edge(
-        PoseGraphEdge{c.a, c.b, c.T_a_b, information_or_identity(c.covariance), EdgeKind::kLoop});
+    loop_in_graph_[i] = graph_.add_edge(loop_edge(c));
   }
 }
 
