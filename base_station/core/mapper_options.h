@@ -13,7 +13,12 @@
 
 namespace cairn::base {
 
-/// Guided search around a link hypothesis before its map check (multi_robot_mapper_guided.cpp).
+/// Guided search around a link hypothesis whose rigid placement the map check does not accept
+/// (multi_robot_mapper_guided.cpp): the hypothesis is judged again as the closures found around it
+/// place the new robot, and those closures join the graph if it is accepted. Only then: on the
+/// simulated demo, where every link passes rigidly, adding them to every link moved the robots from
+/// 0.089-0.102 to 0.109-0.135 m RMSE (the closures are right to 5 mm; the simulated robots' own
+/// maps share a bias that more ties spread into the anchor's map).
 struct GuidedLinkOptions {
   bool enabled = true;
   double sample_spacing_m = 1.0;    ///< one query keyframe of the new robot per this much of its path

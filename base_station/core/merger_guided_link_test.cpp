@@ -1,6 +1,6 @@
 // The guided search around a link hypothesis (MapperOptions::guided_link): a robot linked at one
 // place whose own map drifts away from the others' elsewhere is judged as closures found around the
-// hypothesis place it, not rigidly. Runs without DDS.
+// hypothesis place it once the rigid placement is refuted. Runs without DDS.
 #include <gtest/gtest.h>
 
 #include <cmath>

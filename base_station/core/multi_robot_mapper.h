@@ -56,7 +56,8 @@ struct LinkEvent {
   std::string reason;       ///< why rejected / deferred, or "linked"
   std::vector<LoopClosure> members;  ///< the judged closures (a link hypothesis' clique)
   /// Closures found around the hypothesis by the guided search (MapperOptions::guided_link), a on
-  /// the placed side: the map check compared the robot as they place it.
+  /// the placed side, when the rigid placement was not accepted: the map check then compared the
+  /// robot as they place it.
   std::vector<LoopClosure> guided;
 };
 
@@ -226,8 +227,8 @@ class MultiRobotMapper {
   /// frame): the best rigid fit of both keyframes of every closure when either side's span
   /// min_link_spread_m, else the mean of the closures' transforms.
   SE2 link_hypothesis(RobotId ra, const std::vector<LoopClosure>& closures) const;
-  /// Map check of the clique as a link of rb to ra (accepted, or the reason), with rb placed by
-  /// the clique and the guided search's closures (ev.guided).
+  /// Map check of the clique as a link of rb to ra (accepted, or the reason): rb placed rigidly by
+  /// the clique, and if that is not accepted, by the clique and the guided search's closures (ev.guided).
   LinkEvent judge_link(RobotId ra, RobotId rb, const std::vector<LoopClosure>& closures) const;
   // Guided search around a link hypothesis (multi_robot_mapper_guided.cpp).
   /// Frame A's keyframes with their poses there: every linked robot's (global) when ra is linked,

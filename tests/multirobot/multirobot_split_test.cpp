@@ -172,10 +172,10 @@ void check_split(const ReplayLog& log, int robots, const char* name) {
 }
 
 // The raw MIT CSAIL log split into 3 robots. All three link since the guided search around a link
-// hypothesis (MapperOptions::guided_link): robots 1 and 2 each saw a corridor of the others' map
-// 0.3-0.5 m off their rigid placement (their own drift), which refuted them (6.0-6.1 % and 7 % with
-// a 12-cell piece against the 6 % / 10-cell limits) until the check compared them as the guided
-// closures place them. Measured with CAIRN_MULTIROBOT_FUNNEL=1 (2026-11-23): 27 inter-robot closures,
+// hypothesis the rigid check refutes (MapperOptions::guided_link): robots 1 and 2 each saw a
+// corridor of the others' map 0.3-0.5 m off their rigid placement (their own drift), which refuted
+// them (6.0-6.1 % and 7 % with a 12-cell piece against the 6 % / 10-cell limits) until the check
+// compared them as the guided closures place them (4.9 % and 1.3 %). Measured with CAIRN_MULTIROBOT_FUNNEL=1 (2026-11-23): 27 inter-robot closures,
 // worst 0.222 m / 1.5 deg; merged ATE 0.117 m against 0.090 m for the single robot.
 ReplayLog mit_csail_replay() {
   const std::string raw_path = kData + "mit-csail/mit-csail.clf", ref_path = kData + "mit-csail/csail.corrected.log";
