@@ -21,6 +21,10 @@ namespace cairn::base {
 /// maps share a bias that more ties spread into the anchor's map).
 struct GuidedLinkOptions {
   bool enabled = true;
+  /// Search around every hypothesis, and judge and link by the guided placement whenever closures
+  /// are found (false: only after a rigid refusal, above). Real logs gain a little (Intel split
+  /// 0.088 -> 0.085 m merged ATE), the demo loses 0.02 m.
+  bool on_every_link = false;
   double sample_spacing_m = 1.0;    ///< one query keyframe of the new robot per this much of its path
   int max_verifications = 150;      ///< per hypothesis, spread evenly over the queries
   double max_distance_m = 1.5;      ///< the nearest keyframe of the placed side within this ...

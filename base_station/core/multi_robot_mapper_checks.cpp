@@ -110,13 +110,19 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
   // Frame A: the global frame when ra is placed, else ra's local frame.
   const SE2 T_hypothesis = link_hypothesis(ra, closures);
   const PlacedScans side_a = linked(ra) ? linked_scans(SE2(), RobotId()) : robot_scans(ra, SE2());
-  MapConsistencyResult m = check_map_consistency(side_a, robot_scans(rb, T_hypothesis), options_.map_check);
-  if (!(m.consistent && m.conclusive) && options_.guided_link.enabled) {
+  const GuidedLinkOptions& guided = options_.guided_link;
+  const bool guided_first = guided.enabled && guided.on_every_link;
+  const auto rigid_check = [&] { return check_map_consistency(side_a, robot_scans(rb, T_hypothesis), options_.map_check); };
+  MapConsistencyResult m;
+  if (!guided_first) m = rigid_check();
+  if (guided_first || (guided.enabled && !(m.consistent && m.conclusive))) {
     // Rigidly not accepted: maybe the robots' own drift, away from the clique. Judged again as the
     // closures found around the hypothesis place rb (MapperOptions::guided_link).
     ev.guided = guided_closures(ra, rb, T_hypothesis);
     if (!ev.guided.empty()) {
       m = check_map_consistency(side_a, tentative_placement(ra, rb, T_hypothesis, closures, &ev.guided), options_.map_check);
+    } else if (guided_first) {
+      m = rigid_check();
     }
   }
   ev.contradiction_ratio = m.contradiction_ratio;
