@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 
 #include "base_station/core/multi_robot_mapper.h"
 #include "base_station/core/synthetic_world_test_util.h"
@@ -14,15 +15,17 @@ namespace {
 using testing::along;
 
 /// Keyframes of `path_world` whose front end turns by `yaw_drift_rad_per_m` more than it really
-/// turned on every metre after keyframe `from`: the scans are true, the poses bend from there.
-std::vector<Keyframe> drifting_after(RobotId robot, const std::vector<SE2>& path_world, size_t from, double yaw_drift_rad_per_m) {
+/// turned on every metre between keyframes `from` and `until`: the scans are true, the poses bend.
+std::vector<Keyframe> drifting_after(RobotId robot, const std::vector<SE2>& path_world, size_t from, double yaw_drift_rad_per_m,
+                                     size_t until = SIZE_MAX) {
   std::vector<Keyframe> out = testing::make_keyframes(robot, path_world, testing::two_wing_building());
   for (size_t i = from + 1; i < out.size(); ++i) {
     const SE2 step = path_world[i - 1].between(path_world[i]);
-    out[i].T_prev_this = SE2(step.x(), step.y(), step.yaw() + yaw_drift_rad_per_m * step.translation().norm());
+    const double drift = i <= until ? yaw_drift_rad_per_m : 0.0;
+    out[i].T_prev_this = SE2(step.x(), step.y(), step.yaw() + drift * step.translation().norm());
     out[i].T_local_base = out[i - 1].T_local_base * out[i].T_prev_this;
     // An honest front end: its heading uncertainty covers the drift (a third of a sigma per step).
-    out[i].edge_covariance(2, 2) = std::pow(3.0 * yaw_drift_rad_per_m * step.translation().norm(), 2);
+    out[i].edge_covariance(2, 2) = std::pow(3.0 * yaw_drift_rad_per_m * step.translation().norm(), 2) + 1e-6;
   }
   return out;
 }
@@ -32,21 +35,34 @@ struct Merge {
   std::vector<LinkEvent> events;
 };
 
-/// Robot 0 (the anchor, exact) tours wing W; robot 1 tours room A, then drives the corridor east
-/// with its heading drifting. All of robot 1's keyframes reach the base before it is judged (a
-/// backlog after a radio outage).
-Merge run(const MapperOptions& options, const std::vector<SE2>& p1, size_t drift_from, double drift) {
+/// The anchor (exact, `anchor`) tours wing W; the new robot (`other`) tours room A, then drives
+/// the corridor east with its heading drifting. All of the new robot's keyframes reach the base
+/// before it is judged (a backlog after a radio outage).
+Merge run(const MapperOptions& options, const std::vector<SE2>& p1, size_t drift_from, double drift,
+          RobotId anchor = RobotId(0), RobotId other = RobotId(1), size_t drift_until = SIZE_MAX) {
   Merge out{MultiRobotMapper(options), {}};
-  for (const Keyframe& kf : testing::make_keyframes(RobotId(0), along(testing::west_route(0)), testing::two_wing_building())) {
+  for (const Keyframe& kf : testing::make_keyframes(anchor, along(testing::west_route(0)), testing::two_wing_building())) {
     out.mapper.add_keyframe(kf);
   }
   out.mapper.optimize();
-  for (const Keyframe& kf : drifting_after(RobotId(1), p1, drift_from, drift)) out.mapper.add_keyframe(kf);
+  for (const Keyframe& kf : drifting_after(other, p1, drift_from, drift, drift_until)) out.mapper.add_keyframe(kf);
   for (int i = 0; i < 20 && (i < 3 || out.mapper.refinement_pending()); ++i) {
     const OptimizeResult r = out.mapper.optimize();
     out.events.insert(out.events.end(), r.link_events.begin(), r.link_events.end());
   }
   return out;
+}
+
+/// Worst distance of `robot`'s merged keyframes from its true path `p` (global frame = the anchor's
+/// local frame, whose origin is the start of wing W's route).
+double worst_error_m(const MultiRobotMapper& mapper, RobotId robot, const std::vector<SE2>& p) {
+  const SE2 T_global_world = along(testing::west_route(0)).front().inverse();
+  double worst_m = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const Eigen::Vector2d truth = (T_global_world * p[i]).translation();
+    worst_m = std::max(worst_m, (mapper.global_pose({robot, int32_t(i)})->translation() - truth).norm());
+  }
+  return worst_m;
 }
 
 TEST(MergerGuidedLink, ARobotWhoseMapDriftsAwayFromTheLinkIsCheckedAsTheGuidedClosuresPlaceIt) {
@@ -72,16 +88,32 @@ TEST(MergerGuidedLink, ARobotWhoseMapDriftsAwayFromTheLinkIsCheckedAsTheGuidedCl
   EXPECT_GE(link.guided.size(), 5u);
   EXPECT_LT(link.contradiction_ratio, 0.01);
   const SE2 T_global_world = along(testing::west_route(0)).front().inverse();
-  double worst_m = 0.0, front_end_worst_m = 0.0;
+  double front_end_worst_m = 0.0;
   const std::vector<Keyframe> k1 = drifting_after(RobotId(1), p1, drift_from, drift);
-  const SE2 T_world_local1 = p1.front();
   for (size_t i = 0; i < p1.size(); ++i) {
     const Eigen::Vector2d truth = (T_global_world * p1[i]).translation();
-    worst_m = std::max(worst_m, (with.mapper.global_pose({RobotId(1), int32_t(i)})->translation() - truth).norm());
-    front_end_worst_m = std::max(front_end_worst_m, ((T_global_world * T_world_local1 * k1[i].T_local_base).translation() - truth).norm());
+    front_end_worst_m = std::max(front_end_worst_m, ((T_global_world * p1.front() * k1[i].T_local_base).translation() - truth).norm());
   }
+  const double worst_m = worst_error_m(with.mapper, RobotId(1), p1);
   EXPECT_LT(worst_m, 0.1) << "front end placed by its true start: " << front_end_worst_m << " m";
   EXPECT_GT(front_end_worst_m, 0.5);
+}
+
+
+TEST(MergerGuidedLink, TheNewRobotMayHaveTheLowerId) {
+  // Robot 1 is the anchor and robot 0 the newcomer: the hypothesis is judged from the placed side
+  // (the closures reversed). Robot 0 starts at the corridor's east end and drifts on its way to
+  // room A, where the clique places it: its first keyframe, the tentative graph's lowest id, is
+  // off in the rigid placement and must not be held there.
+  const std::vector<SE2> p0 = along({{11, 1}, {3, 1}, {3, 5}, {1.5, 6}, {4.5, 6.5}, {3, 5}, {1.5, 6}});
+  size_t room = 0;  // drifts until it enters room A
+  while (p0[room].y() < 2.5) ++room;
+  const Merge merge = run(MapperOptions{}, p0, 0, 1.0 * M_PI / 180.0, RobotId(1), RobotId(0), room);
+  ASSERT_TRUE(merge.mapper.linked(RobotId(0)));
+  ASSERT_FALSE(merge.events.empty());
+  EXPECT_GE(merge.events.front().guided.size(), 5u);
+  EXPECT_GE(merge.events.front().rigid_contradiction_ratio, 0.0) << "the rigid placement passed: the test lost its point";
+  EXPECT_LT(worst_error_m(merge.mapper, RobotId(0), p0), 0.1);
 }
 
 }  // namespace

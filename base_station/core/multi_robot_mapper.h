@@ -56,13 +56,16 @@ struct LinkEvent {
   std::string reason;       ///< why rejected / deferred, or "linked"
   std::vector<LoopClosure> members;  ///< the judged closures (a link hypothesis' clique)
   /// Closures found around the hypothesis by the guided search (MapperOptions::guided_link), a on
-  /// the placed side, when the rigid placement was not accepted: the map check then compared the
-  /// robot as they place it.
+  /// the placed side, when the link was accepted as they place the robot (empty otherwise).
   std::vector<LoopClosure> guided;
+  /// The map check of the rigid placement when the guided search then ran (-1: it did not run).
+  double rigid_contradiction_ratio = -1.0;
 };
 
 /// The pose-graph edge of a loop closure: its covariance inverted (identity if not positive definite).
 PoseGraphEdge loop_edge(const LoopClosure& c);
+/// The same closure seen from b (a and b swapped, transform inverted, covariance rotated into b).
+LoopClosure reversed(const LoopClosure& c);
 
 /// Counters of link decisions since construction.
 struct LinkStats {
@@ -228,7 +231,9 @@ class MultiRobotMapper {
   /// min_link_spread_m, else the mean of the closures' transforms.
   SE2 link_hypothesis(RobotId ra, const std::vector<LoopClosure>& closures) const;
   /// Map check of the clique as a link of rb to ra (accepted, or the reason): rb placed rigidly by
-  /// the clique, and if that is not accepted, by the clique and the guided search's closures (ev.guided).
+  /// the clique; if that is refuted by a near miss (GuidedLinkOptions::max_rigid_contradiction_ratio),
+  /// or always with GuidedLinkOptions::on_every_link, placed by the clique and the guided search's
+  /// closures (ev.guided), whose verdict then counts only if it accepts (on_every_link: always).
   LinkEvent judge_link(RobotId ra, RobotId rb, const std::vector<LoopClosure>& closures) const;
   // Guided search around a link hypothesis (multi_robot_mapper_guided.cpp).
   /// Frame A's keyframes with their poses there: every linked robot's (global) when ra is linked,
@@ -238,8 +243,8 @@ class MultiRobotMapper {
   /// nearest keyframes of frame A, each searched in a small window around the hypothesis.
   std::vector<LoopClosure> guided_closures(RobotId ra, RobotId rb, const SE2& T_A_blocal) const;
   /// rb's keyframes in frame A solved against the clique and the guided closures (a in frame A,
-  /// held fixed), starting from T_A_blocal and keeping rb's own map as stiff as its front end's
-  /// uncertainty says. Guided closures the solution leaves off by more than
+  /// held fixed; they fix the gauge), starting from T_A_blocal and keeping rb's own map as stiff as
+  /// its front end's uncertainty says (best effort: the solve's convergence is not checked). Guided closures the solution leaves off by more than
   /// GuidedLinkOptions::max_residual_* are dropped from *guided, and the rest solved again.
   PlacedScans tentative_placement(RobotId ra, RobotId rb, const SE2& T_A_blocal, const std::vector<LoopClosure>& clique,
                                   std::vector<LoopClosure>* guided) const;

@@ -103,7 +103,7 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
   }
   if (!linked(ra) && linked(rb)) {  // judge from the placed side
     std::vector<LoopClosure> flipped;
-    for (const LoopClosure& c : closures) flipped.push_back({c.b, c.a, c.T_a_b.inverse(), c.covariance, c.score});
+    for (const LoopClosure& c : closures) flipped.push_back(reversed(c));
     LinkEvent e = judge_link(rb, ra, flipped);
     return e;
   }
@@ -112,17 +112,21 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
   const PlacedScans side_a = linked(ra) ? linked_scans(SE2(), RobotId()) : robot_scans(ra, SE2());
   const GuidedLinkOptions& guided = options_.guided_link;
   const bool guided_first = guided.enabled && guided.on_every_link;
-  const auto rigid_check = [&] { return check_map_consistency(side_a, robot_scans(rb, T_hypothesis), options_.map_check); };
   MapConsistencyResult m;
-  if (!guided_first) m = rigid_check();
-  if (guided_first || (guided.enabled && !(m.consistent && m.conclusive))) {
-    // Rigidly not accepted: maybe the robots' own drift, away from the clique. Judged again as the
-    // closures found around the hypothesis place rb (MapperOptions::guided_link).
-    ev.guided = guided_closures(ra, rb, T_hypothesis);
-    if (!ev.guided.empty()) {
-      m = check_map_consistency(side_a, tentative_placement(ra, rb, T_hypothesis, closures, &ev.guided), options_.map_check);
-    } else if (guided_first) {
-      m = rigid_check();
+  if (!guided_first) m = check_map_consistency(side_a, robot_scans(rb, T_hypothesis), options_.map_check);
+  const bool near_miss = !m.consistent && m.contradiction_ratio <= guided.max_rigid_contradiction_ratio;
+  if (guided_first || (guided.enabled && near_miss)) {
+    // Maybe the robots' own drift away from the clique: judged as the closures found around the
+    // hypothesis place rb (MapperOptions::guided_link).
+    ev.rigid_contradiction_ratio = guided_first ? -1.0 : m.contradiction_ratio;
+    std::vector<LoopClosure> found = guided_closures(ra, rb, T_hypothesis);
+    const MapConsistencyResult g =
+        found.empty() ? check_map_consistency(side_a, robot_scans(rb, T_hypothesis), options_.map_check)
+                      : check_map_consistency(side_a, tentative_placement(ra, rb, T_hypothesis, closures, &found), options_.map_check);
+    // A second chance only ever accepts; its refusal leaves the rigid verdict standing.
+    if (guided_first || (g.consistent && g.conclusive)) {
+      m = g;
+      ev.guided = std::move(found);
     }
   }
   ev.contradiction_ratio = m.contradiction_ratio;

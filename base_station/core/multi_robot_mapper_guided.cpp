@@ -32,20 +32,22 @@ std::vector<std::pair<KeyframeId, SE2>> MultiRobotMapper::placed_side(RobotId ra
 std::vector<LoopClosure> MultiRobotMapper::guided_closures(RobotId ra, RobotId rb, const SE2& T_A_blocal) const {
   const GuidedLinkOptions& o = options_.guided_link;
   std::vector<LoopClosure> out;
-  if (!o.enabled) return out;
+  if (!o.enabled || o.max_verifications <= 0) return out;
   const std::vector<std::pair<KeyframeId, SE2>> side_a = placed_side(ra);
-  // One query per sample_spacing_m of rb's path, at most max_verifications spread evenly.
-  std::vector<std::pair<KeyframeId, SE2>> queries;  // rb keyframe, its hypothesised pose in frame A
+  // Queries: one of rb's keyframes per sample_spacing_m of its path whose hypothesised pose in
+  // frame A has a placed keyframe near it, heading the same way (the nearest is matched).
+  struct Query {
+    KeyframeId kb;
+    SE2 T_A_b;
+    const std::pair<KeyframeId, SE2>* nearest;
+  };
+  std::vector<Query> queries;
   std::optional<Eigen::Vector2d> last;
   for (auto it = keyframes_.lower_bound(KeyframeId{rb, 0}); it != keyframes_.end() && it->first.robot == rb; ++it) {
     const SE2 T_local = refined_local_pose(it->first);
     if (last && (T_local.translation() - *last).norm() < o.sample_spacing_m) continue;
     last = T_local.translation();
-    queries.push_back({it->first, T_A_blocal * T_local});
-  }
-  const size_t stride = queries.size() > size_t(o.max_verifications) ? (queries.size() + o.max_verifications - 1) / o.max_verifications : 1;
-  for (size_t q = 0; q < queries.size(); q += stride) {
-    const auto& [kb, T_A_b] = queries[q];
+    const SE2 T_A_b = T_A_blocal * T_local;
     const std::pair<KeyframeId, SE2>* nearest = nullptr;
     double best_m = o.max_distance_m;
     for (const auto& entry : side_a) {
@@ -55,9 +57,15 @@ std::vector<LoopClosure> MultiRobotMapper::guided_closures(RobotId ra, RobotId r
         nearest = &entry;
       }
     }
-    if (!nearest) continue;
-    const std::optional<LoopClosure> c =
-        loop_closer_.verify_guided(nearest->first, kb, nearest->second.between(T_A_b), keyframes_, o.verifier);
+    if (nearest) queries.push_back({it->first, T_A_b, nearest});
+  }
+  // At most max_verifications, spread evenly along the path.
+  const size_t budget = size_t(o.max_verifications);
+  const size_t stride = (queries.size() + budget - 1) / budget;
+  for (size_t q = 0; q < queries.size(); q += std::max<size_t>(stride, 1)) {
+    const Query& query = queries[q];
+    const std::optional<LoopClosure> c = loop_closer_.verify_guided(
+        query.nearest->first, query.kb, query.nearest->second.between(query.T_A_b), keyframes_, o.verifier);
     if (c) out.push_back(*c);
   }
   return out;
@@ -87,6 +95,9 @@ PlacedScans MultiRobotMapper::tentative_placement(RobotId ra, RobotId rb, const 
       if (!graph.has_node(c.a)) graph.add_node(c.a, pose_A(c.a));
       graph.add_edge(loop_edge(c));
     }
+    // The gauge: a placed node (constant anyway). Without a prior PoseGraph2d would hold the
+    // lowest id constant, rb's first keyframe when rb's id is the lower one.
+    if (!ties.empty()) graph.set_prior(PosePrior{ties.front().a, pose_A(ties.front().a)});
     PoseGraphSolveOptions options = options_.solve;
     options.active_nodes = moving;
     graph.solve(options);

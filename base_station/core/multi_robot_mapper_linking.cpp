@@ -8,6 +8,14 @@
 #include "base_station/core/multi_robot_mapper.h"
 
 namespace cairn::base {
+LoopClosure reversed(const LoopClosure& c) {
+  LoopClosure o{c.b, c.a, c.T_a_b.inverse(), c.covariance, c.score};
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  R.topLeftCorner<2, 2>() = o.T_a_b.rotation();
+  o.covariance = R * c.covariance * R.transpose();
+  return o;
+}
+
 PoseGraphEdge loop_edge(const LoopClosure& c) {
   Eigen::LLT<Eigen::Matrix3d> llt(0.5 * (c.covariance + c.covariance.transpose()));
   const Eigen::Matrix3d information =
@@ -47,14 +55,7 @@ void MultiRobotMapper::detect_new_loops(OptimizeResult* result) {
       } else {
         const auto key = std::minmax(c.a.robot, c.b.robot);
         // Orient every candidate of a pair the same way (a = lower robot id) for PCM.
-        LoopClosure o = c;
-        if (c.a.robot != key.first) {
-          o = LoopClosure{c.b, c.a, c.T_a_b.inverse(), c.covariance, c.score};
-          Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-          R.topLeftCorner<2, 2>() = o.T_a_b.rotation();
-          o.covariance = R * c.covariance * R.transpose();
-        }
-        inter_candidates_[{key.first, key.second}].push_back(o);
+        inter_candidates_[{key.first, key.second}].push_back(c.a.robot == key.first ? c : reversed(c));
       }
     }
   }
@@ -188,7 +189,10 @@ bool MultiRobotMapper::try_link_pair(RobotId ra, RobotId rb, std::vector<LoopClo
     }
     // The guided search's closures tied the robot's map to the others' where they overlap when it
     // was judged: they join the graph with the clique.
-    loops_.insert(loops_.end(), ev.guided.begin(), ev.guided.end());
+    for (const LoopClosure& g : ev.guided) {  // a member on the same pair (even a held one) wins
+      const bool member = std::any_of(members.begin(), members.end(), [&](const LoopClosure& c) { return c.a == g.a && c.b == g.b; });
+      if (!member) loops_.push_back(g);
+    }
     const RobotId ca = component_of(ra), cb = component_of(rb);
     // The anchor's component keeps its root.
     if (anchor_ && component_of(*anchor_) == cb) {
