@@ -120,13 +120,16 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
     // hypothesis place rb (MapperOptions::guided_link).
     ev.rigid_contradiction_ratio = guided_first ? -1.0 : m.contradiction_ratio;
     std::vector<LoopClosure> found = guided_closures(ra, rb, T_hypothesis);
-    const MapConsistencyResult g =
-        found.empty() ? check_map_consistency(side_a, robot_scans(rb, T_hypothesis), options_.map_check)
-                      : check_map_consistency(side_a, tentative_placement(ra, rb, T_hypothesis, closures, &found), options_.map_check);
-    // A second chance only ever accepts; its refusal leaves the rigid verdict standing.
-    if (guided_first || (g.consistent && g.conclusive)) {
-      m = g;
-      ev.guided = std::move(found);
+    if (!found.empty()) {
+      const MapConsistencyResult g =
+          check_map_consistency(side_a, tentative_placement(ra, rb, T_hypothesis, closures, &found), options_.map_check);
+      // A second chance only ever accepts; its refusal leaves the rigid verdict standing.
+      if (guided_first || (g.consistent && g.conclusive)) {
+        m = g;
+        ev.guided = std::move(found);
+      }
+    } else if (guided_first) {
+      m = check_map_consistency(side_a, robot_scans(rb, T_hypothesis), options_.map_check);
     }
   }
   ev.contradiction_ratio = m.contradiction_ratio;

@@ -1,7 +1,7 @@
 // MultiRobotMapper: the guided search around a link hypothesis (see multi_robot_mapper.h and
 // MapperOptions::guided_link). A clique links a new robot at one place; elsewhere its map and the
 // placed side's may be a few decimetres apart (each robot's own drift), and a rigid placement then
-// puts one robot's walls in the other's corridor. When the rigid check does not accept it,
+// puts one robot's walls in the other's corridor. When the rigid check refutes it by a near miss,
 // keyframes of the new robot that the hypothesis puts near a keyframe of the placed side are
 // scan-matched against it with a small search window; the new robot's keyframes are then solved
 // against those closures (the placed side held fixed) and the check compares that placement. A

@@ -190,7 +190,9 @@ bool MultiRobotMapper::try_link_pair(RobotId ra, RobotId rb, std::vector<LoopClo
     // The guided search's closures tied the robot's map to the others' where they overlap when it
     // was judged: they join the graph with the clique.
     for (const LoopClosure& g : ev.guided) {  // a member on the same pair (even a held one) wins
-      const bool member = std::any_of(members.begin(), members.end(), [&](const LoopClosure& c) { return c.a == g.a && c.b == g.b; });
+      const bool member = std::any_of(members.begin(), members.end(), [&](const LoopClosure& c) {
+        return (c.a == g.a && c.b == g.b) || (c.a == g.b && c.b == g.a);  // guided: a on the placed side
+      });
       if (!member) loops_.push_back(g);
     }
     const RobotId ca = component_of(ra), cb = component_of(rb);
