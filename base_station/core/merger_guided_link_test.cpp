@@ -14,18 +14,16 @@ namespace {
 
 using testing::along;
 
-/// Keyframes of `path_world` whose front end turns by `yaw_drift_rad_per_m` more than it really
-/// turned on every metre between keyframes `from` and `until`: the scans are true, the poses bend.
+/// Robot keyframes through the two-wing building drifting between keyframes `from` and `until`
+/// (testing::drifting_keyframes), from an honest front end: its heading uncertainty covers the
+/// drift (a third of a sigma per step).
 std::vector<Keyframe> drifting_after(RobotId robot, const std::vector<SE2>& path_world, size_t from, double yaw_drift_rad_per_m,
                                      size_t until = SIZE_MAX) {
-  std::vector<Keyframe> out = testing::make_keyframes(robot, path_world, testing::two_wing_building());
+  std::vector<Keyframe> out =
+      testing::drifting_keyframes(robot, path_world, testing::two_wing_building(), yaw_drift_rad_per_m, from, until);
   for (size_t i = from + 1; i < out.size(); ++i) {
-    const SE2 step = path_world[i - 1].between(path_world[i]);
-    const double drift = i <= until ? yaw_drift_rad_per_m : 0.0;
-    out[i].T_prev_this = SE2(step.x(), step.y(), step.yaw() + drift * step.translation().norm());
-    out[i].T_local_base = out[i - 1].T_local_base * out[i].T_prev_this;
-    // An honest front end: its heading uncertainty covers the drift (a third of a sigma per step).
-    out[i].edge_covariance(2, 2) = std::pow(3.0 * yaw_drift_rad_per_m * step.translation().norm(), 2) + 1e-6;
+    const double step_m = path_world[i - 1].between(path_world[i]).translation().norm();
+    out[i].edge_covariance(2, 2) = std::pow(3.0 * yaw_drift_rad_per_m * step_m, 2) + 1e-6;
   }
   return out;
 }

@@ -11,19 +11,7 @@ namespace cairn::base {
 namespace {
 
 using testing::along;
-
-/// The keyframes of a robot on `path_world` whose front end turns its heading by `yaw_drift_rad_per_m`
-/// more than it really turned on every metre: the scans are true, the poses bend.
-std::vector<Keyframe> drifting_keyframes(RobotId robot, const std::vector<SE2>& path_world,
-                                         const std::vector<testing::Segment>& walls, double yaw_drift_rad_per_m) {
-  std::vector<Keyframe> out = testing::make_keyframes(robot, path_world, walls);
-  for (size_t i = 1; i < out.size(); ++i) {
-    const SE2 step = path_world[i - 1].between(path_world[i]);
-    out[i].T_prev_this = SE2(step.x(), step.y(), step.yaw() + yaw_drift_rad_per_m * step.translation().norm());
-    out[i].T_local_base = out[i - 1].T_local_base * out[i].T_prev_this;
-  }
-  return out;
-}
+using testing::drifting_keyframes;
 
 /// Worst position error of robot 1's poses (by `pose`) against its true path, in its own frame.
 template <typename PoseFn>

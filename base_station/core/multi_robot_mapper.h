@@ -235,6 +235,9 @@ class MultiRobotMapper {
   /// or always with GuidedLinkOptions::on_every_link, placed by the clique and the guided search's
   /// closures (ev.guided), whose verdict then counts only if it accepts (on_every_link: always).
   LinkEvent judge_link(RobotId ra, RobotId rb, const std::vector<LoopClosure>& closures) const;
+  /// A keyframe's pose in frame A of a link judged from ra: global when ra is placed, else ra's
+  /// refined local pose.
+  SE2 pose_in_frame_a(RobotId ra, KeyframeId id) const { return linked(ra) ? *global_pose(id) : refined_local_pose(id); }
   // Guided search around a link hypothesis (multi_robot_mapper_guided.cpp).
   /// Frame A's keyframes with their poses there: every linked robot's (global) when ra is linked,
   /// else ra's own (refined local poses).

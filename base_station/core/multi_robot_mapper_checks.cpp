@@ -71,12 +71,11 @@ std::string MultiRobotMapper::spread_deficit(const std::vector<LoopClosure>& clo
 }
 
 SE2 MultiRobotMapper::link_hypothesis(RobotId ra, const std::vector<LoopClosure>& closures) const {
-  const bool a_global = linked(ra);
   std::vector<SE2> T_A_blocal;
   // Both keyframes of each closure, in rb's local frame and in frame A.
   std::vector<Eigen::Vector2d> a_in_blocal, b_in_blocal, a_in_A, b_in_A;
   for (const LoopClosure& c : closures) {
-    const SE2 T_A_a = a_global ? *global_pose(c.a) : refined_local_pose(c.a);
+    const SE2 T_A_a = pose_in_frame_a(ra, c.a);
     const SE2 T_blocal_b = refined_local_pose(c.b);
     T_A_blocal.push_back(T_A_a * c.T_a_b * T_blocal_b.inverse());
     b_in_blocal.push_back(T_blocal_b.translation());
@@ -140,7 +139,7 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
 }
 
 double MultiRobotMapper::link_misfit(RobotId ra, const SE2& T_A_blocal, const LoopClosure& c) const {
-  const SE2 T_A_a = linked(ra) ? *global_pose(c.a) : refined_local_pose(c.a);
+  const SE2 T_A_a = pose_in_frame_a(ra, c.a);
   const SE2 E = (T_A_blocal * refined_local_pose(c.b)).between(T_A_a * c.T_a_b);
   return std::max(E.translation().norm() / options_.linked_closure_gate_m, std::abs(E.yaw()) / options_.linked_closure_gate_rad);
 }

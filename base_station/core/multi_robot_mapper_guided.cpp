@@ -23,7 +23,7 @@ std::vector<std::pair<KeyframeId, SE2>> MultiRobotMapper::placed_side(RobotId ra
   std::vector<std::pair<KeyframeId, SE2>> out;
   for (const auto& [id, kf] : keyframes_) {
     if (linked(ra) ? linked(id.robot) : id.robot == ra) {
-      out.push_back({id, linked(ra) ? *global_pose(id) : refined_local_pose(id)});
+      out.push_back({id, pose_in_frame_a(ra, id)});
     }
   }
   return out;
@@ -74,7 +74,6 @@ std::vector<LoopClosure> MultiRobotMapper::guided_closures(RobotId ra, RobotId r
 PlacedScans MultiRobotMapper::tentative_placement(RobotId ra, RobotId rb, const SE2& T_A_blocal,
                                                   const std::vector<LoopClosure>& clique,
                                                   std::vector<LoopClosure>* guided) const {
-  const auto pose_A = [&](KeyframeId id) { return linked(ra) ? *global_pose(id) : refined_local_pose(id); };
   const auto solve = [&](const std::vector<LoopClosure>& ties) {
     PoseGraph2d graph(options_.graph);
     std::vector<KeyframeId> moving;
@@ -92,12 +91,12 @@ PlacedScans MultiRobotMapper::tentative_placement(RobotId ra, RobotId rb, const 
       prev = &kf;
     }
     for (const LoopClosure& c : ties) {  // a on the placed side, held where it is
-      if (!graph.has_node(c.a)) graph.add_node(c.a, pose_A(c.a));
+      if (!graph.has_node(c.a)) graph.add_node(c.a, pose_in_frame_a(ra, c.a));
       graph.add_edge(loop_edge(c));
     }
     // The gauge: a placed node (constant anyway). Without a prior PoseGraph2d would hold the
     // lowest id constant, rb's first keyframe when rb's id is the lower one.
-    if (!ties.empty()) graph.set_prior(PosePrior{ties.front().a, pose_A(ties.front().a)});
+    if (!ties.empty()) graph.set_prior(PosePrior{ties.front().a, pose_in_frame_a(ra, ties.front().a)});
     PoseGraphSolveOptions options = options_.solve;
     options.active_nodes = moving;
     graph.solve(options);
@@ -110,7 +109,7 @@ PlacedScans MultiRobotMapper::tentative_placement(RobotId ra, RobotId rb, const 
   const GuidedLinkOptions& o = options_.guided_link;
   guided->erase(std::remove_if(guided->begin(), guided->end(),
                                [&](const LoopClosure& c) {
-                                 const SE2 E = pose_A(c.a).between(solved.at(c.b)).between(c.T_a_b);
+                                 const SE2 E = pose_in_frame_a(ra, c.a).between(solved.at(c.b)).between(c.T_a_b);
                                  return E.translation().norm() > o.max_residual_m || std::abs(E.yaw()) > o.max_residual_rad;
                                }),
                 guided->end());

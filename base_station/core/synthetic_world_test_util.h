@@ -3,6 +3,7 @@
 // keyframe/object generators for robots driving known paths. Header-only, used by the tests.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -74,6 +75,22 @@ inline std::vector<Keyframe> make_keyframes(RobotId robot, const std::vector<SE2
     if (i > 0) kf.T_prev_this = path_world[i - 1].between(path_world[i]);
     kf.scan = simulate_scan(path_world[i], walls);
     out.push_back(kf);
+  }
+  return out;
+}
+
+/// Keyframes of a robot on `path_world` whose front end turns its heading by `yaw_drift_rad_per_m`
+/// more than it really turned on every metre between keyframes `from` and `until`: the scans are
+/// true, the poses bend.
+inline std::vector<Keyframe> drifting_keyframes(RobotId robot, const std::vector<SE2>& path_world,
+                                                const std::vector<Segment>& walls, double yaw_drift_rad_per_m,
+                                                size_t from = 0, size_t until = SIZE_MAX) {
+  std::vector<Keyframe> out = make_keyframes(robot, path_world, walls);
+  for (size_t i = from + 1; i < out.size(); ++i) {
+    const SE2 step = path_world[i - 1].between(path_world[i]);
+    const double drift = i <= until ? yaw_drift_rad_per_m : 0.0;
+    out[i].T_prev_this = SE2(step.x(), step.y(), step.yaw() + drift * step.translation().norm());
+    out[i].T_local_base = out[i - 1].T_local_base * out[i].T_prev_this;
   }
   return out;
 }
