@@ -33,16 +33,22 @@ double mean_sd(const std::vector<double>& v, double* sd) {
 
 }  // namespace
 
-Trajectory reference_from_corrected(const CarmenLog& corrected, const CarmenLog* raw, int* unmatched) {
+Trajectory reference_from_corrected(const CarmenLog& corrected, const CarmenLog* raw, int* unmatched,
+                                    std::vector<size_t>* scan_index) {
   Trajectory ref;
   int missing = 0;
+  if (scan_index) scan_index->clear();
   if (!raw) {
-    for (const CarmenScan& s : corrected.scans) ref.push_back({s.stamp_ns, s.T_world_laser});
+    for (size_t i = 0; i < corrected.scans.size(); ++i) {
+      ref.push_back({corrected.scans[i].stamp_ns, corrected.scans[i].T_world_laser});
+      if (scan_index) scan_index->push_back(i);
+    }
   } else {
     std::unordered_multimap<std::string, size_t> raw_by_key;
     for (size_t i = 0; i < raw->scans.size(); ++i) raw_by_key.emplace(range_key(raw->scans[i].scan), i);
     size_t next_raw = 0;  // scans appear in the same order: take the first twin not before the last match
-    for (const CarmenScan& s : corrected.scans) {
+    for (size_t i = 0; i < corrected.scans.size(); ++i) {
+      const CarmenScan& s = corrected.scans[i];
       auto [lo, hi] = raw_by_key.equal_range(range_key(s.scan));
       std::optional<size_t> best;
       for (auto it = lo; it != hi; ++it) {
@@ -51,6 +57,7 @@ Trajectory reference_from_corrected(const CarmenLog& corrected, const CarmenLog*
       if (!best) { ++missing; continue; }
       next_raw = *best + 1;
       ref.push_back({raw->scans[*best].stamp_ns, s.T_world_laser});
+      if (scan_index) scan_index->push_back(i);
     }
   }
   if (unmatched) *unmatched = missing;

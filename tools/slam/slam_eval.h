@@ -16,9 +16,10 @@ namespace cairn::slam {
 
 /// The corrected log's poses as a reference trajectory. With `raw`, each corrected scan is matched
 /// to the raw scan with identical ranges (the corrected log keeps a subset, with coarse stamps) and
-/// stamped with that raw scan's stamp; corrected scans without a twin are dropped.
+/// stamped with that raw scan's stamp; corrected scans without a twin are dropped. `scan_index`
+/// receives, per reference pose, the index of its scan in `corrected.scans`.
 Trajectory reference_from_corrected(const CarmenLog& corrected, const CarmenLog* raw = nullptr,
-                                    int* unmatched = nullptr);
+                                    int* unmatched = nullptr, std::vector<size_t>* scan_index = nullptr);
 
 /// Estimate poses at the reference's stamps (exact stamp or interpolated within max_gap_ns).
 Trajectory sample_at(const Trajectory& estimate, const Trajectory& reference_stamps, StampNs max_gap_ns);

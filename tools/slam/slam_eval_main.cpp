@@ -1,6 +1,7 @@
 // cairn_slam_eval: ATE (after best SE2 alignment) and RPE of a trajectory CSV against a corrected
 // CARMEN log (matched to a raw log by identical scans with --raw-log), and the Kuemmerle et al.
-// relations metric with --relations.
+// relations metric with --relations, and with --scan-checks the reference-free checks of
+// reference_checks.h for both the reference and the estimate.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -8,6 +9,7 @@
 #include <iostream>
 
 #include "common/errors.h"
+#include "tools/slam/reference_checks.h"
 #include "tools/slam/slam_eval.h"
 
 namespace {
@@ -30,6 +32,28 @@ void write_errors_csv(const std::string& path, const cairn::Trajectory& est, con
   }
 }
 
+nlohmann::json consistency_json(const cairn::slam::RevisitConsistency& c) {
+  return {{"points", c.points},           {"revisit_fraction", c.revisit_fraction},
+          {"mean_nn_m", c.mean_nn_m},     {"median_nn_m", c.median_nn_m},
+          {"within_5cm_fraction", c.within_close_fraction}};
+}
+
+nlohmann::json scan_checks_json(const cairn::slam::ScanChecks& c) {
+  const auto& f = c.forward;
+  return {{"poses", c.poses},
+          {"revisit_consistency", {{"reference", consistency_json(c.reference)}, {"estimate", consistency_json(c.estimate)}}},
+          {"forward_range",
+           {{"pairs", f.pairs},
+            {"laser_forward_m", f.laser_forward_m},
+            {"reference", {{"forward_m", f.trajectory_forward_m[0]}, {"ratio", f.ratio[0]},
+                           {"median_difference_m", f.median_difference_m[0]}}},
+            {"estimate", {{"forward_m", f.trajectory_forward_m[1]}, {"ratio", f.ratio[1]},
+                          {"median_difference_m", f.median_difference_m[1]}}}}},
+          {"affine_estimate_to_reference",
+           {{"rmse_m", c.affine.rmse_m}, {"scale_major", c.affine.scale_major},
+            {"scale_minor", c.affine.scale_minor}, {"major_axis_deg", c.affine.major_axis_deg}}}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -44,6 +68,10 @@ int main(int argc, char** argv) {
   app.add_option("--errors-csv", errors_path,
                  "write the per-pose error after alignment (stamp_ns,ref_x_m,ref_y_m,est_x_m,est_y_m,error_m,"
                  "yaw_error_deg)");
+  bool scan_checks = false;
+  app.add_flag("--scan-checks", scan_checks,
+               "also judge reference and estimate against the reference log's scans: revisit consistency, "
+               "forward motion vs range to the wall ahead, affine fit (reference_checks.h)");
   CLI11_PARSE(app, argc, argv);
   nlohmann::json j;
   try {
@@ -53,8 +81,9 @@ int main(int argc, char** argv) {
       cairn::CarmenLog raw;
       if (!raw_path.empty()) raw = cairn::read_carmen_log(raw_path);
       int unmatched = 0;
-      const cairn::Trajectory ref =
-          cairn::slam::reference_from_corrected(corrected, raw_path.empty() ? nullptr : &raw, &unmatched);
+      std::vector<size_t> scan_index;
+      const cairn::Trajectory ref = cairn::slam::reference_from_corrected(
+          corrected, raw_path.empty() ? nullptr : &raw, &unmatched, &scan_index);
       const cairn::Trajectory est = cairn::slam::sample_at(estimate, ref, cairn::kNsPerSec);
       const auto e = cairn::trajectory_error(est, ref);
       if (!e) throw cairn::InputError("fewer than 2 estimate poses match the reference");
@@ -67,6 +96,7 @@ int main(int argc, char** argv) {
       j["ate_max_m"] = e->ate_max_m;
       j["rpe_trans_mean_m"] = e->rpe_trans_mean_m;
       j["rpe_rot_mean_deg"] = e->rpe_rot_mean_rad * 180.0 / M_PI;
+      if (scan_checks) j["scan_checks"] = scan_checks_json(cairn::slam::scan_checks(corrected, ref, scan_index, est));
     }
     if (!relations_path.empty()) {
       const auto relations = cairn::slam::read_relations(relations_path);

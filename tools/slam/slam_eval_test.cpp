@@ -22,14 +22,16 @@ TEST(SlamEval, ReferenceMatchesCorrectedScansToRawByRanges) {
   CarmenLog raw, corrected;
   raw.scans = {scan(100, {1, 2, 3}, SE2()), scan(200, {1, 2, 4}, SE2()), scan(300, {1, 2, 5}, SE2()),
                scan(400, {1, 2, 4}, SE2())};
-  corrected.scans = {scan(1, {1, 2, 4}, SE2(1, 0, 0)), scan(2, {1, 2, 4}, SE2(2, 0, 0)), scan(3, {9, 9, 9}, SE2())};
+  corrected.scans = {scan(0, {9, 9, 9}, SE2()), scan(1, {1, 2, 4}, SE2(1, 0, 0)), scan(2, {1, 2, 4}, SE2(2, 0, 0))};
   int unmatched = -1;
-  const Trajectory ref = reference_from_corrected(corrected, &raw, &unmatched);
+  std::vector<size_t> scan_index;
+  const Trajectory ref = reference_from_corrected(corrected, &raw, &unmatched, &scan_index);
   ASSERT_EQ(ref.size(), 2u);
   EXPECT_EQ(ref[0].stamp_ns, 200);  // duplicates are taken in order
   EXPECT_EQ(ref[1].stamp_ns, 400);
   EXPECT_EQ(ref[1].pose.x(), 2.0);
   EXPECT_EQ(unmatched, 1);
+  EXPECT_EQ(scan_index, (std::vector<size_t>{1, 2}));  // the corrected scans the poses came from
 }
 
 TEST(SlamEval, RelationsErrorOfAPerfectAndAPerturbedTrajectory) {
