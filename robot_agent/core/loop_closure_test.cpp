@@ -47,11 +47,12 @@ TEST(RangeDataInserter, FieldLinesJoinSparseWallHitsOnly) {
   // Hits 0.4 m apart along the wall y = 1; then a jump to a far wall at x = 6.
   const std::vector<Eigen::Vector2f> points = {{1.0f, 1.0f}, {1.4f, 1.0f}, {1.8f, 1.0f}, {2.2f, 1.0f},
                                                {6.0f, 0.5f}, {6.0f, 0.1f}};
-  RangeDataInserterOptions o;
+  RangeDataInserterOptions o, hits_only;
   o.field_line_max_gap_m = 0.6;
+  hits_only.field_line_max_gap_m = 0.0;
   ProbabilityGrid lines(Eigen::Vector2d(-1, -1), 0.05, 160, 60), dots(Eigen::Vector2d(-1, -1), 0.05, 160, 60);
   RangeDataInserter(o).insert(SE2(), points, &lines);
-  RangeDataInserter().insert(SE2(), points, &dots);
+  RangeDataInserter(hits_only).insert(SE2(), points, &dots);
   auto field = [](const ProbabilityGrid& g, double x, double y) {
     const Eigen::Vector2i c = g.cell_of({x, y});
     return g.field_at(c.x(), c.y());
@@ -120,8 +121,10 @@ TEST(FastCorrelativeScanMatcher, FindsALargeOffsetAndCeresRefinesIt) {
     ASSERT_TRUE(refined.converged);
     EXPECT_LT((refined.pose.translation() - truth.translation()).norm(), 0.01);
     EXPECT_LT(std::abs(normalize_angle(refined.pose.yaw() - truth.yaw())), 0.5 * kDeg);
-    // A score threshold nothing reaches: no match.
-    EXPECT_FALSE(fast.match(truth, points, 0.5, 5 * kDeg, 0.95));
+    // A score threshold above the best candidate's: no match.
+    const auto best = fast.match(truth, points, 0.5, 5 * kDeg, 0.0);
+    ASSERT_TRUE(best);
+    EXPECT_FALSE(fast.match(truth, points, 0.5, 5 * kDeg, best->score + 0.005));
   }
 }
 
