@@ -1,4 +1,5 @@
 #include "tools/slam/slam_eval.h"
+#include "tools/slam/slam_runner.h"
 
 #include <gtest/gtest.h>
 
@@ -63,6 +64,26 @@ TEST(SlamEval, MalformedRelationsNameTheLine) {
     EXPECT_NE(std::string(e.what()).find(":2:"), std::string::npos) << e.what();
   }
   std::remove(path.c_str());
+}
+
+TEST(SlamRunner, OdometryDropoutHoldsTheReadingBeforeIt) {
+  CarmenLog log;
+  for (int i = 0; i < 6; ++i) {
+    CarmenScan s = scan(StampNs(i) * kNsPerSec, std::vector<float>(180, 3.f), SE2());
+    s.scan.angle_min_rad = float(-M_PI / 2);
+    s.scan.angle_increment_rad = float(M_PI / 180);
+    s.T_odom_laser = SE2(0.1 * i, 0, 0);
+    s.T_world_laser = s.T_odom_laser;
+    log.scans.push_back(s);
+  }
+  SlamRunOptions options;
+  options.odometry_dropout_first = 2;
+  options.odometry_dropout_last = 4;
+  const SlamRunResult r = run_slam(log, false, options);
+  ASSERT_EQ(r.odometry.size(), 6u);
+  for (int i : {2, 3, 4}) EXPECT_EQ(r.odometry[size_t(i)].pose.x(), 0.1) << i;  // scan 1's reading
+  EXPECT_EQ(r.odometry[5].pose.x(), 0.5);
+  EXPECT_EQ(r.stats.scans, 6);
 }
 
 }  // namespace

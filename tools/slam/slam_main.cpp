@@ -106,6 +106,10 @@ int main(int argc, char** argv) {
                  "submaps: free space inserted along at most this much of each beam, m (0: all)");
   app.add_option("--submap-initial-margin", options.slam.submaps.initial_margin_m,
                  "submaps: initial grid margin around the first scan, m");
+  std::vector<int> dropout;
+  app.add_option("--odometry-dropout", dropout,
+                 "FIRST LAST: the odometry holds its reading before scan FIRST until scan LAST (robustness runs)")
+      ->expected(2);
   app.add_option("--match-voxel", options.slam.match_voxel_m, "local matching point thinning, m");
   app.add_option("--max-ray-length", options.slam.submaps.inserter.max_ray_length_m,
                  "submaps: beams longer than this are cut (their endpoint is not a hit), m");
@@ -121,6 +125,15 @@ int main(int argc, char** argv) {
   app.add_option("--no-return-range", read_options.no_return_range_m,
                  "log readings at or beyond this are 'no return' (not a hit), m");
   CLI11_PARSE(app, argc, argv);
+  if (!dropout.empty()) {
+    if (dropout[0] < 1 || dropout[1] < dropout[0]) {
+      std::cerr << "cairn_slam: --odometry-dropout needs 1 <= FIRST <= LAST, got " << dropout[0] << " " << dropout[1]
+                << "\n";
+      return 2;
+    }
+    options.odometry_dropout_first = dropout[0];
+    options.odometry_dropout_last = dropout[1];
+  }
   options.slam.matcher.correlative.angular_window_rad = correlative_angular_deg * M_PI / 180.0;
   options.noise.rotation_noise_rad_per_m = rot_deg_per_m * M_PI / 180.0;
   options.slam.loop_closure.enabled = !no_loop_closure;

@@ -56,7 +56,11 @@ void count(const agent::LocalSlamResult& r, SlamRunStats* s) {
 
 SlamRunResult run_slam(const CarmenLog& log, bool corrected, const SlamRunOptions& options) {
   SlamRunResult out;
-  const std::vector<SE2> odometry = odometry_of(log, corrected, options.noise);
+  std::vector<SE2> odometry = odometry_of(log, corrected, options.noise);
+  if (options.odometry_dropout_first >= 1) {
+    const int last = std::min(options.odometry_dropout_last, int(odometry.size()) - 1);
+    for (int i = options.odometry_dropout_first; i <= last; ++i) odometry[size_t(i)] = odometry[size_t(i - 1)];
+  }
   const auto wall0 = std::chrono::steady_clock::now();
   const double cpu0 = process_cpu_s();
   const ProcessUsage usage0 = process_usage();

@@ -19,6 +19,9 @@ struct SlamRunOptions {
   /// Odometry for corrected logs: noise added to the corrected trajectory.
   OdometryNoiseOptions noise;
   bool use_odometry = true;
+  /// Robustness runs: the odometry freezes at its reading before scan `first` until scan `last`
+  /// (inclusive), as a dead or late odometry stream does in the agent; -1: none.
+  int odometry_dropout_first = -1, odometry_dropout_last = -1;
   OccupancyGridOptions map;  ///< the rendered map
 };
 
