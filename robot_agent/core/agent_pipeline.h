@@ -37,6 +37,7 @@ struct AgentStats {
   int scans_motion_filtered = 0;
   int scans_too_few_points = 0;
   int scans_match_failed = 0;
+  int scans_odometry_stalled = 0;  ///< skipped: odometry held its reading while the scan moved
   int scans_out_of_order = 0;      ///< stamp older than the previous scan: dropped
   int scans_without_odometry = 0;  ///< processed without waiting for odometry (see max_pending_scans)
   ScanFilterStats beams;           ///< over all processed scans

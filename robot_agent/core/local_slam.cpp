@@ -1,6 +1,8 @@
 #include "robot_agent/core/local_slam.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_set>
 
 namespace cairn::agent {
@@ -12,8 +14,22 @@ const char* to_string(LocalSlamResult::Status status) {
     case LocalSlamResult::Status::kMotionFiltered: return "motion_filtered";
     case LocalSlamResult::Status::kTooFewPoints: return "too_few_points";
     case LocalSlamResult::Status::kMatchFailed: return "match_failed";
+    case LocalSlamResult::Status::kOdometryStalled: return "odometry_stalled";
   }
   return "unknown";
+}
+
+double median_range_change_m(const LaserScan& a, const std::vector<float>& b) {
+  if (a.ranges_m.size() != b.size()) return std::numeric_limits<double>::infinity();
+  const auto valid = [&](float r) { return std::isfinite(r) && r > a.range_min_m && r < a.range_max_m; };
+  std::vector<float> d;
+  d.reserve(b.size());
+  for (size_t i = 0; i < b.size(); ++i) {
+    if (valid(a.ranges_m[i]) && valid(b[i])) d.push_back(std::abs(a.ranges_m[i] - b[i]));
+  }
+  if (d.empty()) return std::numeric_limits<double>::infinity();
+  std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
+  return d[d.size() / 2];
 }
 
 std::vector<Eigen::Vector2f> voxel_filter_2d(const std::vector<Eigen::Vector2f>& points, double voxel_m) {
@@ -94,6 +110,18 @@ LocalSlamResult LocalSlam::add_scan(const LaserScan& scan, const std::optional<S
     return out;
   }
   const bool has_odometry = T_odom_base && odom_;
+  const bool held = has_odometry && T_odom_base->x() == odom_->x() && T_odom_base->y() == odom_->y() &&
+                    T_odom_base->yaw() == odom_->yaw();
+  if (!held) fresh_odometry_ranges_ = scan.ranges_m;
+  if (held && options_.held_odometry_scan_change_m > 0.0 &&
+      median_range_change_m(scan, fresh_odometry_ranges_) > options_.held_odometry_scan_change_m) {
+    // The pose stays at the held reading's (the stall's start): the next fresh reading's step
+    // starts from there.
+    out.status = LocalSlamResult::Status::kOdometryStalled;
+    record_tracked(scan.stamp_ns, predicted, T_odom_base);
+    record_scan(scan.stamp_ns, predicted);
+    return out;
+  }
   // With odometry the prediction is trusted enough to skip matching near-duplicate scans;
   // without it, every scan is matched (the filter then only gates insertion).
   if (has_odometry && motion_filtered(scan.stamp_ns, predicted)) {

@@ -39,10 +39,18 @@ struct LocalSlamOptions {
   double window_max_extra_linear_m = 0.5;
   double window_max_extra_angular_rad = 20.0 * M_PI / 180.0;
   double match_voxel_m = 0.08;   ///< points used for matching are thinned to one per cell (0 = all)
+  /// Held odometry: a reading that repeats the previous one exactly while the scan's ranges moved
+  /// away from those of the scan where that reading was new by more than this (median over the
+  /// beams valid in both) is
+  /// a dead or late odometry stream, not a standstill. The scan is skipped (kOdometryStalled) until
+  /// a fresh reading arrives, whose step, from the pose before the stall, predicts the next match;
+  /// without this the motion filter's max_time_s let a scan be matched from the held pose, metres
+  /// off, and inserted. 0 disables.
+  double held_odometry_scan_change_m = 0.03;
 };
 
 struct LocalSlamResult {
-  enum class Status { kFirstScan, kMatched, kMotionFiltered, kTooFewPoints, kMatchFailed };
+  enum class Status { kFirstScan, kMatched, kMotionFiltered, kTooFewPoints, kMatchFailed, kOdometryStalled };
   Status status = Status::kTooFewPoints;
   StampNs stamp_ns = 0;
   SE2 pose;                       ///< T_local_base (matched, or predicted when not matched)
@@ -94,12 +102,17 @@ class LocalSlam {
   StampNs stamp_ns_ = 0;               ///< of the latest tracked pose
   SE2 pose_;                           ///< latest tracked pose
   std::optional<SE2> odom_;            ///< odometry at the latest tracked pose
+  std::vector<float> fresh_odometry_ranges_;  ///< ranges of the scan where odom_'s reading was new
   StampNs inserted_stamp_ns_ = 0;      ///< motion-filter reference
   SE2 inserted_pose_;
   bool has_inserted_ = false;
   /// Constant-velocity model: the last two matched poses.
   std::optional<std::pair<StampNs, SE2>> matched_prev_, matched_last_;
 };
+
+/// Median |a_i - b_i| over the beams with a valid range in both (same beam count); +inf when none
+/// or the counts differ.
+double median_range_change_m(const LaserScan& a, const std::vector<float>& b_ranges_m);
 
 /// Keeps the first point per cell of `voxel_m` (scan order), so dense scans cost less to match.
 std::vector<Eigen::Vector2f> voxel_filter_2d(const std::vector<Eigen::Vector2f>& points, double voxel_m);

@@ -70,6 +70,38 @@ TEST(LocalSlam, MotionFilterSkipsStationaryScansButKeepsTracking) {
   EXPECT_EQ(r2.status, LocalSlamResult::Status::kMatched);  // > 5 s: matched again
 }
 
+// Odometry that holds its reading while the robot drives on (a dead or late stream: the agent
+// holds the last reading once its wait runs out) is not a standstill: the scans are skipped, also
+// beyond the motion filter's max_time_s (when a scan would be matched from the held pose, metres
+// off, and inserted), and the first fresh reading's step carries the pose across. A real standstill
+// (the same reading, the same view) is still only motion-filtered.
+TEST(LocalSlam, HeldOdometryIsNotTakenForAStandstill) {
+  const auto room = testing::make_room();
+  LocalSlam slam;
+  std::vector<SE2> truth;
+  for (int i = 0; i < 70; ++i) truth.push_back(SE2(-1.5, -1.0, 0.3) * SE2(0.04 * i, 0.0, 0.01 * i));
+  SE2 held;
+  for (int i = 0; i < int(truth.size()); ++i) {
+    const bool dropout = i >= 20 && i < 50;  // 6 s at 5 Hz, 1.2 m driven meanwhile
+    const SE2 odom = dropout ? held : truth.front().inverse() * truth[size_t(i)];
+    held = odom;
+    const LaserScan scan = testing::ray_cast(room, truth[size_t(i)], StampNs(i) * kNsPerSec / 5, 360, 0.01, unsigned(i));
+    const LocalSlamResult r = slam.add_scan(scan, odom);
+    if (dropout && i > 20) {  // scan 20 moved 4 cm from scan 19, where the reading was new: borderline
+      EXPECT_EQ(r.status, LocalSlamResult::Status::kOdometryStalled) << "scan " << i << " " << to_string(r.status);
+      EXPECT_FALSE(r.inserted) << "scan " << i;
+      continue;
+    }
+    if (dropout) continue;
+    const SE2 estimate = truth.front() * r.pose;
+    EXPECT_LT((estimate.translation() - truth[size_t(i)].translation()).norm(), 0.03) << "scan " << i;
+    EXPECT_LT(std::abs(normalize_angle(estimate.yaw() - truth[size_t(i)].yaw())), 0.5 * kDeg) << "scan " << i;
+  }
+  const SE2 odom = truth.front().inverse() * truth.back();
+  const auto still = slam.add_scan(testing::ray_cast(room, truth.back(), 15 * kNsPerSec, 360, 0.01, 99), odom);
+  EXPECT_EQ(still.status, LocalSlamResult::Status::kMotionFiltered);
+}
+
 TEST(LocalSlam, BadScansAreCountedNotFatal) {
   LocalSlam slam;
   LaserScan scan = testing::ray_cast(testing::make_room(), SE2(), 0);

@@ -17,7 +17,8 @@ namespace {
 
 nlohmann::json stats_json(const cairn::slam::SlamRunStats& s, double total_wall_s, double total_cpu_s) {
   return {{"scans", s.scans}, {"matched", s.matched}, {"motion_filtered", s.motion_filtered},
-          {"match_failed", s.match_failed}, {"too_few_points", s.too_few_points}, {"nodes", s.nodes},
+          {"match_failed", s.match_failed}, {"too_few_points", s.too_few_points},
+          {"odometry_stalled", s.odometry_stalled}, {"nodes", s.nodes},
           {"submaps", s.submaps}, {"loop_closures", s.loop_closures}, {"loop_searches", s.loop_searches},
           {"anisotropic_loop_closures", s.anisotropic_loop_closures},
           {"anisotropic_local_nodes", s.anisotropic_local_nodes},
@@ -110,6 +111,9 @@ int main(int argc, char** argv) {
   app.add_option("--odometry-dropout", dropout,
                  "FIRST LAST: the odometry holds its reading before scan FIRST until scan LAST (robustness runs)")
       ->expected(2);
+  app.add_option("--held-odometry-scan-change", options.slam.held_odometry_scan_change_m,
+                 "odometry repeating its reading while the scan moved more than this (median beam, m) is held: the "
+                 "scan is skipped (0: off)");
   app.add_option("--match-voxel", options.slam.match_voxel_m, "local matching point thinning, m");
   app.add_option("--max-ray-length", options.slam.submaps.inserter.max_ray_length_m,
                  "submaps: beams longer than this are cut (their endpoint is not a hit), m");

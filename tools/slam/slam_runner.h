@@ -27,6 +27,7 @@ struct SlamRunOptions {
 
 struct SlamRunStats {
   int scans = 0, matched = 0, motion_filtered = 0, match_failed = 0, too_few_points = 0;
+  int odometry_stalled = 0;  ///< skipped: the odometry held its reading while the scan moved
   int nodes = 0, submaps = 0, loop_closures = 0, loop_searches = 0, optimizations = 0;
   int anisotropic_loop_closures = 0, anisotropic_local_nodes = 0;  ///< covariance weighting, ratio < 1/2
   int64_t loop_scored_candidates = 0, loop_scored_candidates_failed = 0;
