@@ -148,6 +148,11 @@ void AgentNode::publish_status(bool finished) {
   }
   last_rate_scans_ = s.scans_received;
   last_rate_time_s_ = now_s;
+  if (s.scans_odometry_stalled > last_stalled_scans_) {
+    log_->warn("odometry held its reading while the laser moved: {} more scans skipped ({} in all) until it resumes",
+               s.scans_odometry_stalled - last_stalled_scans_, s.scans_odometry_stalled);
+    last_stalled_scans_ = s.scans_odometry_stalled;
+  }
   st.collision_risk(s.collision_risk >= 0.5f);  // optical-flow time-to-contact test (objects/optical_flow.h)
   st.finished(finished);
   status_out_->write(st);

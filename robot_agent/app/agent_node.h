@@ -79,6 +79,7 @@ class AgentNode {
   std::set<int32_t> objects_published_;
   int bad_samples_ = 0;
   int last_rate_scans_ = 0;        ///< for the scan rate in the status message
+  int last_stalled_scans_ = 0;  ///< AgentStats::scans_odometry_stalled at the last warning
   double last_rate_time_s_ = 0.0;
 };
 
