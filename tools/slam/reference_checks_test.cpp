@@ -3,46 +3,21 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 
 #include "common/errors.h"
+#include "robot_agent/core/test_util.h"
 
 namespace cairn::slam {
 namespace {
 
-struct Wall {
-  Eigen::Vector2d a, b;
-};
+using agent::testing::ray_cast;
+using Walls = std::vector<agent::testing::Segment>;
 
-// 181 beams over 180 degrees, ray-cast against the walls (no noise).
-LaserScan cast(const std::vector<Wall>& walls, const SE2& T_world_base) {
-  LaserScan s;
-  s.angle_min_rad = float(-M_PI / 2);
-  s.angle_increment_rad = float(M_PI / 180);
-  s.range_max_m = 40.f;
-  for (int i = 0; i < 181; ++i) {
-    const double angle = T_world_base.yaw() + s.angle_min_rad + i * s.angle_increment_rad;
-    const Eigen::Vector2d o = T_world_base.translation(), d(std::cos(angle), std::sin(angle));
-    double best = std::numeric_limits<double>::infinity();
-    for (const Wall& w : walls) {
-      const Eigen::Vector2d e = w.b - w.a;
-      const double den = d.x() * e.y() - d.y() * e.x();
-      if (std::abs(den) < 1e-12) continue;
-      const Eigen::Vector2d ao = w.a - o;
-      const double t = (ao.x() * e.y() - ao.y() * e.x()) / den;  // along the ray
-      const double u = (ao.x() * d.y() - ao.y() * d.x()) / den;  // along the wall
-      if (t > 0.0 && u >= 0.0 && u <= 1.0) best = std::min(best, t);
-    }
-    s.ranges_m.push_back(float(best));
-  }
-  return s;
-}
-
-// A ring corridor 2 m wide around a 16 x 6 m block, driven twice; the second lap 0.25 m further on
-// (so its scans are not copies of the first).
+// A ring corridor 2 m wide around a 16 x 6 m block, driven twice with 360-beam scans; the second
+// lap 0.25 m further on (so its scans are not copies of the first).
 struct Ring {
-  std::vector<Wall> walls{{{0, 0}, {20, 0}}, {{20, 0}, {20, 10}}, {{20, 10}, {0, 10}}, {{0, 10}, {0, 0}},
-                          {{2, 2}, {18, 2}}, {{18, 2}, {18, 8}}, {{18, 8}, {2, 8}},   {{2, 8}, {2, 2}}};
+  Walls walls{{{0, 0}, {20, 0}}, {{20, 0}, {20, 10}}, {{20, 10}, {0, 10}}, {{0, 10}, {0, 0}},
+              {{2, 2}, {18, 2}}, {{18, 2}, {18, 8}}, {{18, 8}, {2, 8}},   {{2, 8}, {2, 2}}};
   std::vector<SE2> poses;
   std::vector<LaserScan> scans;
   Ring() {
@@ -53,7 +28,7 @@ struct Ring {
       for (double x = 19 - shift; x > 1; x -= 0.5) poses.emplace_back(x, 9, M_PI);
       for (double y = 9 - shift; y > 1; y -= 0.5) poses.emplace_back(1, y, -M_PI / 2);
     }
-    for (const SE2& p : poses) scans.push_back(cast(walls, p));
+    for (const SE2& p : poses) scans.push_back(ray_cast(walls, p, 0));
   }
 };
 
@@ -71,14 +46,14 @@ TEST(ReferenceChecks, RevisitConsistencySeesASecondLapDisplacedByTenCentimetres)
 }
 
 TEST(ReferenceChecks, ForwardRangeReadsAStretchedTrajectoryFromTheWallAhead) {
-  // A corridor 1 m either side, closed 30 m ahead; 0.4 m steps toward the end wall.
-  const std::vector<Wall> walls{{{0, -1}, {30, -1}}, {{0, 1}, {30, 1}}, {{30, -1}, {30, 1}}};
+  // A corridor 1 m either side, closed 28 m ahead; 0.4 m steps toward the end wall.
+  const Walls walls{{{0, -1}, {28, -1}}, {{0, 1}, {28, 1}}, {{28, -1}, {28, 1}}};
   std::vector<SE2> truth, stretched;
   std::vector<LaserScan> scans;
   for (double x = 0; x < 25; x += 0.4) {
     truth.emplace_back(x, 0, 0);
     stretched.emplace_back(1.03 * x, 0, 0);
-    scans.push_back(cast(walls, truth.back()));
+    scans.push_back(ray_cast(walls, truth.back(), 0));
   }
   const ForwardRange f = forward_range(scans, {truth, stretched});
   EXPECT_GT(f.pairs, 50);
