@@ -41,11 +41,10 @@ struct LocalSlamOptions {
   double match_voxel_m = 0.08;   ///< points used for matching are thinned to one per cell (0 = all)
   /// Held odometry: a reading that repeats the previous one exactly while the scan's ranges moved
   /// away from those of the scan where that reading was new by more than this (median over the
-  /// beams valid in both) is
-  /// a dead or late odometry stream, not a standstill. The scan is skipped (kOdometryStalled) until
-  /// a fresh reading arrives, whose step, from the pose before the stall, predicts the next match;
-  /// without this the motion filter's max_time_s let a scan be matched from the held pose, metres
-  /// off, and inserted. 0 disables.
+  /// beams valid in both) is a dead or late odometry stream, not a standstill. The scan is skipped
+  /// (kOdometryStalled) until a fresh reading arrives, whose step, from the pose before the stall,
+  /// predicts the next match; without this the motion filter's max_time_s let a scan be matched
+  /// from the held pose, metres off, and inserted. 0 disables.
   double held_odometry_scan_change_m = 0.03;
 };
 
