@@ -7,18 +7,10 @@
 
 namespace cairn::agent {
 
-const char* to_string(LocalSlamResult::Status status) {
-  switch (status) {
-    case LocalSlamResult::Status::kFirstScan: return "first_scan";
-    case LocalSlamResult::Status::kMatched: return "matched";
-    case LocalSlamResult::Status::kMotionFiltered: return "motion_filtered";
-    case LocalSlamResult::Status::kTooFewPoints: return "too_few_points";
-    case LocalSlamResult::Status::kMatchFailed: return "match_failed";
-    case LocalSlamResult::Status::kOdometryStalled: return "odometry_stalled";
-  }
-  return "unknown";
-}
+namespace {
 
+// Median |a_i - b_i| over the beams with a valid range in both (same beam count); +inf when none or
+// the counts differ.
 double median_range_change_m(const LaserScan& a, const std::vector<float>& b) {
   if (a.ranges_m.size() != b.size()) return std::numeric_limits<double>::infinity();
   const auto valid = [&](float r) { return std::isfinite(r) && r > a.range_min_m && r < a.range_max_m; };
@@ -30,6 +22,20 @@ double median_range_change_m(const LaserScan& a, const std::vector<float>& b) {
   if (d.empty()) return std::numeric_limits<double>::infinity();
   std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
   return d[d.size() / 2];
+}
+
+}  // namespace
+
+const char* to_string(LocalSlamResult::Status status) {
+  switch (status) {
+    case LocalSlamResult::Status::kFirstScan: return "first_scan";
+    case LocalSlamResult::Status::kMatched: return "matched";
+    case LocalSlamResult::Status::kMotionFiltered: return "motion_filtered";
+    case LocalSlamResult::Status::kTooFewPoints: return "too_few_points";
+    case LocalSlamResult::Status::kMatchFailed: return "match_failed";
+    case LocalSlamResult::Status::kOdometryStalled: return "odometry_stalled";
+  }
+  return "unknown";
 }
 
 std::vector<Eigen::Vector2f> voxel_filter_2d(const std::vector<Eigen::Vector2f>& points, double voxel_m) {

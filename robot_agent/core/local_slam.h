@@ -109,10 +109,6 @@ class LocalSlam {
   std::optional<std::pair<StampNs, SE2>> matched_prev_, matched_last_;
 };
 
-/// Median |a_i - b_i| over the beams with a valid range in both (same beam count); +inf when none
-/// or the counts differ.
-double median_range_change_m(const LaserScan& a, const std::vector<float>& b_ranges_m);
-
 /// Keeps the first point per cell of `voxel_m` (scan order), so dense scans cost less to match.
 std::vector<Eigen::Vector2f> voxel_filter_2d(const std::vector<Eigen::Vector2f>& points, double voxel_m);
 
