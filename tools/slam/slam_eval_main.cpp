@@ -1,5 +1,6 @@
 // cairn_slam_eval: ATE (after best SE2 alignment) and RPE of a trajectory CSV against a corrected
-// CARMEN log (matched to a raw log by identical scans with --raw-log), and the Kuemmerle et al.
+// CARMEN log (matched to a raw log by identical scans with --raw-log) or against a trajectory CSV
+// (--reference-csv, e.g. a simulated robot's truth.csv from cairn_slam --mrlog), and the Kuemmerle et al.
 // relations metric with --relations, and with --scan-checks the reference-free checks of
 // reference_checks.h for both the reference and the estimate.
 #include <CLI/CLI.hpp>
@@ -58,10 +59,12 @@ nlohmann::json scan_checks_json(const cairn::slam::ScanChecks& c) {
 
 int main(int argc, char** argv) {
   CLI::App app{"Cairn 2D SLAM accuracy evaluation"};
-  std::string estimate_path, reference_path, raw_path, relations_path, errors_path;
+  std::string estimate_path, reference_path, reference_csv_path, raw_path, relations_path, errors_path;
   double offset_s = std::numeric_limits<double>::quiet_NaN();
   app.add_option("--estimate", estimate_path, "trajectory CSV (stamp_ns,x_m,y_m,yaw_rad)")->required();
-  app.add_option("--reference", reference_path, "corrected CARMEN log (reference poses)");
+  auto* reference_option = app.add_option("--reference", reference_path, "corrected CARMEN log (reference poses)");
+  app.add_option("--reference-csv", reference_csv_path, "reference trajectory CSV (e.g. cairn_slam --mrlog's truth.csv)")
+      ->excludes(reference_option);
   app.add_option("--raw-log", raw_path, "raw log the estimate was computed from (match scans by ranges)");
   app.add_option("--relations", relations_path, "Kuemmerle .relations file");
   app.add_option("--relations-offset-s", offset_s, "relation stamp - log stamp (default: estimated)");
@@ -73,17 +76,27 @@ int main(int argc, char** argv) {
                "also judge reference and estimate against the reference log's scans: revisit consistency, "
                "forward motion vs range to the wall ahead, affine fit (reference_checks.h)");
   CLI11_PARSE(app, argc, argv);
+  if (scan_checks && reference_path.empty()) {
+    std::cerr << "cairn_slam_eval: --scan-checks needs --reference (the corrected log's scans)\n";
+    return 2;
+  }
   nlohmann::json j;
   try {
     const cairn::Trajectory estimate = cairn::read_trajectory_csv(estimate_path);
-    if (!reference_path.empty()) {
-      const cairn::CarmenLog corrected = cairn::read_carmen_log(reference_path);
-      cairn::CarmenLog raw;
-      if (!raw_path.empty()) raw = cairn::read_carmen_log(raw_path);
+    if (!reference_path.empty() || !reference_csv_path.empty()) {
+      cairn::CarmenLog corrected;
       int unmatched = 0;
       std::vector<size_t> scan_index;
-      const cairn::Trajectory ref = cairn::slam::reference_from_corrected(
-          corrected, raw_path.empty() ? nullptr : &raw, &unmatched, &scan_index);
+      cairn::Trajectory ref;
+      if (!reference_csv_path.empty()) {
+        ref = cairn::read_trajectory_csv(reference_csv_path);
+      } else {
+        corrected = cairn::read_carmen_log(reference_path);
+        cairn::CarmenLog raw;
+        if (!raw_path.empty()) raw = cairn::read_carmen_log(raw_path);
+        ref = cairn::slam::reference_from_corrected(corrected, raw_path.empty() ? nullptr : &raw, &unmatched,
+                                                    &scan_index);
+      }
       const cairn::Trajectory est = cairn::slam::sample_at(estimate, ref, cairn::kNsPerSec);
       const auto e = cairn::trajectory_error(est, ref);
       if (!e) throw cairn::InputError("fewer than 2 estimate poses match the reference");

@@ -1,5 +1,7 @@
-// cairn_slam: runs the robot agent's 2D SLAM over a CARMEN log as fast as it can and writes the
-// trajectory (CSV), the map (PGM + YAML and PNG) and run statistics (JSON) into --out.
+// cairn_slam: runs the robot agent's 2D SLAM over a CARMEN log, or over one robot of a Cairn
+// multi-robot log (a recorded simulated world: its TRUTH poses are exact, written as truth.csv), as
+// fast as it can and writes the trajectory (CSV), the map (PGM + YAML and PNG) and run statistics
+// (JSON) into --out.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -47,12 +49,18 @@ bool write_png(const std::string& path, const cairn::OccupancyGrid& grid) {
 
 int main(int argc, char** argv) {
   cairn::reexec_with_huge_pages(argv);  // common/huge_pages.h
-  CLI::App app{"Cairn offline 2D SLAM over a CARMEN log"};
-  std::string log_path, out_dir, corrected_mode = "auto";
+  CLI::App app{"Cairn offline 2D SLAM over a CARMEN log or one robot of a multi-robot log"};
+  std::string log_path, mrlog_path, out_dir, corrected_mode = "auto";
+  int robot = 0;
   cairn::slam::SlamRunOptions options;
   double rot_deg_per_m = options.noise.rotation_noise_rad_per_m * 180.0 / M_PI;
   bool no_loop_closure = false, no_map = false;
-  app.add_option("--log", log_path, "CARMEN log (plain or .gz)")->required();
+  auto* log_option = app.add_option("--log", log_path, "CARMEN log (plain or .gz)");
+  auto* mrlog_option = app.add_option("--mrlog", mrlog_path,
+                                      "Cairn multi-robot log (cairn_mrlog from-world): run --robot; its TRUTH "
+                                      "poses go to truth.csv");
+  log_option->excludes(mrlog_option);
+  app.add_option("--robot", robot, "robot of --mrlog")->needs(mrlog_option);
   app.add_option("--out", out_dir, "output folder")->required();
   app.add_option("--corrected", corrected_mode, "auto|yes|no: the log's poses are a reference, not odometry")
       ->check(CLI::IsMember({"auto", "yes", "no"}));
@@ -129,6 +137,10 @@ int main(int argc, char** argv) {
   app.add_option("--no-return-range", read_options.no_return_range_m,
                  "log readings at or beyond this are 'no return' (not a hit), m");
   CLI11_PARSE(app, argc, argv);
+  if (log_path.empty() == mrlog_path.empty()) {
+    std::cerr << "cairn_slam: give one of --log and --mrlog\n";
+    return 2;
+  }
   if (!dropout.empty()) {
     if (dropout[0] < 1 || dropout[1] < dropout[0]) {
       std::cerr << "cairn_slam: --odometry-dropout needs 1 <= FIRST <= LAST, got " << dropout[0] << " " << dropout[1]
@@ -145,25 +157,38 @@ int main(int argc, char** argv) {
   const auto wall0 = std::chrono::steady_clock::now();
   const double cpu0 = cairn::slam::process_cpu_s();
   cairn::CarmenLog log;
+  cairn::Trajectory truth;
   try {
-    log = cairn::read_carmen_log(log_path, read_options);
+    if (!mrlog_path.empty()) {
+      const cairn::MultiRobotLog mrlog = cairn::read_multirobot_log(mrlog_path);
+      const cairn::RobotLogData* data = mrlog.robot(cairn::RobotId(robot));
+      if (!data) throw cairn::InputError(mrlog_path + ": no robot " + std::to_string(robot));
+      log = cairn::slam::carmen_log_from_robot(*data);
+      truth = data->truth;
+    } else {
+      log = cairn::read_carmen_log(log_path, read_options);
+    }
   } catch (const cairn::InputError& e) {
     std::cerr << "cairn_slam: " << e.what() << "\n";
     return 2;
   }
-  const bool corrected = corrected_mode == "auto" ? cairn::is_corrected_log_name(log_path) : corrected_mode == "yes";
+  // A multi-robot log's odometry is raw odometry.
+  const bool corrected = !mrlog_path.empty() ? false
+                         : corrected_mode == "auto" ? cairn::is_corrected_log_name(log_path)
+                                                    : corrected_mode == "yes";
   const cairn::slam::SlamRunResult r = cairn::slam::run_slam(log, corrected, options);
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   bool ok = cairn::write_trajectory_csv(out_dir + "/trajectory.csv", r.trajectory) &&
-            cairn::write_trajectory_csv(out_dir + "/odometry.csv", r.odometry);
+            cairn::write_trajectory_csv(out_dir + "/odometry.csv", r.odometry) &&
+            (truth.empty() || cairn::write_trajectory_csv(out_dir + "/truth.csv", truth));
   if (!no_map) {
     const cairn::OccupancyGrid map = cairn::slam::render_map(log, r.trajectory, options.map);
     ok = ok && map.write_pgm_yaml(out_dir + "/map") && write_png(out_dir + "/map.png", map);
   }
   const double total_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   nlohmann::json j = stats_json(r.stats, total_wall_s, cairn::slam::process_cpu_s() - cpu0);
-  j["log"] = log_path;
+  j["log"] = mrlog_path.empty() ? log_path : mrlog_path + " robot " + std::to_string(robot);
   j["corrected_log_with_synthetic_odometry"] = corrected;
   j["unknown_records"] = log.stats.unknown_records;
   std::ofstream(out_dir + "/stats.json") << j.dump(2) << "\n";

@@ -3,7 +3,10 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <string>
 #include <unordered_map>
+
+#include "common/errors.h"
 
 namespace cairn::slam {
 
@@ -94,6 +97,27 @@ SlamRunResult run_slam(const CarmenLog& log, bool corrected, const SlamRunOption
   out.stats.loop_scored_candidates_failed = lc.stats().scored_candidates_failed;
   out.stats.loop_matcher_mb = double(lc.stats().matcher_bytes) / (1024.0 * 1024.0);
   return out;
+}
+
+CarmenLog carmen_log_from_robot(const RobotLogData& robot) {
+  const std::string who = "robot " + std::to_string(robot.robot.value);
+  if (robot.odometry.empty()) throw InputError(who + ": no odometry in the log");
+  Trajectory odometry;
+  odometry.reserve(robot.odometry.size());
+  for (const OdometryReading& o : robot.odometry) odometry.push_back({o.stamp_ns, o.T_odom_base});
+  CarmenLog log;
+  for (const LaserScan& scan : robot.scans) {
+    const std::optional<SE2> pose = interpolate_pose(odometry, scan.stamp_ns);
+    if (!pose) continue;
+    CarmenScan s;
+    s.stamp_ns = scan.stamp_ns;
+    s.scan = scan;
+    s.T_world_laser = *pose;
+    s.T_odom_laser = *pose;
+    log.scans.push_back(std::move(s));
+  }
+  if (log.scans.empty()) throw InputError(who + ": no scan within the odometry's time span");
+  return log;
 }
 
 OccupancyGrid render_map(const CarmenLog& log, const Trajectory& trajectory, const OccupancyGridOptions& options) {

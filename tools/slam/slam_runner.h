@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/carmen_log.h"
+#include "common/multirobot_log.h"
 #include "common/occupancy_grid.h"
 #include "common/odometry_noise.h"
 #include "common/trajectory.h"
@@ -49,6 +50,12 @@ struct SlamRunResult {
 
 /// Runs the SLAM over a log. `corrected`: the log's poses are a reference, not odometry.
 SlamRunResult run_slam(const CarmenLog& log, bool corrected, const SlamRunOptions& options);
+
+/// One robot of a Cairn multi-robot log (e.g. a simulated world recorded by `cairn_mrlog
+/// from-world`, whose TRUTH records are exact) as a raw CARMEN log: its scans, each with the robot's
+/// odometry interpolated at the scan's stamp in the pose fields. Scans outside the odometry's span
+/// are dropped. Throws InputError when the robot has no odometry or no scan within it.
+CarmenLog carmen_log_from_robot(const RobotLogData& robot);
 
 /// Occupancy map of all scans placed at `trajectory` (matched by stamp).
 OccupancyGrid render_map(const CarmenLog& log, const Trajectory& trajectory, const OccupancyGridOptions& options);
