@@ -177,11 +177,40 @@ std::vector<RobotFrameScore> score_robot_frame(const std::string& gt_dir, const 
   return out;
 }
 
+std::optional<MapConsistency> map_consistency(const std::vector<std::pair<Trajectory, Trajectory>>& estimate_truth) {
+  std::vector<Eigen::Vector2d> est, ref;
+  MapConsistency c;
+  for (const auto& [estimate, truth] : estimate_truth) {
+    const size_t before = est.size();
+    for (const StampedPose& p : estimate) {
+      if (const auto r = interpolate_pose(truth, p.stamp_ns)) {
+        est.push_back(p.pose.translation());
+        ref.push_back(r->translation());
+      }
+    }
+    if (est.size() > before) ++c.robots;
+  }
+  if (est.size() < 2) return std::nullopt;
+  const SE2 T = align_points_2d(est, ref);
+  double sq = 0;
+  for (size_t i = 0; i < est.size(); ++i) {
+    const double e = (T * est[i] - ref[i]).norm();
+    sq += e * e;
+    c.ate_max_m = std::max(c.ate_max_m, e);
+  }
+  c.keyframes = int(est.size());
+  c.ate_rmse_m = std::sqrt(sq / double(est.size()));
+  c.rotation_deg = T.yaw() * 180.0 / M_PI;
+  c.shift_m = T.translation().norm();
+  return c;
+}
+
 }  // namespace
 
 MissionScore evaluate_mission(const std::string& gt_dir, const std::string& results_dir, const EvalOptions& options) {
   namespace fs = std::filesystem;
   MissionScore score;
+  std::vector<std::pair<Trajectory, Trajectory>> estimate_truth;
   for (int id = 0; id < 1000; ++id) {
     const fs::path gt = fs::path(gt_dir) / ("gt_robot" + std::to_string(id) + ".csv");
     if (!fs::exists(gt)) continue;
@@ -196,9 +225,11 @@ MissionScore evaluate_mission(const std::string& gt_dir, const std::string& resu
       global.align = false;
       rs.global = trajectory_error(estimate, reference, global);
       rs.aligned = trajectory_error(estimate, reference);
+      estimate_truth.emplace_back(estimate, reference);
     }
     score.robots.push_back(rs);
   }
+  score.map_consistency = map_consistency(estimate_truth);
   const auto truth = read_objects((fs::path(gt_dir) / "gt_objects.csv").string());
   const auto found = read_objects((fs::path(results_dir) / "objects.csv").string());
   std::vector<std::string> classes;
@@ -223,6 +254,10 @@ nlohmann::json to_json(const MissionScore& score) {
     if (r.global) rj["ate_global_rmse_m"] = r.global->ate_rmse_m, rj["ate_global_max_m"] = r.global->ate_max_m;
     if (r.aligned) rj["ate_aligned_rmse_m"] = r.aligned->ate_rmse_m, rj["rpe_trans_mean_m"] = r.aligned->rpe_trans_mean_m;
     j["robots"].push_back(rj);
+  }
+  if (const auto& c = score.map_consistency) {
+    j["map_consistency"] = {{"robots", c->robots}, {"keyframes", c->keyframes}, {"ate_rmse_m", c->ate_rmse_m},
+                            {"ate_max_m", c->ate_max_m}, {"rotation_deg", c->rotation_deg}, {"shift_m", c->shift_m}};
   }
   auto obj = [](const ObjectScore& s) {
     return nlohmann::json{{"class", s.class_name}, {"ground_truth", s.ground_truth}, {"detected", s.detected},
@@ -260,6 +295,11 @@ std::string format_score(const MissionScore& score) {
     if (r.global) s << ", trajectory error " << r.global->ate_rmse_m << " m RMSE (max " << r.global->ate_max_m << " m)";
     else s << ", no trajectory";
     s << "\n";
+  }
+  if (const auto& c = score.map_consistency) {
+    s << "  the merged map in itself (" << c->robots << " robots aligned to the truth as one): " << c->ate_rmse_m
+      << " m RMSE (max " << c->ate_max_m << " m); it sits " << c->rotation_deg << " deg and " << c->shift_m
+      << " m off the world\n";
   }
   auto line = [&](const ObjectScore& o) {
     s << "  " << o.class_name << ": found " << o.matched << "/" << o.ground_truth << " (recall " << o.recall()

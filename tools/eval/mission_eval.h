@@ -46,8 +46,18 @@ struct RobotFrameScore {
   ObjectScore objects;
 };
 
+/// Every placed robot's keyframes aligned to the truth by ONE rigid transform: how consistent the
+/// merged map is in itself. The robots' global error is this plus where the anchor (the first
+/// robot's known start) put the whole map: a small heading error there turns it about the entry.
+struct MapConsistency {
+  int robots = 0, keyframes = 0;
+  double ate_rmse_m = 0, ate_max_m = 0;
+  double rotation_deg = 0, shift_m = 0;  ///< the transform that best aligns the map to the world
+};
+
 struct MissionScore {
   std::vector<RobotScore> robots;
+  std::optional<MapConsistency> map_consistency;  ///< nullopt when fewer than 2 keyframes are placed
   std::vector<ObjectScore> classes;
   ObjectScore objects;  ///< all classes together
   std::vector<RobotFrameScore> robot_frame;  ///< empty when objects_robot_frame.csv is absent

@@ -100,5 +100,40 @@ TEST(MissionEval, MalformedResultsNameTheFile) {
   EXPECT_THROW(evaluate_mission(d.gt.string(), d.res.string()), InputError);
 }
 
+
+// The whole map turned 1 deg about the entry: every robot's global error grows with its distance
+// from there, yet the map is perfect in itself; a robot misplaced against the others is not.
+TEST(MissionEval, MapConsistencySeparatesTheAnchorFromTheMerge) {
+  const Dirs d = make_dirs("eval_consistency");
+  std::ofstream(d.res / "objects.csv") << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n";
+  const SE2 turn(0.0, 0.0, M_PI / 180.0);
+  auto write_robot = [&](int id, const SE2& T_world_start, const SE2& misplacement) {
+    Trajectory truth, est;
+    for (int i = 0; i < 100; ++i) {
+      const SE2 pose = T_world_start * SE2(0.2 * i, 0.0, 0.0);
+      truth.push_back({StampNs(i) * kNsPerSec, pose});
+      est.push_back({StampNs(i) * kNsPerSec, misplacement * turn * pose});
+    }
+    write_trajectory_csv((d.gt / ("gt_robot" + std::to_string(id) + ".csv")).string(), truth);
+    write_trajectory_csv((d.res / ("trajectory_robot" + std::to_string(id) + ".csv")).string(), est);
+  };
+  write_robot(0, SE2(), SE2());
+  write_robot(1, SE2(0.0, 10.0, M_PI / 2), SE2());
+  MissionScore s = evaluate_mission(d.gt.string(), d.res.string());
+  ASSERT_TRUE(s.map_consistency);
+  EXPECT_EQ(s.map_consistency->robots, 2);
+  EXPECT_EQ(s.map_consistency->keyframes, 200);
+  EXPECT_LT(s.map_consistency->ate_rmse_m, 1e-6);
+  EXPECT_NEAR(s.map_consistency->rotation_deg, -1.0, 1e-6);
+  ASSERT_TRUE(s.robots[0].global);
+  EXPECT_GT(s.robots[0].global->ate_rmse_m, 0.15);  // up to 20 m x 1 deg = 0.35 m
+  EXPECT_NE(format_score(s).find("the merged map in itself (2 robots"), std::string::npos);
+  EXPECT_TRUE(to_json(s).contains("map_consistency"));
+  write_robot(1, SE2(0.0, 10.0, M_PI / 2), SE2(0.3, 0.0, 0.0));  // robot 1 placed 0.3 m off
+  s = evaluate_mission(d.gt.string(), d.res.string());
+  ASSERT_TRUE(s.map_consistency);
+  EXPECT_GT(s.map_consistency->ate_rmse_m, 0.05);  // the alignment shares the 0.3 m between the two
+}
+
 }  // namespace
 }  // namespace cairn::eval
