@@ -10,6 +10,7 @@
 #include <random>
 
 #include "common/trajectory.h"
+#include "dds/domain_lease.h"
 #include "run_command.h"
 
 namespace cairn::test {
@@ -38,7 +39,10 @@ TEST(LogReplay, AgentReplaysACarmenLogToTheBaseOverDds) {
   const fs::path dir = fs::path(::testing::TempDir()) / ("log_replay_" + std::to_string(getpid()));
   fs::create_directories(dir);
   const std::string log = excerpt(dir, 400);
-  const int domain = 150 + int(getpid() % 50);
+  std::string error;
+  const auto lease = dds::DomainLease::claim({}, &error);  // no concurrent mission shares it
+  ASSERT_TRUE(lease) << error;
+  const int domain = lease->domain_id();
   const std::string base = bin("cairn_base") + " --domain " + std::to_string(domain) + " --out " + (dir / "map").string() +
                            " --robots 1 --start 0,0,0,0 --port 0";
   const std::string agent = bin("cairn_agent") + " --robot 0 --domain " + std::to_string(domain) + " --log " + log;

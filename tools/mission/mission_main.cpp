@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "common/errors.h"
+#include "dds/domain_lease.h"
 #include "sim/world.h"
 #include "tools/mission/child_process.h"
 #include "tools/mission/mission_report.h"
@@ -67,7 +68,17 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (opt.out.empty()) opt.out = "out/" + wf.world.name;
-  if (opt.domain < 0) opt.domain = 1 + int((getpid() * 7919u + unsigned(time(nullptr))) % 200);
+  // A fresh domain, held until this launcher exits, so that concurrent missions never meet.
+  std::unique_ptr<cairn::dds::DomainLease> domain_lease;
+  if (opt.domain < 0) {
+    std::string error;
+    domain_lease = cairn::dds::DomainLease::claim({}, &error);
+    if (!domain_lease) {
+      std::cerr << "cairn_mission: " << error << " (pass --domain)\n";
+      return 2;
+    }
+    opt.domain = domain_lease->domain_id();
+  }
   if (opt.port != 0 && !cairn::mission::port_is_free(opt.port)) opt.port = 0;
   if (opt.port == 0) opt.port = cairn::mission::free_port();
   const fs::path out(opt.out);
