@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include "cairn_msgsPubSubTypes.h"
+#include "dds/cdr.h"
+
 #include <cmath>
+#include <cstring>
 
 namespace cairn::dds {
 namespace {
@@ -115,6 +119,46 @@ TEST(Conversions, ObjectRoundTripAndBadConfidence) {
   msg.confidence(std::nanf(""));
   EXPECT_FALSE(from_msg(msg, &error));
   EXPECT_NE(error.find("confidence"), std::string::npos);
+}
+
+// The base station's journal stores samples as CDR bytes: they must come back whole, and cut or
+// corrupt bytes must be refused, never half-read.
+TEST(Conversions, CdrBytesComeBackWholeAndCutOnesAreRefused) {
+  ObjectReport o;
+  o.id = {RobotId(1), 3};
+  o.class_name = "hazard";
+  o.confidence = 0.7f;
+  o.anchor_seq = 9;
+  for (int i = 0; i < 50; ++i) o.cloud.push_back({0.02f * i, 0.f, 0.1f, 10, 200, 10});
+  const auto bytes = to_cdr<cairn_msgs::ObjectReportPubSubType>(to_msg(o));
+  ASSERT_GT(bytes.size(), 50u);
+  cairn_msgs::ObjectReport msg;
+  ASSERT_TRUE((from_cdr<cairn_msgs::ObjectReportPubSubType>(bytes, &msg)));
+  std::string error;
+  const auto back = from_msg(msg, &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_EQ(back->class_name, "hazard");
+  EXPECT_EQ(back->anchor_seq, 9);
+  EXPECT_EQ(back->cloud.size(), 50u);
+
+  const auto kf_bytes = to_cdr<cairn_msgs::KeyframePubSubType>(to_msg(make_keyframe()));
+  cairn_msgs::Keyframe kf;
+  ASSERT_TRUE((from_cdr<cairn_msgs::KeyframePubSubType>(kf_bytes, &kf)));
+  EXPECT_EQ(kf.seq(), 7);
+  EXPECT_TRUE(from_msg(kf, &error)) << error;
+
+  std::vector<uint8_t> cut(kf_bytes.begin(), kf_bytes.begin() + long(kf_bytes.size() / 2));
+  EXPECT_FALSE((from_cdr<cairn_msgs::KeyframePubSubType>(cut, &kf)));
+  // The scan's length field, after the encapsulation (4 bytes) and the fixed part (robot, seq,
+  // stamp, two poses, two covariances), set to 4 GiB.
+  const size_t length_at = 4 + 4 + 4 + 8 + 24 + 72 + 24 + 72;
+  uint32_t length = 0;
+  std::memcpy(&length, kf_bytes.data() + length_at, 4);
+  ASSERT_EQ(length, kf.scan_zstd().size());
+  std::vector<uint8_t> absurd = kf_bytes;
+  for (size_t i = length_at; i < length_at + 4; ++i) absurd[i] = 0xff;
+  EXPECT_FALSE((from_cdr<cairn_msgs::KeyframePubSubType>(absurd, &kf)));
+  EXPECT_FALSE((from_cdr<cairn_msgs::KeyframePubSubType>({}, &kf)));
 }
 
 TEST(Conversions, RgbdFrameWithWrongSizesIsRejected) {

@@ -1,10 +1,13 @@
 // The agent replays a recorded CARMEN log (instead of the simulator's topics) to a real base
-// station over DDS; a truncated log is refused with its line number.
+// station over DDS; a truncated log is refused with its line number; a base station killed after
+// acknowledging a robot's data rebuilds the map from its journal once restarted, with the robot
+// long gone.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -60,6 +63,67 @@ TEST(LogReplay, AgentReplaysACarmenLogToTheBaseOverDds) {
   const nlohmann::json summary = nlohmann::json::parse(in);
   ASSERT_EQ(summary["robots"].size(), 1u);
   EXPECT_GE(summary["robots"][0]["link"]["keyframe_pose_updates"].get<int>(), 1) << summary.dump();
+}
+
+/// The number N in the agent's closing line "done: N keyframes, ...", or -1.
+int agent_keyframes(const std::string& agent_log) {
+  const auto at = agent_log.find("done: ");
+  return at == std::string::npos ? -1 : std::atoi(agent_log.c_str() + at + 6);
+}
+
+TEST(LogReplay, KilledBaseResumesFromItsJournalAfterTheRobotIsGone) {
+  if (!std::ifstream(kMitLog)) GTEST_SKIP() << "data absent: " << kMitLog;
+  const fs::path dir = fs::path(::testing::TempDir()) / ("base_restart_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string log = excerpt(dir, 400);
+  std::string error;
+  const auto lease = dds::DomainLease::claim({}, &error);
+  ASSERT_TRUE(lease) << error;
+  const std::string domain = std::to_string(lease->domain_id());
+  const std::string out = (dir / "map").string();
+  // Base A waits for 2 robots, so it never exports on its own; robot 0 runs to the end (the agent
+  // exits only once the base acknowledged all it sent), says "finished", and is gone. Then base A
+  // is killed without a chance to write anything more.
+  const std::string base_a = bin("cairn_base") + " --domain " + domain + " --out " + out + " --robots 2 --port 0";
+  const std::string agent = bin("cairn_agent") + " --robot 0 --domain " + domain + " --log " + log;
+  const std::string base_a_log = (dir / "base_a.log").string();
+  const auto r = run_command("(" + base_a + " > " + base_a_log + " 2>&1 & pid=$!; " + agent + " > " +
+                             (dir / "agent.log").string() + " 2>&1; status=$?; for i in $(seq 300); do grep -q " +
+                             "'robot0 reports finished' " + base_a_log + " && break; sleep 0.1; done; kill -9 $pid; " +
+                             "wait; exit $status)");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream agent_in(dir / "agent.log");
+  const std::string agent_log((std::istreambuf_iterator<char>(agent_in)), std::istreambuf_iterator<char>());
+  const int sent = agent_keyframes(agent_log);
+  ASSERT_GE(sent, 60) << agent_log;
+  ASSERT_FALSE(fs::exists(dir / "map" / "summary.json")) << "base A exported before it was killed";
+
+  // Base B: same results folder, no robot on the network. It must rebuild everything from the
+  // journal, see robot 0 finished, and export.
+  const auto b = run_command("timeout 120 " + bin("cairn_base") + " --domain " + domain + " --out " + out +
+                             " --robots 1 --port 0");
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  EXPECT_NE(b.output.find("resumed from journal"), std::string::npos) << b.output;
+  std::ifstream in(dir / "map" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["robots"].size(), 1u) << summary.dump();
+  EXPECT_EQ(summary["robots"][0]["keyframes"].get<int>(), sent) << summary.dump();
+  EXPECT_EQ(summary["robots"][0]["missing_keyframes"].get<int>(), 0) << summary.dump();
+  EXPECT_GT(summary["journal"]["restored_records"].get<int>(), sent) << summary.dump();
+  EXPECT_EQ(summary["journal"]["skipped_records"].get<int>(), 0) << summary.dump();
+  EXPECT_EQ(read_trajectory_csv((dir / "map" / "trajectory_robot0.csv").string()).size(), size_t(sent));
+
+  // --new-mission keeps the old journal (renamed) and starts empty.
+  const auto c = run_command("(timeout 20 " + bin("cairn_base") + " --domain " + domain + " --out " + out +
+                             " --robots 1 --port 0 --new-mission & sleep 3; kill -TERM $!; wait $!)");
+  EXPECT_EQ(c.exit_code, 0) << c.output;
+  EXPECT_NE(c.output.find("previous mission's journal moved to"), std::string::npos) << c.output;
+  std::ifstream fresh(dir / "map" / "summary.json");
+  EXPECT_EQ(nlohmann::json::parse(fresh)["robots"].size(), 0u);
+  int kept = 0;
+  for (const auto& e : fs::directory_iterator(dir / "map")) kept += e.path().filename().string().rfind("journal.sqlite.", 0) == 0;
+  EXPECT_GE(kept, 1);
 }
 
 TEST(LogReplay, TruncatedLogIsRefusedWithItsLineNumber) {

@@ -59,6 +59,19 @@ TEST(ProcessBadInput, BaseRejectsMalformedStartPose) {
   EXPECT_NE(r.output.find("--start '0,1,nan,0'"), std::string::npos) << r.output;
 }
 
+TEST(ProcessBadInput, BaseRefusesAJournalThatIsNotOneAndLeavesItAlone) {
+  const std::string dir = ::testing::TempDir() + "/base_bad_journal";
+  std::filesystem::create_directories(dir);
+  const std::string text = "victims found: 3\n";
+  std::ofstream(dir + "/journal.sqlite") << text;
+  const auto r = run_command(bin("cairn_base") + " --out " + dir + " --port 0");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find(dir + "/journal.sqlite"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("not a database"), std::string::npos) << r.output;
+  std::ifstream in(dir + "/journal.sqlite");
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), text);
+}
+
 TEST(ProcessBadInput, AgentRejectsBadConfigAndRobotId) {
   const std::string cfg = temp_file("agent_bad.yaml", "keyframer: {max_interval_s: zero}\n");
   auto r = run_command(bin("cairn_agent") + " --robot 0 --config " + cfg);

@@ -4,6 +4,7 @@
 #include <thread>
 
 #include "base_station/core/exporter.h"
+#include "dds/cdr.h"
 #include "dds/conversions.h"
 
 namespace cairn::base {
@@ -58,6 +59,7 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
     *error = "cannot create the base station's DDS readers/writers";
     return nullptr;
   }
+  if (!n->open_journal(error)) return nullptr;
   BaseNode* self = n.get();
   n->console_ = std::make_unique<ConsoleServer>(
       options.console, ConsoleServer::SharedProvider([self] { return self->latest_snapshot_.get(); }));
@@ -70,62 +72,97 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
 
 double BaseNode::now_s() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
 
+void BaseNode::count_rejected(int32_t robot_id) {
+  ++rejected_samples_;
+  ++links_[RobotId(robot_id)].bad_samples;
+}
+
+AddResult BaseNode::ingest(const cairn_msgs::Keyframe& m) {
+  std::string error;
+  const auto kf = dds::from_msg(m, &error);
+  const AddResult r = kf ? mapper_.add_keyframe(*kf) : AddResult{AddStatus::kRejected, error};
+  if (r.status == AddStatus::kRejected) {
+    count_rejected(m.robot_id());
+    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe robot{}/{}: {}", m.robot_id(), m.seq(),
+                          r.reason);
+  }
+  return r;
+}
+
+AddResult BaseNode::ingest(const cairn_msgs::KeyframePoses& m) {
+  std::string error;
+  const auto poses = dds::from_msg(m, &error);
+  const AddResult r = poses ? mapper_.add_keyframe_poses(*poses) : AddResult{AddStatus::kRejected, error};
+  if (r.status == AddStatus::kRejected) {
+    count_rejected(m.robot_id());
+    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe poses of robot{}: {}", m.robot_id(), r.reason);
+  } else {
+    ++links_[RobotId(m.robot_id())].keyframe_pose_updates;
+  }
+  return r;
+}
+
+AddResult BaseNode::ingest(const cairn_msgs::ObjectReport& m) {
+  std::string error;
+  const auto obj = dds::from_msg(m, &error);
+  const AddResult r = obj ? mapper_.add_object(*obj) : AddResult{AddStatus::kRejected, error};
+  if (r.status == AddStatus::kRejected) {
+    count_rejected(m.robot_id());
+    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected object robot{}/{}: {}", m.robot_id(),
+                          m.object_seq(), r.reason);
+  } else {
+    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 1.0, "{} {} from robot{} ({})", obj->class_name, obj->id.seq,
+                          obj->id.robot.value, to_string(r.status));
+  }
+  return r;
+}
+
+void BaseNode::ingest(const cairn_msgs::RobotStatus& m, bool live) {
+  RobotLink& link = links_[RobotId(m.robot_id())];
+  if (m.finished() && !(link.has_status && link.last_status.finished())) {
+    log_->info("robot{} reports finished{}", m.robot_id(), live ? "" : " (journal)");
+  }
+  link.last_status = m;
+  link.has_status = true;
+  link.last_heard_s = live ? now_s() : -1.0;  // restored: not heard since this base started
+}
+
 bool BaseNode::poll_inputs() {
   bool any = false;
-  std::string error;
-  // Stores one converted sample (dds::from_msg validated it); a bad one is counted against its robot.
-  auto store = [&](int32_t robot_id, const auto& parsed, auto&& add) {
-    any = true;
-    const AddResult r = parsed ? add(*parsed) : AddResult{AddStatus::kRejected, error};
-    if (r.status == AddStatus::kRejected) {
-      ++rejected_samples_;
-      ++links_[RobotId(robot_id)].bad_samples;
-    }
-    return r;
-  };
   for (const auto& m : keyframe_in_->take_all()) {
-    const AddResult r = store(m.robot_id(), dds::from_msg(m, &error), [&](const Keyframe& kf) { return mapper_.add_keyframe(kf); });
-    if (r.status == AddStatus::kRejected) {
-      CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe robot{}/{}: {}", m.robot_id(),
-                            m.seq(), r.reason);
-    }
+    any = true;
+    if (ingest(m).stored()) journal(JournalKind::kKeyframe, m.robot_id(), m.seq(), dds::to_cdr<cairn_msgs::KeyframePubSubType>(m));
   }
   for (const auto& m : keyframe_poses_in_->take_all()) {  // after this poll's keyframes
-    const AddResult r = store(m.robot_id(), dds::from_msg(m, &error),
-                              [&](const KeyframePoses& poses) { return mapper_.add_keyframe_poses(poses); });
-    if (r.status == AddStatus::kRejected) {
-      CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe poses of robot{}: {}", m.robot_id(), r.reason);
-    } else {
-      ++links_[RobotId(m.robot_id())].keyframe_pose_updates;
+    any = true;
+    if (ingest(m).stored()) {
+      journal(JournalKind::kKeyframePoses, m.robot_id(), 0, dds::to_cdr<cairn_msgs::KeyframePosesPubSubType>(m));
     }
   }
   for (const auto& m : object_in_->take_all()) {
-    const auto obj = dds::from_msg(m, &error);
-    const AddResult r = store(m.robot_id(), obj, [&](const ObjectReport& o) { return mapper_.add_object(o); });
-    if (r.status == AddStatus::kRejected) {
-      CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected object robot{}/{}: {}", m.robot_id(),
-                            m.object_seq(), r.reason);
-    } else {
-      CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 1.0, "{} {} from robot{} ({})", obj->class_name,
-                            obj->id.seq, obj->id.robot.value, to_string(r.status));
+    any = true;
+    if (ingest(m).stored()) {
+      journal(JournalKind::kObject, m.robot_id(), m.object_seq(), dds::to_cdr<cairn_msgs::ObjectReportPubSubType>(m));
     }
   }
   for (const auto& m : status_in_->take_all()) {
-    RobotLink& link = links_[RobotId(m.robot_id())];
-    link.last_status = m;
-    link.has_status = true;
-    link.last_heard_s = now_s();
+    ingest(m, /*live=*/true);
+    journal(JournalKind::kStatus, m.robot_id(), 0, dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(m));
   }
+  flush_journal();
   return any;
 }
 
 void BaseNode::publish_acks_and_corrections() {
+  const bool all_journaled = unjournaled_.empty();  // an ack promises the sample survives a restart
   for (const RobotSummary& r : mapper_.robots()) {
-    cairn_msgs::Ack ack;
-    ack.robot_id(r.id.value);
-    ack.keyframe_seq(contiguous_seq(mapper_, r.id));
-    ack.object_count(r.objects);
-    ack_out_->write(ack);
+    if (all_journaled) {
+      cairn_msgs::Ack ack;
+      ack.robot_id(r.id.value);
+      ack.keyframe_seq(contiguous_seq(mapper_, r.id));
+      ack.object_count(r.objects);
+      ack_out_->write(ack);
+    }
     cairn_msgs::Correction c;
     c.robot_id(r.id.value);
     c.linked(r.linked);
@@ -151,6 +188,7 @@ nlohmann::json BaseNode::link_stats() const {
     // What the console shows: the link's state and the bytes received from the robot.
     j["state"] = !link.has_status ? "unknown"
                  : link.last_status.finished() ? "finished"
+                 : age_s < 0.0 ? "lost"  // known from the journal only
                  : age_s < 2.0 ? "ok"
                  : age_s < 10.0 ? "stale"
                  : "lost";
@@ -257,6 +295,13 @@ int BaseNode::finish() {
                       {"converged", r.solve.converged},
                       {"final_cost", r.solve.final_cost}};
   summary["rejected_samples"] = rejected_samples_;
+  summary["journal"] = {{"path", journal_->path()},
+                        {"records", journal_->size()},
+                        {"restored_records", restored_records_},
+                        {"skipped_records", restore_skipped_.size()},
+                        {"unjournaled", unjournaled_.size()},
+                        {"commits", journal_commits_},
+                        {"commit_s", journal_commit_s_}};
   summary["landmarks"] = nlohmann::json::array();  // identified markers, global frame
   for (const auto& [id, p] : mapper_.landmarks()) summary["landmarks"].push_back({{"id", id.value}, {"x_m", p.x()}, {"y_m", p.y()}});
   summary["export_ok"] = exported.ok();

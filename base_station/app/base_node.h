@@ -1,8 +1,9 @@
 #pragma once
 // The base station's DDS side around MultiRobotMapper: keyframe/object/status readers in;
 // ack/correction writers out; a console snapshot refreshed for the HTTP thread; exports at the end.
-// Data flow: keyframe/object topics -> dds::from_msg -> MultiRobotMapper -> optimize ->
-//            ack + correction topics, console snapshot, export_all().
+// Data flow: keyframe/object topics -> dds::from_msg -> MultiRobotMapper -> journal (SQLite) ->
+//            optimize -> ack + correction topics, console snapshot, export_all().
+// A sample is acknowledged only once it is in the journal; a restarted base resumes from it.
 #include <atomic>
 #include <chrono>
 #include <map>
@@ -15,6 +16,7 @@
 #include "base_station/console/console_server.h"
 #include "base_station/console/snapshot.h"
 #include "base_station/core/multi_robot_mapper.h"
+#include "base_station/store/journal.h"
 #include "cairn_msgsPubSubTypes.h"
 #include "common/logging.h"
 #include "dds/endpoints.h"
@@ -31,6 +33,8 @@ struct BaseNodeOptions {
   double optimize_period_s = 1.0;
   ConsoleOptions console;
   bool serve_after_finish = false;        ///< keep the console up after the mission ended
+  std::string journal_path;               ///< default <out_dir>/journal.sqlite
+  bool new_mission = false;               ///< move an existing journal aside instead of resuming it
 };
 
 class BaseNode {
@@ -51,6 +55,16 @@ class BaseNode {
     int keyframe_pose_updates = 0;  ///< the agent's loop-closed keyframe poses, stored
   };
   BaseNode(const BaseNodeOptions& options, const MapperOptions& mapper_options);
+  bool open_journal(std::string* error);
+  void restore(const JournalContents& contents);
+  // One sample into the mapper (validated by dds::from_msg); a bad one is counted and logged.
+  AddResult ingest(const cairn_msgs::Keyframe& m);
+  AddResult ingest(const cairn_msgs::KeyframePoses& m);
+  AddResult ingest(const cairn_msgs::ObjectReport& m);
+  void ingest(const cairn_msgs::RobotStatus& m, bool live);
+  void count_rejected(int32_t robot_id);
+  void journal(JournalKind kind, int32_t robot_id, int64_t key, std::vector<uint8_t> payload);
+  void flush_journal();
   bool poll_inputs();
   void publish_acks_and_corrections();
   void refresh_snapshot();
@@ -77,6 +91,12 @@ class BaseNode {
   std::unique_ptr<W<cairn_msgs::Ack, cairn_msgs::AckPubSubType>> ack_out_;
   std::unique_ptr<W<cairn_msgs::Correction, cairn_msgs::CorrectionPubSubType>> correction_out_;
   std::unique_ptr<ConsoleServer> console_;
+  std::unique_ptr<Journal> journal_;
+  std::vector<JournalRecord> unjournaled_;  ///< stored in the mapper, not yet in the journal: no ack
+  int restored_records_ = 0;
+  int journal_commits_ = 0;
+  double journal_commit_s_ = 0;  ///< wall time spent committing (fsync included)
+  std::vector<std::string> restore_skipped_;
 
   std::map<RobotId, RobotLink> links_;
   LatestSnapshot latest_snapshot_;  ///< handed to the console's HTTP threads
