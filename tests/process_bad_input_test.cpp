@@ -2,9 +2,14 @@
 // wrong (file, key, argument), and leaves files already written alone.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 
+#include "base_station/store/journal.h"
+#include "dds/domain_lease.h"
 #include "run_command.h"
 
 namespace cairn::test {
@@ -70,6 +75,33 @@ TEST(ProcessBadInput, BaseRefusesAJournalThatIsNotOneAndLeavesItAlone) {
   EXPECT_NE(r.output.find("not a database"), std::string::npos) << r.output;
   std::ifstream in(dir + "/journal.sqlite");
   EXPECT_EQ(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), text);
+}
+
+TEST(ProcessBadInput, BaseSkipsAndNamesDamagedJournalRecordsAndKeepsThem) {
+  const std::string dir = ::testing::TempDir() + "/base_damaged_journal_" + std::to_string(getpid());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::string error;
+  {
+    auto journal = base::Journal::open(dir + "/journal.sqlite", {}, &error);
+    ASSERT_TRUE(journal) << error;
+    base::JournalRecord cut;
+    cut.kind = base::JournalKind::kKeyframe;
+    cut.robot = RobotId(1);
+    cut.key = 3;
+    cut.payload = {0, 1, 0, 0, 7, 7};  // a CDR header and two bytes of a keyframe
+    ASSERT_TRUE(journal->append({cut}, &error)) << error;
+  }
+  const auto lease = dds::DomainLease::claim({}, &error);
+  ASSERT_TRUE(lease) << error;
+  const auto r = run_command("(timeout 20 " + bin("cairn_base") + " --domain " + std::to_string(lease->domain_id()) +
+                             " --out " + dir + " --port 0 & sleep 2; kill -TERM $!; wait $!)");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("skipped keyframe 3 of robot1: not a whole sample"), std::string::npos) << r.output;
+  std::ifstream in(dir + "/summary.json");
+  const auto summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["journal"]["skipped_records"], 1) << summary.dump();
+  EXPECT_EQ(summary["journal"]["records"], 1) << summary.dump();  // still there for a later look
 }
 
 TEST(ProcessBadInput, AgentRejectsBadConfigAndRobotId) {

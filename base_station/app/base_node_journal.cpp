@@ -8,6 +8,19 @@
 
 namespace cairn::base {
 
+namespace {
+
+/// Decodes one journal record as a sample of PubSubType and hands it to `take`; empty when taken,
+/// else why not.
+template <typename PubSubType, typename Msg, typename Take>
+std::string replay(const JournalRecord& r, Take&& take) {
+  Msg m;
+  if (!dds::from_cdr<PubSubType>(r.payload, &m)) return "not a whole sample";
+  return take(m) ? "" : "refused as a sample (see the warning above)";
+}
+
+}  // namespace
+
 bool BaseNode::open_journal(std::string* error) {
   namespace fs = std::filesystem;
   const std::string path =
@@ -18,7 +31,8 @@ bool BaseNode::open_journal(std::string* error) {
     char stamp[32];
     const std::time_t now = std::time(nullptr);
     std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::localtime(&now));
-    const std::string aside = path + "." + stamp;
+    std::string aside = path + "." + stamp;
+    for (int n = 2; fs::exists(aside, ec); ++n) aside = path + "." + stamp + "-" + std::to_string(n);
     for (const char* suffix : {"", "-wal", "-shm"}) {
       if (fs::exists(path + suffix, ec)) fs::rename(path + suffix, aside + suffix, ec);
       if (ec) {
@@ -38,36 +52,30 @@ bool BaseNode::open_journal(std::string* error) {
 
 void BaseNode::restore(const JournalContents& contents) {
   restore_skipped_ = contents.skipped;
-  auto skip = [&](const JournalRecord& r) {
+  auto skip = [&](const JournalRecord& r, const std::string& why) {
     restore_skipped_.push_back(std::string(to_string(r.kind)) + " " + std::to_string(r.key) + " of " +
-                               to_string(r.robot) + ": not a whole sample");
+                               to_string(r.robot) + ": " + why);
   };
+  // A record is restored when it decodes and the mapper takes it as it would take a live sample.
+  auto taken = [this](const auto& m) { return ingest(m).status != AddStatus::kRejected; };
   for (const JournalRecord& r : contents.records) {
-    bool ok = false;
+    std::string why;
     switch (r.kind) {
-      case JournalKind::kKeyframe: {
-        cairn_msgs::Keyframe m;
-        if ((ok = dds::from_cdr<cairn_msgs::KeyframePubSubType>(r.payload, &m))) ingest(m);
+      case JournalKind::kKeyframe: why = replay<cairn_msgs::KeyframePubSubType, cairn_msgs::Keyframe>(r, taken); break;
+      case JournalKind::kObject: why = replay<cairn_msgs::ObjectReportPubSubType, cairn_msgs::ObjectReport>(r, taken); break;
+      case JournalKind::kKeyframePoses:
+        why = replay<cairn_msgs::KeyframePosesPubSubType, cairn_msgs::KeyframePoses>(r, taken);
         break;
-      }
-      case JournalKind::kObject: {
-        cairn_msgs::ObjectReport m;
-        if ((ok = dds::from_cdr<cairn_msgs::ObjectReportPubSubType>(r.payload, &m))) ingest(m);
+      case JournalKind::kStatus:
+        why = replay<cairn_msgs::RobotStatusPubSubType, cairn_msgs::RobotStatus>(
+            r, [this](const cairn_msgs::RobotStatus& m) {
+              ingest(m, /*live=*/false);
+              return true;
+            });
         break;
-      }
-      case JournalKind::kKeyframePoses: {
-        cairn_msgs::KeyframePoses m;
-        if ((ok = dds::from_cdr<cairn_msgs::KeyframePosesPubSubType>(r.payload, &m))) ingest(m);
-        break;
-      }
-      case JournalKind::kStatus: {
-        cairn_msgs::RobotStatus m;
-        if ((ok = dds::from_cdr<cairn_msgs::RobotStatusPubSubType>(r.payload, &m))) ingest(m, /*live=*/false);
-        break;
-      }
     }
-    if (ok) ++restored_records_;
-    else skip(r);
+    if (why.empty()) ++restored_records_;
+    else skip(r, why);
   }
   for (const std::string& s : restore_skipped_) log_->warn("journal {}: skipped {}", journal_->path(), s);
   if (restored_records_ > 0) {
