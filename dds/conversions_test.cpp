@@ -98,14 +98,19 @@ TEST(Conversions, KeyframePosesRoundTripAndBadSamplesAreNamed) {
   EXPECT_NE(error.find("2 seqs but 1 poses"), std::string::npos) << error;
 }
 
-TEST(Conversions, ObjectRoundTripAndBadConfidence) {
+ObjectReport make_object(const std::string& class_name, int anchor_seq, int points) {
   ObjectReport o;
   o.id = {RobotId(1), 3};
-  o.class_name = "victim";
+  o.class_name = class_name;
   o.confidence = 0.8f;
-  o.anchor_seq = 4;
+  o.anchor_seq = anchor_seq;
   o.T_anchor_object.translation() = Eigen::Vector3d(1, 2, 0.3);
-  for (int i = 0; i < 100; ++i) o.cloud.push_back({0.01f * i, -0.01f * i, 0.2f, 200, 10, 10});
+  for (int i = 0; i < points; ++i) o.cloud.push_back({0.01f * i, -0.01f * i, 0.2f, 200, 10, 10});
+  return o;
+}
+
+TEST(Conversions, ObjectRoundTripAndBadConfidence) {
+  const ObjectReport o = make_object("victim", 4, 100);
   std::string error;
   auto back = from_msg(to_msg(o), &error);
   ASSERT_TRUE(back) << error;
@@ -124,12 +129,7 @@ TEST(Conversions, ObjectRoundTripAndBadConfidence) {
 // The base station's journal stores samples as CDR bytes: they must come back whole, and cut or
 // corrupt bytes must be refused, never half-read.
 TEST(Conversions, CdrBytesComeBackWholeAndCutOnesAreRefused) {
-  ObjectReport o;
-  o.id = {RobotId(1), 3};
-  o.class_name = "hazard";
-  o.confidence = 0.7f;
-  o.anchor_seq = 9;
-  for (int i = 0; i < 50; ++i) o.cloud.push_back({0.02f * i, 0.f, 0.1f, 10, 200, 10});
+  const ObjectReport o = make_object("hazard", 9, 50);
   const auto bytes = to_cdr<cairn_msgs::ObjectReportPubSubType>(to_msg(o));
   ASSERT_GT(bytes.size(), 50u);
   cairn_msgs::ObjectReport msg;

@@ -24,6 +24,15 @@ int32_t contiguous_seq(const MultiRobotMapper& mapper, RobotId robot) {
   return expected - 1;
 }
 
+/// dds::from_msg (which validates), then `add` on the converted sample; kRejected with the reason
+/// when either refuses it.
+template <typename Msg, typename Add>
+AddResult convert_and_add(const Msg& m, Add&& add) {
+  std::string error;
+  const auto parsed = dds::from_msg(m, &error);
+  return parsed ? add(*parsed) : AddResult{AddStatus::kRejected, error};
+}
+
 }  // namespace
 
 BaseNode::BaseNode(const BaseNodeOptions& options, const MapperOptions& mapper_options)
@@ -78,9 +87,7 @@ void BaseNode::count_rejected(int32_t robot_id) {
 }
 
 AddResult BaseNode::ingest(const cairn_msgs::Keyframe& m) {
-  std::string error;
-  const auto kf = dds::from_msg(m, &error);
-  const AddResult r = kf ? mapper_.add_keyframe(*kf) : AddResult{AddStatus::kRejected, error};
+  const AddResult r = convert_and_add(m, [&](const Keyframe& kf) { return mapper_.add_keyframe(kf); });
   if (r.status == AddStatus::kRejected) {
     count_rejected(m.robot_id());
     CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe robot{}/{}: {}", m.robot_id(), m.seq(),
@@ -90,9 +97,7 @@ AddResult BaseNode::ingest(const cairn_msgs::Keyframe& m) {
 }
 
 AddResult BaseNode::ingest(const cairn_msgs::KeyframePoses& m) {
-  std::string error;
-  const auto poses = dds::from_msg(m, &error);
-  const AddResult r = poses ? mapper_.add_keyframe_poses(*poses) : AddResult{AddStatus::kRejected, error};
+  const AddResult r = convert_and_add(m, [&](const KeyframePoses& p) { return mapper_.add_keyframe_poses(p); });
   if (r.status == AddStatus::kRejected) {
     count_rejected(m.robot_id());
     CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe poses of robot{}: {}", m.robot_id(), r.reason);
@@ -103,16 +108,14 @@ AddResult BaseNode::ingest(const cairn_msgs::KeyframePoses& m) {
 }
 
 AddResult BaseNode::ingest(const cairn_msgs::ObjectReport& m) {
-  std::string error;
-  const auto obj = dds::from_msg(m, &error);
-  const AddResult r = obj ? mapper_.add_object(*obj) : AddResult{AddStatus::kRejected, error};
+  const AddResult r = convert_and_add(m, [&](const ObjectReport& o) { return mapper_.add_object(o); });
   if (r.status == AddStatus::kRejected) {
     count_rejected(m.robot_id());
     CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected object robot{}/{}: {}", m.robot_id(),
                           m.object_seq(), r.reason);
   } else {
-    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 1.0, "{} {} from robot{} ({})", obj->class_name, obj->id.seq,
-                          obj->id.robot.value, to_string(r.status));
+    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 1.0, "{} {} from robot{} ({})", m.class_name(), m.object_seq(),
+                          m.robot_id(), to_string(r.status));
   }
   return r;
 }
