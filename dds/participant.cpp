@@ -4,6 +4,9 @@
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
+#include <limits.h>
+#include <stdlib.h>
+#include <unistd.h>
 
 namespace cairn::dds {
 
@@ -12,6 +15,31 @@ using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
 using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
 using eprosima::fastrtps::rtps::IPLocator;
 using eprosima::fastrtps::rtps::Locator_t;
+
+namespace {
+
+/// Fast DDS's builtin plugins: PKI-DH authentication, AES-GCM encryption of whole RTPS messages
+/// (set by property, as no access-control plugin is configured: every authenticated team member
+/// may use every topic). False with `error` naming the missing file.
+bool add_security(const std::string& dir, DomainParticipantQos* qos, std::string* error) {
+  auto file = [&](const char* name) { return dir + "/" + name; };
+  for (const char* name : {"ca.pem", "cert.pem", "key.pem"}) {
+    if (::access(file(name).c_str(), R_OK) != 0) {
+      if (error) *error = "DDS security: cannot read " + file(name) + " (make it with deploy/security/make_certs.sh)";
+      return false;
+    }
+  }
+  auto& props = qos->properties().properties();
+  props.emplace_back("dds.sec.auth.plugin", "builtin.PKI-DH");
+  props.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_ca", "file://" + file("ca.pem"));
+  props.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_certificate", "file://" + file("cert.pem"));
+  props.emplace_back("dds.sec.auth.builtin.PKI-DH.private_key", "file://" + file("key.pem"));
+  props.emplace_back("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+  props.emplace_back("rtps.participant.rtps_protection_kind", "ENCRYPT");
+  return true;
+}
+
+}  // namespace
 
 std::unique_ptr<Participant> Participant::create(const ParticipantOptions& options, std::string* error) {
   std::unique_ptr<Participant> p(new Participant(options));
@@ -51,9 +79,21 @@ std::unique_ptr<Participant> Participant::create(const ParticipantOptions& optio
     qos.flow_controllers().push_back(flow);
   }
 
+  if (!options.security_dir.empty()) {
+    std::string dir = options.security_dir;
+    char resolved[PATH_MAX];
+    if (::realpath(dir.c_str(), resolved)) dir = resolved;  // file:// URIs want an absolute path
+    if (!add_security(dir, &qos, error)) return nullptr;
+  }
+
   p->participant_ = DomainParticipantFactory::get_instance()->create_participant(options.domain_id, qos);
   if (!p->participant_) {
-    if (error) *error = "cannot create DDS participant on domain " + std::to_string(options.domain_id);
+    if (error) {
+      *error = "cannot create DDS participant on domain " + std::to_string(options.domain_id) +
+               (options.security_dir.empty() ? ""
+                                             : " (DDS security from " + options.security_dir +
+                                                   ": are cert.pem and key.pem a pair signed by ca.pem?)");
+    }
     return nullptr;
   }
   p->publisher_ = p->participant_->create_publisher(PUBLISHER_QOS_DEFAULT);

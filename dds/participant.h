@@ -1,7 +1,8 @@
 #pragma once
 // One Fast DDS domain participant per process, configured for Cairn's links: unicast discovery
 // through initial peers (ad hoc Wi-Fi gives no multicast to count on), a large shared-memory
-// segment for same-host big samples, and an optional flow controller for large data on slow links.
+// segment for same-host big samples, an optional flow controller for large data on slow links, and
+// optional DDS Security (authentication and encryption) for a radio link anyone can listen to.
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
@@ -26,6 +27,10 @@ struct ParticipantOptions {
   uint32_t shm_segment_bytes = 32u << 20;  ///< default 512 KiB is too small for RGB-D frames
   /// Flow controller for large samples (objects); 0 = unlimited. Set below the link rate.
   uint32_t large_data_bytes_per_sec = 0;
+  /// DDS Security: a folder with ca.pem, cert.pem and key.pem (deploy/security/make_certs.sh).
+  /// Set, the participant talks only to participants whose certificates the same CA signed
+  /// (PKI-DH), and every RTPS message it sends is encrypted (AES-GCM). Empty: no security.
+  std::string security_dir;
 };
 
 constexpr const char* kLargeDataFlowController = "cairn_large_data";

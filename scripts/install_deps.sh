@@ -12,6 +12,7 @@ PACKAGES=(
   libsqlite3-dev libzstd-dev zlib1g-dev
   python3 procps
   iproute2 nftables                     # emulated radio link (cairn_mission --link-loss/--link-kbit)
+  openssl                               # DDS Security certificates (deploy/security/make_certs.sh)
 )
 
 missing=()

@@ -1,0 +1,143 @@
+// DDS Security over real Fast DDS: participants whose certificates the mission CA signed find each
+// other and exchange samples; one without certificates, or with another CA's, never matches.
+// Material from deploy/security/make_certs.sh (needs the openssl command).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <thread>
+
+#include "cairn_msgsPubSubTypes.h"
+#include "dds/conversions.h"
+#include "dds/domain_lease.h"
+#include "dds/endpoints.h"
+
+namespace cairn::dds {
+namespace {
+
+namespace fs = std::filesystem;
+using KeyframeWriter = Writer<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>;
+using KeyframeReader = Reader<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>;
+
+class Security : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::path(::testing::TempDir()) / ("dds_security_" + std::to_string(getpid())));
+    fs::remove_all(*dir_);
+    const std::string script = std::string(CAIRN_SOURCE_DIR) + "/deploy/security/make_certs.sh";
+    made_ = std::system(("bash " + script + " " + (*dir_ / "team").string() + " base robot0 > /dev/null && bash " +
+                         script + " " + (*dir_ / "intruders").string() + " robot9 > /dev/null")
+                            .c_str()) == 0;
+  }
+  void SetUp() override {
+    if (!made_) GTEST_SKIP() << "could not make certificates (is openssl installed?)";
+    lease_ = DomainLease::claim({}, &error_);
+    ASSERT_TRUE(lease_) << error_;
+  }
+  std::unique_ptr<Participant> participant(const std::string& name, const std::string& identity) {
+    ParticipantOptions o;
+    o.domain_id = lease_->domain_id();
+    o.name = name;
+    if (!identity.empty()) o.security_dir = (*dir_ / identity).string();
+    auto p = Participant::create(o, &error_);
+    EXPECT_TRUE(p) << error_;
+    return p;
+  }
+  static bool matched_within(KeyframeWriter& w, KeyframeReader& r, double seconds) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < end) {
+      if (w.matched_readers() > 0 && r.matched_writers() > 0) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+  }
+  static cairn_msgs::Keyframe keyframe(int seq) {
+    Keyframe kf;
+    kf.id = {RobotId(0), seq};
+    kf.scan.angle_increment_rad = 0.01f;
+    kf.scan.range_max_m = 10.f;
+    kf.scan.ranges_m.assign(360, 2.0f);
+    return to_msg(kf);
+  }
+  /// Writes three keyframes and returns how many the reader got within `seconds`.
+  static size_t exchange(KeyframeWriter& w, KeyframeReader& r, double seconds) {
+    for (int i = 0; i < 3; ++i) w.write(keyframe(i));
+    size_t got = 0;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (got < 3 && std::chrono::steady_clock::now() < end) {
+      got += r.take_all().size();
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return got;
+  }
+
+  static fs::path* dir_;
+  static bool made_;
+  std::unique_ptr<DomainLease> lease_;
+  std::string error_;
+};
+fs::path* Security::dir_ = nullptr;
+bool Security::made_ = false;
+
+TEST_F(Security, TeamMembersAuthenticateAndExchangeKeyframes) {
+  auto robot = participant("robot0", "team/robot0");
+  auto base = participant("base", "team/base");
+  ASSERT_TRUE(robot && base);
+  KeyframeWriter w(*robot, kKeyframeTopic, TopicKind::kKeyframe);
+  KeyframeReader r(*base, kKeyframeTopic, TopicKind::kKeyframe);
+  ASSERT_TRUE(matched_within(w, r, 20.0));
+  EXPECT_EQ(exchange(w, r, 10.0), 3u);
+}
+
+TEST_F(Security, AParticipantWithoutCertificatesHearsNothing) {
+  auto robot = participant("robot0", "team/robot0");
+  auto eavesdropper = participant("eavesdropper", "");
+  ASSERT_TRUE(robot && eavesdropper);
+  KeyframeWriter w(*robot, kKeyframeTopic, TopicKind::kKeyframe);
+  KeyframeReader r(*eavesdropper, kKeyframeTopic, TopicKind::kKeyframe);
+  EXPECT_FALSE(matched_within(w, r, 4.0));
+  EXPECT_EQ(exchange(w, r, 1.0), 0u);
+}
+
+TEST_F(Security, AnotherCasCertificateIsRefused) {
+  auto base = participant("base", "team/base");
+  auto intruder = participant("intruder", "intruders/robot9");
+  ASSERT_TRUE(base && intruder);
+  KeyframeWriter w(*intruder, kKeyframeTopic, TopicKind::kKeyframe);
+  KeyframeReader r(*base, kKeyframeTopic, TopicKind::kKeyframe);
+  EXPECT_FALSE(matched_within(w, r, 4.0));
+  EXPECT_EQ(exchange(w, r, 1.0), 0u);
+}
+
+TEST_F(Security, AMissingKeyIsNamed) {
+  const fs::path partial = *dir_ / "partial";
+  fs::create_directories(partial);
+  fs::copy_file(*dir_ / "team" / "robot0" / "ca.pem", partial / "ca.pem", fs::copy_options::overwrite_existing);
+  fs::copy_file(*dir_ / "team" / "robot0" / "cert.pem", partial / "cert.pem", fs::copy_options::overwrite_existing);
+  ParticipantOptions o;
+  o.domain_id = lease_->domain_id();
+  o.security_dir = partial.string();
+  std::string error;
+  EXPECT_EQ(Participant::create(o, &error), nullptr);
+  EXPECT_NE(error.find((partial / "key.pem").string()), std::string::npos) << error;
+}
+
+TEST_F(Security, AKeyThatIsNotTheCertificatesIsRefused) {
+  const fs::path mixed = *dir_ / "mixed";
+  fs::create_directories(mixed);
+  for (const char* f : {"ca.pem", "cert.pem"}) {
+    fs::copy_file(*dir_ / "team" / "robot0" / f, mixed / f, fs::copy_options::overwrite_existing);
+  }
+  fs::copy_file(*dir_ / "team" / "base" / "key.pem", mixed / "key.pem", fs::copy_options::overwrite_existing);
+  ParticipantOptions o;
+  o.domain_id = lease_->domain_id();
+  o.security_dir = mixed.string();
+  std::string error;
+  EXPECT_EQ(Participant::create(o, &error), nullptr);
+  EXPECT_NE(error.find("DDS security from " + mixed.string()), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace cairn::dds
