@@ -104,6 +104,17 @@ TEST(ProcessBadInput, BaseSkipsAndNamesDamagedJournalRecordsAndKeepsThem) {
   EXPECT_EQ(summary["journal"]["records"], 1) << summary.dump();  // still there for a later look
 }
 
+TEST(ProcessBadInput, EveryProcessNamesTheSecurityFileItCannotRead) {
+  const std::string dir = ::testing::TempDir() + "/no_such_identity";
+  const std::string world = std::string(CAIRN_SOURCE_DIR) + "/worlds/office.yaml";
+  for (const std::string& cmd : {bin("cairn_agent") + " --robot 0", bin("cairn_base") + " --port 0 --out " + dir + "_out",
+                                 bin("cairn_sim") + " --world " + world + " --out " + dir + "_gt"}) {
+    const auto r = run_command(cmd + " --security " + dir);
+    EXPECT_NE(r.exit_code, 0) << cmd << "\n" << r.output;
+    EXPECT_NE(r.output.find("DDS security: cannot read " + dir + "/ca.pem"), std::string::npos) << cmd << "\n" << r.output;
+  }
+}
+
 TEST(ProcessBadInput, AgentRejectsBadConfigAndRobotId) {
   const std::string cfg = temp_file("agent_bad.yaml", "keyframer: {max_interval_s: zero}\n");
   auto r = run_command(bin("cairn_agent") + " --robot 0 --config " + cfg);

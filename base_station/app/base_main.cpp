@@ -40,6 +40,8 @@ int main(int argc, char** argv) {
   app.add_option("--domain", options.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--peer", options.peers, "IPv4 address of a robot (DDS unicast discovery); repeatable");
   app.add_option("--out", options.out_dir, "results folder")->required();
+  app.add_option("--security", options.security_dir,
+                 "DDS Security: folder with ca.pem, cert.pem, key.pem (deploy/security/make_certs.sh)");
   app.add_option("--robots", options.expected_robots, "finish when this many robots are done (0 = run until Ctrl-C)");
   app.add_option("--start", starts, "known start pose of a robot: id,x_m,y_m,yaw_rad (repeatable)");
   app.add_option("--port", options.console.port, "console HTTP port (0 = any free port)");

@@ -48,6 +48,7 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   po.name = "cairn_base";
   po.initial_peers = options.peers;
   po.use_shared_memory = options.use_shared_memory;
+  po.security_dir = options.security_dir;
   n->participant_ = dds::Participant::create(po, error);
   if (!n->participant_) return nullptr;
   auto& p = *n->participant_;

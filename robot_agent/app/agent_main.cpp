@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
   app.add_option("--robot", robot, "robot id")->required()->check(CLI::Range(0, 1000));
   app.add_option("--domain", node.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--peer", node.peers, "IPv4 address of a DDS peer (base station, other robots); repeatable");
+  app.add_option("--security", node.security_dir,
+                 "DDS Security: folder with ca.pem, cert.pem, key.pem (deploy/security/make_certs.sh)");
   app.add_option("--config", config_path, "agent YAML (keyframer, odometry, objects)");
   app.add_option("--log", log_path,
                  "replay a log instead of the sensor topics: CARMEN (.clf/.log, plain or .gz), or a Cairn "

@@ -34,6 +34,7 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
   po.domain_id = options.domain_id;
   po.name = "cairn_agent_" + std::to_string(robot.value);
   po.initial_peers = options.peers;
+  po.security_dir = options.security_dir;
   po.large_data_bytes_per_sec = options.large_data_bytes_per_sec;
   n->participant_ = dds::Participant::create(po, error);
   if (!n->participant_) return nullptr;

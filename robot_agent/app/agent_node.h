@@ -19,6 +19,7 @@ namespace cairn::agent {
 struct AgentNodeOptions {
   int domain_id = 0;
   std::vector<std::string> peers;  ///< unicast discovery peers (IPv4), e.g. the base station
+  std::string security_dir;        ///< DDS Security identity (dds::ParticipantOptions); empty = off
   double status_period_s = 0.5;
   double ack_timeout_s = 60.0;   ///< how long to wait for the base to store everything at the end
   uint32_t large_data_bytes_per_sec = 0;  ///< flow controller for objects; 0 = unlimited

@@ -16,12 +16,14 @@
 int main(int argc, char** argv) {
   CLI::App app{"Cairn multi-robot simulator"};
   std::string world_path, out_dir, log_level = "info";
-  int domain = 0;
+  cairn::dds::ParticipantOptions participant;
   double speed = 0.0, wait_agents_s = 30.0, duration_s = 0.0;
   int64_t seed = -1;
   app.add_option("--world", world_path, "world YAML file")->required();
   app.add_option("--out", out_dir, "ground-truth output folder")->required();
-  app.add_option("--domain", domain, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_option("--domain", participant.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_option("--security", participant.security_dir,
+                 "DDS Security: folder with ca.pem, cert.pem, key.pem (deploy/security/make_certs.sh)");
   app.add_option("--speed", speed, "times real time (0 = as fast as the agents take it)");
   app.add_option("--seed", seed, "override the world's random seed");
   app.add_option("--duration", duration_s, "override the mission duration [s]");
@@ -43,13 +45,13 @@ int main(int argc, char** argv) {
   cairn::sim::Simulator sim(wf.world, wf.sim);
 
   std::string error;
-  auto publisher = cairn::sim::SimPublisher::create(domain, sim.robot_ids(), &error);
+  auto publisher = cairn::sim::SimPublisher::create(participant, sim.robot_ids(), &error);
   if (!publisher) {
     log->error("{}", error);
     return 3;
   }
   log->info("world '{}' with {} robots, {} objects; waiting for agents on domain {}", wf.world.name,
-            sim.robot_ids().size(), wf.world.objects.size(), domain);
+            sim.robot_ids().size(), wf.world.objects.size(), participant.domain_id);
   if (!publisher->wait_for_agents(wait_agents_s)) {
     log->error("not every robot's agent subscribed within {} s", wait_agents_s);
     return 4;

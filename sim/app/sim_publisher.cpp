@@ -7,13 +7,11 @@
 
 namespace cairn::sim {
 
-std::unique_ptr<SimPublisher> SimPublisher::create(int domain, const std::vector<RobotId>& robots,
-                                                   std::string* error) {
+std::unique_ptr<SimPublisher> SimPublisher::create(dds::ParticipantOptions participant,
+                                                   const std::vector<RobotId>& robots, std::string* error) {
   std::unique_ptr<SimPublisher> p(new SimPublisher());
-  dds::ParticipantOptions options;
-  options.domain_id = domain;
-  options.name = "cairn_sim";
-  p->participant_ = dds::Participant::create(options, error);
+  participant.name = "cairn_sim";
+  p->participant_ = dds::Participant::create(participant, error);
   if (!p->participant_) return nullptr;
   auto& part = *p->participant_;
   for (RobotId r : robots) {

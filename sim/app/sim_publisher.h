@@ -12,7 +12,9 @@ namespace cairn::sim {
 
 class SimPublisher {
  public:
-  static std::unique_ptr<SimPublisher> create(int domain, const std::vector<RobotId>& robots, std::string* error);
+  /// `participant`: domain, peers and security; its name is set here.
+  static std::unique_ptr<SimPublisher> create(dds::ParticipantOptions participant, const std::vector<RobotId>& robots,
+                                              std::string* error);
   /// True once every robot's laser topic has a subscriber (its agent).
   bool wait_for_agents(double timeout_s);
   /// Publishes one step's readings (and the clock once per simulated second).

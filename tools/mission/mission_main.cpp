@@ -36,6 +36,7 @@ struct Options {
   bool serve = false;
   int port = 8080;
   int domain = -1;
+  bool secure = false;
   double timeout_s = 900;
   cairn::mission::LinkOptions link;  ///< emulated radio between robots and base (needs root)
 };
@@ -56,6 +57,9 @@ int main(int argc, char** argv) {
   app.add_option("--port", opt.port, "console port (0 = any free port)");
   app.add_option("--domain", opt.domain, "DDS domain id (default: a fresh one)")->check(CLI::Range(0, 232));
   app.add_option("--timeout", opt.timeout_s, "give up after this many seconds");
+  app.add_flag("--secure", opt.secure,
+               "DDS Security: a fresh mission CA and one certificate per process (out/security); every "
+               "participant authenticated (PKI-DH), every message encrypted (AES-GCM)");
   app.add_option("--link-loss", opt.link.loss_pct, "emulated radio: % of packets lost each way (needs root)");
   app.add_option("--link-kbit", opt.link.rate_kbit, "emulated radio: rate limit each way in kbit/s (needs root)");
   CLI11_PARSE(app, argc, argv);
@@ -94,6 +98,22 @@ int main(int argc, char** argv) {
   const fs::path bin = fs::canonical("/proc/self/exe").parent_path();
   const int robots = int(wf.world.robots.size());
 
+  // --secure: one identity per process, signed by a CA made for this mission alone.
+  const fs::path security = out / "security";
+  fs::remove_all(security, ec);
+  auto secured = [&](std::vector<std::string> cmd, const std::string& who) {
+    if (opt.secure) cmd.insert(cmd.end(), {"--security", (security / who).string()});
+    return cmd;
+  };
+  if (opt.secure) {
+    std::string make = "bash '" + (bin / "make_certs.sh").string() + "' '" + security.string() + "' base sim";
+    for (const auto& r : wf.world.robots) make += " robot" + std::to_string(r.id.value);
+    if (std::system(make.c_str()) != 0) {
+      std::cerr << "cairn_mission: cannot make the mission's certificates (" << make << ")\n";
+      return 2;
+    }
+  }
+
   // With an emulated radio the base station sits behind it in its own network namespace and talks
   // to the agents over UDP only; the sensor topics stay on the robots' side (shared memory).
   std::unique_ptr<cairn::mission::NetworkLab> lab;
@@ -125,9 +145,11 @@ int main(int argc, char** argv) {
   base_cmd.push_back(fmt_pose(anchor.id.value, anchor.T_world_start));
   if (opt.serve) base_cmd.push_back("--serve");
   if (lab) base_cmd.insert(base_cmd.end(), {"--no-shm", "--bind", "0.0.0.0", "--peer", lab->robots_side_address()});
+  base_cmd = secured(base_cmd, "base");
 
   std::cout << "Cairn mission '" << wf.world.name << "': " << robots << " robots, " << wf.world.objects.size()
-            << " objects of interest, DDS domain " << opt.domain << "\n"
+            << " objects of interest, DDS domain " << opt.domain
+            << (opt.secure ? ", DDS Security on (PKI-DH, AES-GCM)" : "") << "\n"
             << "console: http://" << console_host << ":" << opt.port << "/\n";
   if (lab) std::cout << lab->describe() << "\n";
   std::signal(SIGINT, on_signal);
@@ -143,15 +165,15 @@ int main(int argc, char** argv) {
           std::vector<std::string> cmd{(bin / "cairn_agent").string(), "--robot", id, "--domain",
                                        std::to_string(opt.domain)};
           cmd.insert(cmd.end(), agent_extra.begin(), agent_extra.end());
-          return cmd;
+          return secured(cmd, "robot" + id);
         }(),
         (out / ("logs/agent" + id + ".log")).string()));
   }
   procs.push_back(std::make_unique<ChildProcess>(
       "sim",
-      std::vector<std::string>{(bin / "cairn_sim").string(), "--world", opt.world, "--out",
-                               (out / "ground_truth").string(), "--domain", std::to_string(opt.domain), "--speed",
-                               std::to_string(opt.speed)},
+      secured({(bin / "cairn_sim").string(), "--world", opt.world, "--out", (out / "ground_truth").string(), "--domain",
+               std::to_string(opt.domain), "--speed", std::to_string(opt.speed)},
+              "sim"),
       (out / "logs/sim.log").string()));
   for (const auto& p : procs) {
     if (!p->started()) {
