@@ -8,6 +8,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "cairn_msgsPubSubTypes.h"
 #include "dds/conversions.h"
@@ -73,6 +75,32 @@ class Security : public ::testing::Test {
     return got;
   }
 
+  /// A writer on `from` and a reader on `to` never match, and nothing written arrives.
+  static void expect_isolated(Participant& from, Participant& to) {
+    KeyframeWriter w(from, kKeyframeTopic, TopicKind::kKeyframe);
+    KeyframeReader r(to, kKeyframeTopic, TopicKind::kKeyframe);
+    EXPECT_FALSE(matched_within(w, r, 4.0));
+    EXPECT_EQ(exchange(w, r, 1.0), 0u);
+  }
+  /// A folder `name` with each file copied from the identity folder given with it.
+  static fs::path identity(const std::string& name, const std::vector<std::pair<std::string, std::string>>& files) {
+    const fs::path dir = *dir_ / name;
+    fs::create_directories(dir);
+    for (const auto& [file, from] : files) {
+      fs::copy_file(*dir_ / from / file, dir / file, fs::copy_options::overwrite_existing);
+    }
+    return dir;
+  }
+  /// Creating a participant with the identity in `dir` fails; returns the error.
+  std::string create_error(const fs::path& dir) {
+    ParticipantOptions o;
+    o.domain_id = lease_->domain_id();
+    o.security_dir = dir.string();
+    std::string error;
+    EXPECT_EQ(Participant::create(o, &error), nullptr);
+    return error;
+  }
+
   static fs::path* dir_;
   static bool made_;
   std::unique_ptr<DomainLease> lease_;
@@ -95,48 +123,24 @@ TEST_F(Security, AParticipantWithoutCertificatesHearsNothing) {
   auto robot = participant("robot0", "team/robot0");
   auto eavesdropper = participant("eavesdropper", "");
   ASSERT_TRUE(robot && eavesdropper);
-  KeyframeWriter w(*robot, kKeyframeTopic, TopicKind::kKeyframe);
-  KeyframeReader r(*eavesdropper, kKeyframeTopic, TopicKind::kKeyframe);
-  EXPECT_FALSE(matched_within(w, r, 4.0));
-  EXPECT_EQ(exchange(w, r, 1.0), 0u);
+  expect_isolated(*robot, *eavesdropper);
 }
 
 TEST_F(Security, AnotherCasCertificateIsRefused) {
   auto base = participant("base", "team/base");
   auto intruder = participant("intruder", "intruders/robot9");
   ASSERT_TRUE(base && intruder);
-  KeyframeWriter w(*intruder, kKeyframeTopic, TopicKind::kKeyframe);
-  KeyframeReader r(*base, kKeyframeTopic, TopicKind::kKeyframe);
-  EXPECT_FALSE(matched_within(w, r, 4.0));
-  EXPECT_EQ(exchange(w, r, 1.0), 0u);
+  expect_isolated(*intruder, *base);
 }
 
 TEST_F(Security, AMissingKeyIsNamed) {
-  const fs::path partial = *dir_ / "partial";
-  fs::create_directories(partial);
-  fs::copy_file(*dir_ / "team" / "robot0" / "ca.pem", partial / "ca.pem", fs::copy_options::overwrite_existing);
-  fs::copy_file(*dir_ / "team" / "robot0" / "cert.pem", partial / "cert.pem", fs::copy_options::overwrite_existing);
-  ParticipantOptions o;
-  o.domain_id = lease_->domain_id();
-  o.security_dir = partial.string();
-  std::string error;
-  EXPECT_EQ(Participant::create(o, &error), nullptr);
-  EXPECT_NE(error.find((partial / "key.pem").string()), std::string::npos) << error;
+  const fs::path dir = identity("partial", {{"ca.pem", "team/robot0"}, {"cert.pem", "team/robot0"}});
+  EXPECT_NE(create_error(dir).find((dir / "key.pem").string()), std::string::npos);
 }
 
 TEST_F(Security, AKeyThatIsNotTheCertificatesIsRefused) {
-  const fs::path mixed = *dir_ / "mixed";
-  fs::create_directories(mixed);
-  for (const char* f : {"ca.pem", "cert.pem"}) {
-    fs::copy_file(*dir_ / "team" / "robot0" / f, mixed / f, fs::copy_options::overwrite_existing);
-  }
-  fs::copy_file(*dir_ / "team" / "base" / "key.pem", mixed / "key.pem", fs::copy_options::overwrite_existing);
-  ParticipantOptions o;
-  o.domain_id = lease_->domain_id();
-  o.security_dir = mixed.string();
-  std::string error;
-  EXPECT_EQ(Participant::create(o, &error), nullptr);
-  EXPECT_NE(error.find("DDS security from " + mixed.string()), std::string::npos) << error;
+  const fs::path dir = identity("mixed", {{"ca.pem", "team/robot0"}, {"cert.pem", "team/robot0"}, {"key.pem", "team/base"}});
+  EXPECT_NE(create_error(dir).find("DDS security from " + dir.string()), std::string::npos);
 }
 
 }  // namespace
