@@ -1,0 +1,135 @@
+// Frontier exploration on hand-drawn grids: robots go to the nearest distinct frontier along free
+// space, a frontier near a victim wins a tie, walls count in the path, closed rooms and crumbs of
+// frontier give no goals.
+#include "base_station/core/exploration.h"
+
+#include <gtest/gtest.h>
+
+namespace cairn::base {
+namespace {
+
+constexpr double kRes = 0.1;
+
+/// A 12 m x 6 m grid, all unknown; helpers paint free space and walls in metres.
+struct Drawing {
+  OccupancyGrid grid;
+  Drawing() : grid(make_options(), {0, 0}, {12, 6}) {}
+  static OccupancyGridOptions make_options() {
+    OccupancyGridOptions o;
+    o.resolution_m = kRes;
+    return o;
+  }
+  void paint(double x0, double y0, double x1, double y1, float log_odds) {
+    for (int r = 0; r < grid.height(); ++r) {
+      for (int c = 0; c < grid.width(); ++c) {
+        const Eigen::Vector2d p = grid.cell_center_m(c, r);
+        if (p.x() >= x0 && p.x() < x1 && p.y() >= y0 && p.y() < y1) {
+          grid.update_cell(c, r, log_odds - grid.log_odds(c, r));
+        }
+      }
+    }
+  }
+  void free(double x0, double y0, double x1, double y1) { paint(x0, y0, x1, y1, -2.f); }
+  void wall(double x0, double y0, double x1, double y1) { paint(x0, y0, x1, y1, 2.f); }
+  /// A corridor from x = 1 to 11 m, 2 m wide, walls along both sides, open (unknown) at both ends.
+  void corridor() {
+    free(1, 2, 11, 4);
+    wall(1, 1.8, 11, 2);
+    wall(1, 4, 11, 4.2);
+  }
+};
+
+const ExplorationGoal* goal_of(const ExplorationPlan& plan, int robot) {
+  for (const auto& g : plan.goals) {
+    if (g.robot.value == robot) return &g;
+  }
+  return nullptr;
+}
+
+TEST(Exploration, EachRobotTakesTheNearestFrontierOfItsOwn) {
+  Drawing d;
+  d.corridor();
+  const ExplorationPlan plan = plan_exploration(d.grid, {{RobotId(0), {3, 3}}, {RobotId(1), {9, 3}}}, {});
+  ASSERT_EQ(plan.frontiers.size(), 2u);
+  const ExplorationGoal* west = goal_of(plan, 0);
+  const ExplorationGoal* east = goal_of(plan, 1);
+  ASSERT_TRUE(west && east);
+  EXPECT_LT(west->goal_m.x(), 1.5);
+  EXPECT_GT(east->goal_m.x(), 10.5);
+  EXPECT_NEAR(west->path_m, 2.0, 0.3);  // 3 m -> the frontier column at ~1 m
+  EXPECT_TRUE(plan.idle.empty());
+
+  // Swapped starts: swapped goals.
+  const ExplorationPlan swapped = plan_exploration(d.grid, {{RobotId(0), {9, 3}}, {RobotId(1), {3, 3}}}, {});
+  EXPECT_GT(goal_of(swapped, 0)->goal_m.x(), 10.5);
+  EXPECT_LT(goal_of(swapped, 1)->goal_m.x(), 1.5);
+}
+
+TEST(Exploration, OneFrontierIsNotSharedAndTheOtherRobotIsIdle) {
+  Drawing d;
+  d.corridor();
+  d.wall(10.8, 2, 11, 4);  // the east end closed
+  const ExplorationPlan plan = plan_exploration(d.grid, {{RobotId(0), {3, 3}}, {RobotId(1), {9, 3}}}, {});
+  ASSERT_EQ(plan.frontiers.size(), 1u);
+  ASSERT_EQ(plan.goals.size(), 1u);
+  EXPECT_EQ(plan.goals[0].robot, RobotId(0));  // nearer
+  ASSERT_EQ(plan.idle.size(), 1u);
+  EXPECT_EQ(plan.idle[0], RobotId(1));
+}
+
+TEST(Exploration, AClosedRoomLeavesNothingToExplore) {
+  Drawing d;
+  d.corridor();
+  d.wall(1, 2, 1.2, 4);
+  d.wall(10.8, 2, 11, 4);
+  const ExplorationPlan plan = plan_exploration(d.grid, {{RobotId(0), {5, 3}}}, {});
+  EXPECT_TRUE(plan.frontiers.empty());
+  EXPECT_TRUE(plan.goals.empty());
+  EXPECT_EQ(plan.idle.size(), 1u);
+}
+
+TEST(Exploration, AVictimNearAFrontierDrawsTheRobotThere) {
+  Drawing d;
+  d.corridor();
+  const ExplorationPlan west = plan_exploration(d.grid, {{RobotId(0), {6, 3}}}, {{1.5, 3}});
+  ASSERT_EQ(west.goals.size(), 1u);
+  EXPECT_LT(west.goals[0].goal_m.x(), 1.5);
+  const ExplorationPlan east = plan_exploration(d.grid, {{RobotId(0), {6, 3}}}, {{10.5, 3}});
+  ASSERT_EQ(east.goals.size(), 1u);
+  EXPECT_GT(east.goals[0].goal_m.x(), 10.5);
+}
+
+TEST(Exploration, PathsGoAroundWalls) {
+  Drawing d;
+  // Two rooms side by side joined by a door at the top; the frontier is in the east room's floor
+  // (open to the south), the robot in the west room right behind the dividing wall.
+  d.free(1, 1, 11, 5);
+  d.wall(1, 5, 11, 5.2);    // north wall
+  d.wall(0.8, 1, 1, 5.2);   // west wall
+  d.wall(10.8, 1, 11, 5.2); // east wall
+  d.wall(1, 0.8, 6, 1);     // south wall of the west room only: the east room opens south
+  d.wall(6, 1, 6.2, 4);     // the dividing wall, door from y = 4 to 5
+  const ExplorationPlan plan = plan_exploration(d.grid, {{RobotId(0), {5.5, 1.5}}}, {});
+  ASSERT_EQ(plan.goals.size(), 1u);
+  const ExplorationGoal& g = plan.goals[0];
+  EXPECT_GT(g.goal_m.x(), 6.2);
+  EXPECT_LT(g.goal_m.y(), 1.2);
+  // Straight line ~0.9 m; through the door at least 2 x 2.5 m.
+  EXPECT_GT(g.path_m, 5.0);
+}
+
+TEST(Exploration, CrumbsOfFrontierAreIgnored) {
+  Drawing d;
+  d.corridor();
+  d.wall(1, 2, 1.2, 4);
+  d.wall(10.8, 2, 11, 4);
+  d.paint(5, 3, 5.2, 3.2, 0.f);  // one unknown cell inside the room: its 4 neighbours are frontier
+  ExplorationOptions o;
+  o.min_frontier_cells = 10;
+  EXPECT_TRUE(plan_exploration(d.grid, {{RobotId(0), {3, 3}}}, {}, o).frontiers.empty());
+  o.min_frontier_cells = 4;
+  EXPECT_EQ(plan_exploration(d.grid, {{RobotId(0), {3, 3}}}, {}, o).frontiers.size(), 1u);
+}
+
+}  // namespace
+}  // namespace cairn::base
