@@ -74,6 +74,7 @@ DataWriterQos writer_qos(TopicKind kind, const QosOptions& options) {
     case TopicKind::kAck:
     case TopicKind::kCorrection:
     case TopicKind::kKeyframePoses:
+    case TopicKind::kGoal:
       reliable_common(q);
       if (kind != TopicKind::kAck) q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
       q.history().kind = KEEP_LAST_HISTORY_QOS;
@@ -106,6 +107,7 @@ DataReaderQos reader_qos(TopicKind kind) {
     case TopicKind::kClock:
     case TopicKind::kCorrection:
     case TopicKind::kKeyframePoses:
+    case TopicKind::kGoal:
       q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
       q.history().kind = KEEP_LAST_HISTORY_QOS;
       q.history().depth = 1;

@@ -1,6 +1,5 @@
 #pragma once
-// Per-topic QoS, in one place (the table in docs/architecture.md). deploy/cairn_profiles.xml
-// states the same for operators who configure peers by XML.
+// Per-topic QoS, in one place (the table in docs/architecture.md).
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 
@@ -19,6 +18,7 @@ enum class TopicKind {
   kAck,         ///< reliable, keep last 1 per robot
   kCorrection,  ///< reliable, transient local, keep last 1 per robot
   kKeyframePoses,  ///< like kCorrection, agent -> base: only the newest estimate matters
+  kGoal,        ///< like kCorrection: each robot's newest exploration goal
 };
 
 struct QosOptions {
@@ -43,5 +43,6 @@ constexpr const char* kStatusTopic = "cairn/status";
 constexpr const char* kAckTopic = "cairn/ack";
 constexpr const char* kCorrectionTopic = "cairn/correction";
 constexpr const char* kKeyframePosesTopic = "cairn/keyframe_poses";
+constexpr const char* kGoalTopic = "cairn/goal";
 
 }  // namespace cairn::dds

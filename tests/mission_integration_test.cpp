@@ -123,6 +123,13 @@ TEST(MissionIntegration, TwoRobotsOverSecureDdsMatchGroundTruth) {
   for (const char* who : {"base", "sim", "robot0", "robot1"}) {
     EXPECT_TRUE(fs::exists(out / "security" / who / "cert.pem")) << who;
   }
+  // The base plans where to search next and sends each linked robot its goal (cairn/goal).
+  std::ifstream agent0(out / "logs" / "agent0.log");
+  const std::string agent0_log((std::istreambuf_iterator<char>(agent0)), std::istreambuf_iterator<char>());
+  EXPECT_NE(agent0_log.find("exploration goal from the base"), std::string::npos) << agent0_log;
+  std::ifstream summary_in(out / "map" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(summary_in);
+  EXPECT_GE(summary["exploration"]["goals"].size(), 1u) << summary["exploration"].dump();
 
   for (const char* f : {"map.pgm", "map.yaml", "map.png", "objects.geojson", "objects.csv", "objects.bt",
                         "graph.g2o", "summary.json"}) {

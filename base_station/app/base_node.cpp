@@ -64,8 +64,10 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   n->ack_out_ = std::make_unique<W<cairn_msgs::Ack, cairn_msgs::AckPubSubType>>(p, dds::kAckTopic, TopicKind::kAck);
   n->correction_out_ = std::make_unique<W<cairn_msgs::Correction, cairn_msgs::CorrectionPubSubType>>(
       p, dds::kCorrectionTopic, TopicKind::kCorrection);
+  n->goal_out_ = std::make_unique<W<cairn_msgs::ExplorationGoal, cairn_msgs::ExplorationGoalPubSubType>>(
+      p, dds::kGoalTopic, TopicKind::kGoal);
   if (!n->keyframe_in_->ok() || !n->object_in_->ok() || !n->status_in_->ok() || !n->keyframe_poses_in_->ok() ||
-      !n->ack_out_->ok() || !n->correction_out_->ok()) {
+      !n->ack_out_->ok() || !n->correction_out_->ok() || !n->goal_out_->ok()) {
     *error = "cannot create the base station's DDS readers/writers";
     return nullptr;
   }
@@ -175,6 +177,26 @@ void BaseNode::publish_acks_and_corrections() {
   }
 }
 
+void BaseNode::plan_and_publish_goals() {
+  plan_ = plan_exploration(mapper_);
+  for (const RobotSummary& r : mapper_.robots()) {
+    if (!r.linked) continue;  // its goal would be in a frame the base cannot place yet
+    cairn_msgs::ExplorationGoal msg;
+    msg.robot_id(r.id.value);
+    msg.has_goal(false);
+    for (const ExplorationGoal& g : plan_.goals) {
+      if (g.robot != r.id) continue;
+      const Eigen::Vector2d local = r.T_global_local.inverse() * g.goal_m;
+      msg.has_goal(true);
+      msg.x_m(local.x());
+      msg.y_m(local.y());
+      msg.path_m(g.path_m);
+      msg.frontier_m(plan_.frontiers[size_t(g.frontier)].length_m);
+    }
+    goal_out_->write(msg);
+  }
+}
+
 nlohmann::json BaseNode::link_stats() const {
   nlohmann::json links = nlohmann::json::object();
   for (const auto& [robot, link] : links_) {
@@ -205,7 +227,7 @@ nlohmann::json BaseNode::link_stats() const {
 }
 
 void BaseNode::refresh_snapshot() {
-  latest_snapshot_.publish(make_snapshot(mapper_, link_stats()));
+  latest_snapshot_.publish(make_snapshot(mapper_, link_stats(), {}, &plan_));
 }
 
 bool BaseNode::all_finished() const {
@@ -245,6 +267,9 @@ int BaseNode::run() {
              console_->port(), options_.domain_id, options_.expected_robots);
   auto next_optimize = Clock::now();
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.optimize_period_s));
+  auto next_plan = Clock::now();
+  const auto plan_period =
+      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.exploration_period_s));
   while (!stop_) {
     const bool got = poll_inputs();
     if (Clock::now() >= next_optimize) {
@@ -255,6 +280,10 @@ int BaseNode::run() {
         report_linking(r);
       }
       publish_acks_and_corrections();
+      if (Clock::now() >= next_plan) {
+        plan_and_publish_goals();
+        next_plan = Clock::now() + plan_period;
+      }
       refresh_snapshot();
       next_optimize = Clock::now() + period;
     }
@@ -268,8 +297,9 @@ int BaseNode::finish() {
   OptimizeResult r = mapper_.optimize();
   // The final map: solve the last loop closures to convergence (bounded, each call iterates a few).
   for (int i = 0; i < 50 && mapper_.refinement_pending(); ++i) r = mapper_.optimize();
+  plan_and_publish_goals();  // where to search next, on the final map
   refresh_snapshot();
-  const ExportSummary exported = export_all(mapper_, options_.out_dir);
+  const ExportSummary exported = export_all(mapper_, options_.out_dir, {}, &plan_);
   for (const auto& f : exported.files) {
     if (!f.ok) log_->error("export of {} failed: {}", f.path, f.error);
   }
@@ -298,6 +328,7 @@ int BaseNode::finish() {
                       {"unlinked_robots", r.unlinked_robots},
                       {"converged", r.solve.converged},
                       {"final_cost", r.solve.final_cost}};
+  summary["exploration"] = exploration_json(plan_);
   summary["rejected_samples"] = rejected_samples_;
   summary["journal"] = {{"path", journal_->path()},
                         {"records", journal_->size()},

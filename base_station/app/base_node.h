@@ -2,7 +2,8 @@
 // The base station's DDS side around MultiRobotMapper: keyframe/object/status readers in;
 // ack/correction writers out; a console snapshot refreshed for the HTTP thread; exports at the end.
 // Data flow: keyframe/object topics -> dds::from_msg -> MultiRobotMapper -> journal (SQLite) ->
-//            optimize -> ack + correction topics, console snapshot, export_all().
+//            optimize -> ack + correction topics; plan_exploration -> goal topic; console
+//            snapshot; export_all().
 // A sample is acknowledged only once it is in the journal; a restarted base resumes from it.
 #include <atomic>
 #include <chrono>
@@ -15,6 +16,7 @@
 
 #include "base_station/console/console_server.h"
 #include "base_station/console/snapshot.h"
+#include "base_station/core/exploration.h"
 #include "base_station/core/multi_robot_mapper.h"
 #include "base_station/store/journal.h"
 #include "cairn_msgsPubSubTypes.h"
@@ -32,6 +34,7 @@ struct BaseNodeOptions {
   int expected_robots = 0;                ///< finish once this many robots reported "finished"; 0 = run until stopped
   std::map<RobotId, SE2> robot_starts;    ///< known start poses (until cross-robot merging lands)
   double optimize_period_s = 1.0;
+  double exploration_period_s = 5.0;      ///< how often the exploration goals are planned anew
   ConsoleOptions console;
   bool serve_after_finish = false;        ///< keep the console up after the mission ended
   std::string journal_path;               ///< default <out_dir>/journal.sqlite
@@ -68,6 +71,7 @@ class BaseNode {
   void flush_journal();
   bool poll_inputs();
   void publish_acks_and_corrections();
+  void plan_and_publish_goals();
   void refresh_snapshot();
   void report_linking(const OptimizeResult& result);
   nlohmann::json link_stats() const;
@@ -91,8 +95,10 @@ class BaseNode {
   std::unique_ptr<R<cairn_msgs::KeyframePoses, cairn_msgs::KeyframePosesPubSubType>> keyframe_poses_in_;
   std::unique_ptr<W<cairn_msgs::Ack, cairn_msgs::AckPubSubType>> ack_out_;
   std::unique_ptr<W<cairn_msgs::Correction, cairn_msgs::CorrectionPubSubType>> correction_out_;
+  std::unique_ptr<W<cairn_msgs::ExplorationGoal, cairn_msgs::ExplorationGoalPubSubType>> goal_out_;
   std::unique_ptr<ConsoleServer> console_;
   std::unique_ptr<Journal> journal_;
+  ExplorationPlan plan_;  ///< the newest exploration plan (console, goal topic, final export)
   std::vector<JournalRecord> unjournaled_;  ///< stored in the mapper, not yet in the journal: no ack
   int restored_records_ = 0;
   int journal_commits_ = 0;

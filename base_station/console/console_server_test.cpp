@@ -40,6 +40,27 @@ TEST(Snapshot, DescribesRobotsObjectsAndAlerts) {
   EXPECT_LE(s.clouds.at("0-2").size(), 2000u);
 }
 
+TEST(Snapshot, ShowsWhereEachRobotShouldSearchNext) {
+  const MultiRobotMapper mapper = make_mapper();
+  ExplorationPlan plan;
+  plan.frontiers.push_back({{6.0, 1.0}, 30, 1.5, 1.0});
+  plan.goals.push_back({RobotId(0), 0, {6.0, 1.0}, 4.2, 0.3});
+  plan.idle.push_back(RobotId(3));
+  const ConsoleSnapshot s = make_snapshot(mapper, nlohmann::json::object(), {}, &plan);
+  const nlohmann::json& e = s.status["exploration"];
+  EXPECT_EQ(e["frontiers"], 1);
+  ASSERT_EQ(e["goals"].size(), 1u);
+  EXPECT_EQ(e["goals"][0]["robot"], 0);
+  EXPECT_DOUBLE_EQ(e["goals"][0]["x_m"].get<double>(), 6.0);
+  EXPECT_DOUBLE_EQ(e["goals"][0]["path_m"].get<double>(), 4.2);
+  EXPECT_DOUBLE_EQ(e["goals"][0]["frontier_m"].get<double>(), 1.5);
+  EXPECT_EQ(e["idle"], nlohmann::json::array({3}));
+  // The goal is drawn on the map; without a plan there is no "exploration" entry.
+  const ConsoleSnapshot without = make_snapshot(mapper, nlohmann::json::object());
+  EXPECT_FALSE(without.status.contains("exploration"));
+  EXPECT_NE(s.map_png, without.map_png);
+}
+
 TEST(ConsoleServer, ServesPagesAndApi) {
   LatestSnapshot latest;
   latest.publish(make_snapshot(make_mapper(), nlohmann::json::object()));

@@ -101,8 +101,22 @@ nlohmann::json alerts_json(const std::vector<RobotSummary>& robots, const std::v
 
 }  // namespace
 
+nlohmann::json exploration_json(const ExplorationPlan& plan) {
+  nlohmann::json goals = nlohmann::json::array();
+  for (const ExplorationGoal& g : plan.goals) {
+    goals.push_back({{"robot", g.robot.value},
+                     {"x_m", g.goal_m.x()},
+                     {"y_m", g.goal_m.y()},
+                     {"path_m", g.path_m},
+                     {"frontier_m", plan.frontiers[size_t(g.frontier)].length_m}});
+  }
+  std::vector<int> idle;
+  for (RobotId r : plan.idle) idle.push_back(r.value);
+  return {{"frontiers", plan.frontiers.size()}, {"goals", goals}, {"idle", idle}};
+}
+
 ConsoleSnapshot make_snapshot(const MultiRobotMapper& mapper, const nlohmann::json& link_stats,
-                              const SnapshotOptions& options) {
+                              const SnapshotOptions& options, const ExplorationPlan* plan) {
   ConsoleSnapshot s;
   const std::vector<RobotSummary> robots = mapper.robots();
   const std::vector<GlobalObject> objects = mapper.objects();
@@ -132,7 +146,8 @@ ConsoleSnapshot make_snapshot(const MultiRobotMapper& mapper, const nlohmann::js
               {"pending_objects", mapper.pending_objects().size()},
               {"version", mapper.version()},
               {"alerts", alerts_json(robots, objects)}};
-  s.map_png = render_map_png(mapper);
+  if (plan) s.status["exploration"] = exploration_json(*plan);
+  s.map_png = render_map_png(mapper, {}, plan);
   return s;
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "base_station/core/exploration.h"
 #include "base_station/core/multi_robot_mapper.h"
 
 namespace cairn::base {
@@ -29,9 +30,13 @@ struct SnapshotOptions {
 
 /// Builds a snapshot. `link_stats` is an object keyed by robot id as a decimal string (e.g. "1"),
 /// each value free-form (the console shows "state", "bytes_rx" and "rtt_ms" when present); it is
-/// copied into the robot's "link" field. Must run on the thread that owns the mapper.
+/// copied into the robot's "link" field. With a `plan`, status["exploration"] lists each robot's
+/// next goal and the map shows it. Must run on the thread that owns the mapper.
 ConsoleSnapshot make_snapshot(const MultiRobotMapper& mapper, const nlohmann::json& link_stats,
-                              const SnapshotOptions& options = {});
+                              const SnapshotOptions& options = {}, const ExplorationPlan* plan = nullptr);
+
+/// {"frontiers": n, "goals": [{"robot", "x_m", "y_m", "path_m", "frontier_m"}], "idle": [robot ids]}
+nlohmann::json exploration_json(const ExplorationPlan& plan);
 
 /// Thread-safe holder of the latest snapshot: the app publishes, the console reads.
 class LatestSnapshot {

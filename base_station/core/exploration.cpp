@@ -5,6 +5,8 @@
 #include <limits>
 #include <queue>
 
+#include "base_station/core/multi_robot_mapper.h"
+
 namespace cairn::base {
 namespace {
 
@@ -234,6 +236,19 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
     if (!assigned[robot]) plan.idle.push_back(robot);
   }
   return plan;
+}
+
+ExplorationPlan plan_exploration(const MultiRobotMapper& mapper, const ExplorationOptions& options) {
+  std::map<RobotId, Eigen::Vector2d> robots_m;
+  for (const RobotSummary& r : mapper.robots()) {
+    const Trajectory t = mapper.global_trajectory(r.id);
+    if (!t.empty()) robots_m[r.id] = t.back().pose.translation();
+  }
+  std::vector<Eigen::Vector2d> victims_m;
+  for (const GlobalObject& o : mapper.objects()) {
+    if (o.class_name == "victim") victims_m.push_back(o.position_m.head<2>());
+  }
+  return plan_exploration(mapper.global_map(), robots_m, victims_m, options);
 }
 
 }  // namespace cairn::base

@@ -152,7 +152,8 @@ bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::str
   return write_text(path, s.str(), error);
 }
 
-ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_dir, const ExportOptions& options) {
+ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_dir, const ExportOptions& options,
+                         const ExplorationPlan* plan) {
   ExportSummary summary;
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
@@ -167,7 +168,7 @@ ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_
   });
   summary.files.push_back({dir + "map.yaml", summary.files.back().ok, summary.files.back().error});
   run(&summary, dir + "map.png",
-      [&](const std::string& p, std::string* e) { return write_map_png(mapper, p, options, e); });
+      [&](const std::string& p, std::string* e) { return write_map_png(mapper, p, options, e, plan); });
   run(&summary, dir + "objects.geojson",
       [&](const std::string& p, std::string* e) { return write_objects_geojson(objects, p, e); });
   run(&summary, dir + "objects.csv",

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "base_station/core/exploration.h"
 #include "base_station/core/multi_robot_mapper.h"
 
 namespace cairn::base {
@@ -36,12 +37,15 @@ struct ExportSummary {
   }
 };
 
-/// Writes every export into out_dir (created if needed).
+/// Writes every export into out_dir (created if needed). With a `plan`, map.png shows where each
+/// robot should search next.
 ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_dir,
-                         const ExportOptions& options = {});
+                         const ExportOptions& options = {}, const ExplorationPlan* plan = nullptr);
 
-/// The map image (grid, trajectories, keyframes, objects) as PNG bytes; empty on failure.
-std::vector<uint8_t> render_map_png(const MultiRobotMapper& mapper, const ExportOptions& options = {});
+/// The map image (grid, trajectories, keyframes, objects, and the plan's goals when given) as PNG
+/// bytes; empty on failure.
+std::vector<uint8_t> render_map_png(const MultiRobotMapper& mapper, const ExportOptions& options = {},
+                                    const ExplorationPlan* plan = nullptr);
 
 /// Individual writers (used by export_all); each returns false and sets *error on failure.
 bool write_objects_geojson(const std::vector<GlobalObject>& objects, const std::string& path, std::string* error);
@@ -52,7 +56,7 @@ bool write_objects_csv(const std::vector<GlobalObject>& objects, const std::stri
 /// their range-bearing observations as EDGE_SE2_XY (point in the pose frame, information I11 I12 I22).
 bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::string* error);
 bool write_map_png(const MultiRobotMapper& mapper, const std::string& path, const ExportOptions& options,
-                   std::string* error);
+                   std::string* error, const ExplorationPlan* plan = nullptr);
 /// Any row-major RGB picture (top row first, 3 bytes per pixel) as PNG, e.g. draw_map_consistency's.
 bool write_rgb_png(int width, int height, const std::vector<uint8_t>& rgb, const std::string& path,
                    std::string* error);

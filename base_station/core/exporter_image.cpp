@@ -1,5 +1,6 @@
 // The map image: occupancy grid (ROS map_server shades) scaled up, each robot's trajectory as a
-// coloured polyline with keyframe dots, objects as class-coloured markers with labels.
+// coloured polyline with keyframe dots, objects as class-coloured markers with labels, and each
+// robot's next exploration goal as a dashed line from it to a target ring.
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
@@ -96,7 +97,25 @@ void draw_objects(const std::vector<GlobalObject>& objects, const PixelMapper& p
   }
 }
 
-cv::Mat render(const MultiRobotMapper& mapper, const ExportOptions& options) {
+void draw_goals(const MultiRobotMapper& mapper, const ExplorationPlan& plan, const PixelMapper& px, cv::Mat* img) {
+  for (const ExplorationGoal& g : plan.goals) {
+    const Trajectory t = mapper.global_trajectory(g.robot);
+    if (t.empty()) continue;
+    const cv::Scalar colour = robot_colour(g.robot);
+    const cv::Point from = px(t.back().pose.translation()), to = px(g.goal_m);
+    const double length = std::hypot(to.x - from.x, to.y - from.y);
+    for (double s = 0; s < length; s += 12) {  // dashes of 6 px
+      const double e = std::min(length, s + 6);
+      cv::line(*img, from + (to - from) * (s / length), from + (to - from) * (e / length), colour, 2, cv::LINE_AA);
+    }
+    cv::circle(*img, to, 9, colour, 2, cv::LINE_AA);
+    cv::circle(*img, to, 3, colour, cv::FILLED, cv::LINE_AA);
+    cv::putText(*img, "R" + std::to_string(g.robot.value) + " next", to + cv::Point(11, 4), cv::FONT_HERSHEY_SIMPLEX,
+                0.45, colour, 1, cv::LINE_AA);
+  }
+}
+
+cv::Mat render(const MultiRobotMapper& mapper, const ExportOptions& options, const ExplorationPlan* plan) {
   const OccupancyGrid& grid = mapper.global_map();
   if (grid.width() == 0 || grid.height() == 0) {
     cv::Mat blank(240, 320, CV_8UC3, cv::Scalar(205, 205, 205));
@@ -111,15 +130,17 @@ cv::Mat render(const MultiRobotMapper& mapper, const ExportOptions& options) {
   const PixelMapper px{origin_m, grid.resolution_m(), box.row1 - box.row0 + 1, scale};
   draw_trajectories(mapper, px, &img);
   draw_objects(mapper.objects(), px, &img);
+  if (plan) draw_goals(mapper, *plan, px, &img);
   return img;
 }
 
 }  // namespace
 
-std::vector<uint8_t> render_map_png(const MultiRobotMapper& mapper, const ExportOptions& options) {
+std::vector<uint8_t> render_map_png(const MultiRobotMapper& mapper, const ExportOptions& options,
+                                    const ExplorationPlan* plan) {
   std::vector<uint8_t> png;
   try {
-    if (!cv::imencode(".png", render(mapper, options), png)) png.clear();
+    if (!cv::imencode(".png", render(mapper, options, plan), png)) png.clear();
   } catch (const cv::Exception&) {
     png.clear();
   }
@@ -127,9 +148,9 @@ std::vector<uint8_t> render_map_png(const MultiRobotMapper& mapper, const Export
 }
 
 bool write_map_png(const MultiRobotMapper& mapper, const std::string& path, const ExportOptions& options,
-                   std::string* error) {
+                   std::string* error, const ExplorationPlan* plan) {
   try {
-    if (cv::imwrite(path, render(mapper, options))) return true;
+    if (cv::imwrite(path, render(mapper, options, plan))) return true;
     *error = "cv::imwrite failed";
   } catch (const cv::Exception& e) {
     *error = std::string("OpenCV: ") + e.what();

@@ -1,6 +1,7 @@
 #include "robot_agent/app/agent_node.h"
 
 #include <chrono>
+#include <cmath>
 #include <thread>
 
 #include "dds/conversions.h"
@@ -49,6 +50,8 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
   n->clock_in_ = std::make_unique<R<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>>(
       p, dds::kClockTopic, TopicKind::kClock);
   n->ack_in_ = std::make_unique<R<cairn_msgs::Ack, cairn_msgs::AckPubSubType>>(p, dds::kAckTopic, TopicKind::kAck);
+  n->goal_in_ = std::make_unique<R<cairn_msgs::ExplorationGoal, cairn_msgs::ExplorationGoalPubSubType>>(
+      p, dds::kGoalTopic, TopicKind::kGoal);
   dds::QosOptions large;
   large.large_data_flow_controlled = options.large_data_bytes_per_sec > 0;
   n->keyframe_out_ = std::make_unique<W<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>>(
@@ -61,7 +64,7 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
       p, dds::kStatusTopic, TopicKind::kStatus);
   if (!n->odometry_in_->ok() || !n->laser_in_->ok() || !n->rgbd_in_->ok() || !n->clock_in_->ok() ||
       !n->ack_in_->ok() || !n->keyframe_out_->ok() || !n->object_out_->ok() || !n->keyframe_poses_out_->ok() ||
-      !n->status_out_->ok()) {
+      !n->status_out_->ok() || !n->goal_in_->ok()) {
     *error = "cannot create the agent's DDS readers/writers";
     return nullptr;
   }
@@ -98,12 +101,34 @@ bool AgentNode::poll_inputs() {
   for (const auto& c : clock_in_->take_all()) {
     if (!log_source_) input_finished_ = input_finished_ || c.finished();
   }
+  for (const auto& g : goal_in_->take_all()) {
+    if (g.robot_id() == robot_.value) take_goal(g);
+  }
   for (const auto& a : ack_in_->take_all()) {
     if (a.robot_id() != robot_.value) continue;
     acked_keyframe_seq_ = std::max(acked_keyframe_seq_, a.keyframe_seq());
     acked_object_count_ = std::max(acked_object_count_, int(a.object_count()));
   }
   return any;
+}
+
+void AgentNode::take_goal(const cairn_msgs::ExplorationGoal& g) {
+  if (!g.has_goal()) {
+    if (goal_m_) log_->info("the base has no exploration goal left for this robot");
+    goal_m_.reset();
+    return;
+  }
+  if (!std::isfinite(g.x_m()) || !std::isfinite(g.y_m()) || !std::isfinite(g.path_m())) {
+    ++bad_samples_;
+    log_->warn("dropped an exploration goal with non-finite numbers");
+    return;
+  }
+  const Eigen::Vector2d goal(g.x_m(), g.y_m());
+  if (goal_m_ && (goal - *goal_m_).norm() < 1.0) return;  // the same goal, re-planned
+  goal_m_ = goal;
+  log_->info("exploration goal from the base: ({:.1f}, {:.1f}) m in this robot's frame, {:.1f} m away, {:.1f} m "
+             "of unexplored edge",
+             goal.x(), goal.y(), g.path_m(), g.frontier_m());
 }
 
 void AgentNode::publish(const AgentOutputs& outputs) {

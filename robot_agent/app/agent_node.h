@@ -4,6 +4,7 @@
 // Data flow: sensor topics -> dds::from_msg -> AgentPipeline -> dds::to_msg -> keyframe/object.
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -66,6 +67,7 @@ class AgentNode {
   std::unique_ptr<R<cairn_msgs::RgbdFrame, cairn_msgs::RgbdFramePubSubType>> rgbd_in_;
   std::unique_ptr<R<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>> clock_in_;
   std::unique_ptr<R<cairn_msgs::Ack, cairn_msgs::AckPubSubType>> ack_in_;
+  std::unique_ptr<R<cairn_msgs::ExplorationGoal, cairn_msgs::ExplorationGoalPubSubType>> goal_in_;
   std::unique_ptr<W<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>> keyframe_out_;
   std::unique_ptr<W<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>> object_out_;
   std::unique_ptr<W<cairn_msgs::KeyframePoses, cairn_msgs::KeyframePosesPubSubType>> keyframe_poses_out_;
@@ -79,6 +81,10 @@ class AgentNode {
   int acked_object_count_ = 0;
   std::set<int32_t> objects_published_;
   int bad_samples_ = 0;
+  /// The base's newest exploration goal in this robot's frame (logged for the operator and a
+  /// planner; the simulated robots follow their waypoints).
+  std::optional<Eigen::Vector2d> goal_m_;
+  void take_goal(const cairn_msgs::ExplorationGoal& g);
   int last_rate_scans_ = 0;        ///< for the scan rate in the status message
   int last_stalled_scans_ = 0;  ///< AgentStats::scans_odometry_stalled at the last warning
   double last_rate_time_s_ = 0.0;

@@ -86,6 +86,21 @@ function renderObjects(objects) {
   replaceRows(document.getElementById("objects"), rows, "No objects yet", 8);
 }
 
+function renderGoals(exploration) {
+  if (!exploration) return;
+  const rows = (exploration.goals || []).map((g) => el("tr", {}, [
+    el("td", { text: `Robot ${g.robot}` }),
+    el("td", { class: "num", text: g.x_m.toFixed(1) }),
+    el("td", { class: "num", text: g.y_m.toFixed(1) }),
+    el("td", { text: `${g.path_m.toFixed(1)} m` }),
+    el("td", { text: `${g.frontier_m.toFixed(1)} m` }),
+  ]));
+  for (const r of exploration.idle || []) {
+    rows.push(el("tr", {}, [el("td", { text: `Robot ${r}` }), el("td", { colspan: 4, class: "muted", text: "nothing reachable left to explore" })]));
+  }
+  replaceRows(document.getElementById("goals"), rows, "Nothing left to explore", 5);
+}
+
 async function getJson(path) {
   const res = await fetch(path, { cache: "no-store" });
   if (!res.ok) throw new Error(`${path}: HTTP ${res.status}`);
@@ -106,6 +121,7 @@ async function refresh() {
       getJson("/api/status"), getJson("/api/robots"), getJson("/api/objects"),
     ]);
     renderStatus(status);
+    renderGoals(status.exploration);
     renderRobots(robots);
     renderObjects(objects);
     refreshMap();
