@@ -1,5 +1,6 @@
 // Exploration planning (base_station/core/exploration.h) on a real merged map: ms per plan for
-// 1-8 robots. The base plans every 5 s (BaseNodeOptions::exploration_period_s) on its app thread.
+// 1-8 robots. The base plans every 2 s while the map changes (BaseNodeOptions::exploration_period_s),
+// on its app thread.
 // Usage: bench_exploration [map.pgm]   (default out/collapsed/map/map.pgm, written by the demo:
 // scripts/demo.sh); the map's resolution and origin come from the .yaml beside it.
 #include <benchmark/benchmark.h>

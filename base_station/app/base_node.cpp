@@ -152,8 +152,11 @@ bool BaseNode::poll_inputs() {
     }
   }
   for (const auto& m : status_in_->take_all()) {
+    const RobotId robot(m.robot_id());
+    const bool news = !links_.count(robot) || !links_[robot].has_status || links_[robot].last_status.finished() != m.finished();
     ingest(m, /*live=*/true);
-    journal(JournalKind::kStatus, m.robot_id(), 0, dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(m));
+    unjournaled_status_[robot] = m;  // the newest per robot; see flush_journal()
+    status_urgent_ = status_urgent_ || news;
   }
   flush_journal();
   return any;
@@ -179,6 +182,7 @@ void BaseNode::publish_acks_and_corrections() {
 
 void BaseNode::plan_and_publish_goals() {
   plan_ = plan_exploration(mapper_);
+  planned_version_ = mapper_.version();
   for (const RobotSummary& r : mapper_.robots()) {
     if (!r.linked) continue;  // its goal would be in a frame the base cannot place yet
     cairn_msgs::ExplorationGoal msg;
@@ -280,7 +284,7 @@ int BaseNode::run() {
         report_linking(r);
       }
       publish_acks_and_corrections();
-      if (Clock::now() >= next_plan) {
+      if (Clock::now() >= next_plan && mapper_.version() != planned_version_) {
         plan_and_publish_goals();
         next_plan = Clock::now() + plan_period;
       }

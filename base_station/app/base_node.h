@@ -34,7 +34,7 @@ struct BaseNodeOptions {
   int expected_robots = 0;                ///< finish once this many robots reported "finished"; 0 = run until stopped
   std::map<RobotId, SE2> robot_starts;    ///< known start poses (until cross-robot merging lands)
   double optimize_period_s = 1.0;
-  double exploration_period_s = 5.0;      ///< how often the exploration goals are planned anew
+  double exploration_period_s = 2.0;      ///< how often the exploration goals are planned anew (when the map changed)
   ConsoleOptions console;
   bool serve_after_finish = false;        ///< keep the console up after the mission ended
   std::string journal_path;               ///< default <out_dir>/journal.sqlite
@@ -99,7 +99,10 @@ class BaseNode {
   std::unique_ptr<ConsoleServer> console_;
   std::unique_ptr<Journal> journal_;
   ExplorationPlan plan_;  ///< the newest exploration plan (console, goal topic, final export)
+  uint64_t planned_version_ = 0;  ///< mapper_.version() plan_ was made for
   std::vector<JournalRecord> unjournaled_;  ///< stored in the mapper, not yet in the journal: no ack
+  std::map<RobotId, cairn_msgs::RobotStatus> unjournaled_status_;  ///< newest status per robot, not yet journaled
+  bool status_urgent_ = false;  ///< a robot's first status or a change of "finished": journal now
   int restored_records_ = 0;
   int journal_commits_ = 0;
   double journal_commit_s_ = 0;  ///< wall time spent committing (fsync included)

@@ -95,6 +95,16 @@ void BaseNode::journal(JournalKind kind, int32_t robot_id, int64_t key, std::vec
 }
 
 void BaseNode::flush_journal() {
+  // Statuses arrive twice a second per robot and are never acknowledged: they ride along with the
+  // next batch of samples instead of costing a commit (an fsync) each, except a robot's first one
+  // and its "finished", which a restarted base must know.
+  if (!unjournaled_.empty() || status_urgent_) {
+    for (auto& [robot, status] : unjournaled_status_) {
+      journal(JournalKind::kStatus, robot.value, 0, dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(status));
+    }
+    unjournaled_status_.clear();
+    status_urgent_ = false;
+  }
   if (unjournaled_.empty()) return;
   std::string error;
   const auto t0 = std::chrono::steady_clock::now();

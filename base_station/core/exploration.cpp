@@ -12,25 +12,49 @@ namespace {
 
 enum class Cell : uint8_t { kUnknown, kFree, kOccupied };
 
+/// The part of the map worth planning in: the known cells' bounding box plus one unknown cell all
+/// round (the global map grows in large blocks, mostly unknown). Cell (0, 0) is the map's
+/// (col0, row0).
 struct Grid {
-  int w = 0, h = 0;
+  int col0 = 0, row0 = 0, w = 0, h = 0;
   double res = 0;
   std::vector<Cell> cells;
   std::vector<uint8_t> near_wall;
   bool in(int c, int r) const { return c >= 0 && r >= 0 && c < w && r < h; }
   size_t at(int c, int r) const { return size_t(r) * w + c; }
+  Eigen::Vector2d centre_m(const OccupancyGrid& map, const Eigen::Vector2i& cell) const {
+    return map.cell_center_m(cell.x() + col0, cell.y() + row0);
+  }
+  Eigen::Vector2i cell_of(const OccupancyGrid& map, const Eigen::Vector2d& p_m) const {
+    return map.cell_of(p_m) - Eigen::Vector2i(col0, row0);
+  }
 };
 
 Grid classify(const OccupancyGrid& grid, const ExplorationOptions& o) {
   Grid g;
-  g.w = grid.width();
-  g.h = grid.height();
+  int col1 = -1, row1 = -1;
+  g.col0 = grid.width();
+  g.row0 = grid.height();
+  for (int r = 0; r < grid.height(); ++r) {
+    for (int c = 0; c < grid.width(); ++c) {
+      if (!grid.known(c, r)) continue;
+      g.col0 = std::min(g.col0, c);
+      g.row0 = std::min(g.row0, r);
+      col1 = std::max(col1, c);
+      row1 = std::max(row1, r);
+    }
+  }
   g.res = grid.resolution_m();
+  if (col1 < 0) return g;  // nothing known: an empty grid
+  g.col0 -= 1;
+  g.row0 -= 1;
+  g.w = col1 - g.col0 + 2;
+  g.h = row1 - g.row0 + 2;
   g.cells.assign(size_t(g.w) * g.h, Cell::kUnknown);
   for (int r = 0; r < g.h; ++r) {
     for (int c = 0; c < g.w; ++c) {
-      if (!grid.known(c, r)) continue;
-      const double p = grid.probability(c, r);
+      if (!grid.known(c + g.col0, r + g.row0)) continue;  // also what lies outside the map
+      const double p = grid.probability(c + g.col0, r + g.row0);
       g.cells[g.at(c, r)] = p > o.occupied_above ? Cell::kOccupied : p < o.free_below ? Cell::kFree : Cell::kUnknown;
     }
   }
@@ -170,7 +194,7 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
     Eigen::Vector2d mean(0, 0);
     int near_victim = 0;
     for (const auto& cell : piece) {
-      const Eigen::Vector2d p = grid.cell_center_m(cell.x(), cell.y());
+      const Eigen::Vector2d p = g.centre_m(grid, cell);
       mean += p;
       for (const auto& v : victims_m) {
         if ((p - v).norm() <= o.victim_radius_m) {
@@ -182,7 +206,7 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
     mean /= double(piece.size());
     double best = std::numeric_limits<double>::infinity();
     for (const auto& cell : piece) {
-      const Eigen::Vector2d p = grid.cell_center_m(cell.x(), cell.y());
+      const Eigen::Vector2d p = g.centre_m(grid, cell);
       if ((p - mean).norm() < best) {
         best = (p - mean).norm();
         f.centre_m = p;
@@ -201,7 +225,7 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
   };
   std::vector<Option> options;
   for (const auto& [robot, position] : robots_m) {
-    const std::vector<double> dist = path_lengths(g, grid.cell_of(position), o);
+    const std::vector<double> dist = path_lengths(g, g.cell_of(grid, position), o);
     for (size_t f = 0; f < pieces.size(); ++f) {
       double best = std::numeric_limits<double>::infinity();
       Eigen::Vector2i best_cell;
@@ -214,7 +238,7 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
       }
       if (!std::isfinite(best)) continue;
       const Frontier& fr = plan.frontiers[f];
-      options.push_back({robot, int(f), grid.cell_center_m(best_cell.x(), best_cell.y()), best,
+      options.push_back({robot, int(f), g.centre_m(grid, best_cell), best,
                          fr.weight * fr.length_m / (best + 1.0)});
     }
   }
