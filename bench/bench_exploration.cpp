@@ -60,7 +60,8 @@ bool load_map(const std::string& pgm_path, OccupancyGrid* grid, std::string* err
   in.read(reinterpret_cast<char*>(px.data()), std::streamsize(px.size()));
   cairn::OccupancyGridOptions o;
   o.resolution_m = resolution;
-  *grid = OccupancyGrid(o, {origin[0], origin[1]}, {origin[0] + w * resolution - 1e-6, origin[1] + h * resolution - 1e-6});
+  *grid =
+      OccupancyGrid(o, {origin[0], origin[1]}, {origin[0] + w * resolution - 1e-6, origin[1] + h * resolution - 1e-6});
   for (int row = 0; row < h; ++row) {  // PGM top row first
     for (int col = 0; col < w; ++col) {
       const uint8_t v = px[size_t(row) * w + col];

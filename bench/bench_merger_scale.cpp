@@ -217,7 +217,7 @@ int main(int argc, char** argv) {
   double check_radius_m = cairn::base::MapperOptions{}.map_check.local_radius_m;
   bool loops = false, map_check = true;
   int max_iterations = cairn::base::MapperOptions{}.incremental_max_iterations;
-  bool cholmod = false;  // PoseGraphSolveOptions::eigen_sparse off
+  bool cholmod = false;    // PoseGraphSolveOptions::eigen_sparse off
   std::string export_g2o;  // the final graph, to time and vary its solve offline (cairn_g2o_opt)
   int agent_poses_every = 0;
   for (int i = 1; i < argc; ++i) {
@@ -245,10 +245,12 @@ int main(int argc, char** argv) {
       total = std::atoi(argv[i]);
     }
   }
-  if (total <= 0 || render_every <= 0 || refine_every <= 0 || refine_per < 0 || max_iterations <= 0 || agent_poses_every < 0) {
-    std::fprintf(stderr, "usage: bench_merger_scale [total_keyframes > 0] [--loops [--no-map-check]] [--render-every N > 0] "
-                         "[--refine-every N > 0] [--refine-keyframes-per-update N >= 0] [--map-check-radius M] "
-                         "[--max-iterations N > 0] [--cholmod] [--export-g2o FILE] [--agent-poses-every N >= 0]\n");
+  if (total <= 0 || render_every <= 0 || refine_every <= 0 || refine_per < 0 || max_iterations <= 0 ||
+      agent_poses_every < 0) {
+    std::fprintf(stderr,
+                 "usage: bench_merger_scale [total_keyframes > 0] [--loops [--no-map-check]] [--render-every N > 0] "
+                 "[--refine-every N > 0] [--refine-keyframes-per-update N >= 0] [--map-check-radius M] "
+                 "[--max-iterations N > 0] [--cholmod] [--export-g2o FILE] [--agent-poses-every N >= 0]\n");
     return 2;
   }
   constexpr int kWindow = 1000;
@@ -267,8 +269,8 @@ int main(int argc, char** argv) {
   const Building building = make_building(&rng);
   std::vector<Walker> walkers(kRobots);
   std::vector<SE2> pose(kRobots);
-  std::vector<std::vector<SE2>> truth(kRobots);  // true global pose of each keyframe, by seq
-  std::vector<SE2> start(kRobots);                // where each robot's local frame sits
+  std::vector<std::vector<SE2>> truth(kRobots);        // true global pose of each keyframe, by seq
+  std::vector<SE2> start(kRobots);                     // where each robot's local frame sits
   std::vector<std::vector<SE2>> agent_local(kRobots);  // what a loop-closing agent would send: true local poses
   for (int r = 0; r < kRobots; ++r) {
     if (loops) {
@@ -283,12 +285,15 @@ int main(int argc, char** argv) {
       mapper.set_robot_start(RobotId(r), start[size_t(r)]);
     }
   }
-  std::printf("%d robots, loop detection %s%s, map rendered every %d updates, loop refinement every max(%d, "
-              "nodes / %d) updates\n", kRobots, loops ? "on" : "off", loops && !map_check ? " (no map check)" : "",
-              render_every, refine_every, refine_per);
+  std::printf(
+      "%d robots, loop detection %s%s, map rendered every %d updates, loop refinement every max(%d, "
+      "nodes / %d) updates\n",
+      kRobots, loops ? "on" : "off", loops && !map_check ? " (no map check)" : "", render_every, refine_every,
+      refine_per);
   std::printf("           update (wall ms)  update (cpu ms)   render (wall ms)  render (cpu ms)\n");
-  std::printf("keyframes    mean     max      mean     max      mean     max     mean     max  loops  checked  "
-              "rejected  full  rss_mb  full: cpu ms mean, iterations mean / max\n");
+  std::printf(
+      "keyframes    mean     max      mean     max      mean     max     mean     max  loops  checked  "
+      "rejected  full  rss_mb  full: cpu ms mean, iterations mean / max\n");
   Window win;
   int closures = 0, rejected_inconclusive = 0, rejected_contradicted = 0;
   for (int k = 0; k < total; ++k) {
@@ -344,11 +349,12 @@ int main(int argc, char** argv) {
     }
     if ((k + 1) % kWindow == 0) {
       const cairn::base::LinkStats& ls = mapper.link_stats();
-      std::printf("%9d %7.2f %7.1f   %7.2f %7.1f   %7.2f %7.1f  %7.2f %7.1f  %5d  %7d  %8d  %4d  %6.0f  %7.1f %5.1f %3.0f\n",
-                  k + 1, win.wall.mean(), win.wall.max, win.cpu.mean(), win.cpu.max, win.render_wall.mean(),
-                  win.render_wall.max, win.render_cpu.mean(), win.render_cpu.max, closures,
-                  ls.linked_pair_checked, ls.linked_pair_rejected, win.full_solves, memory_mb("VmRSS"),
-                  win.full_cpu.mean(), win.full_iterations.mean(), win.full_iterations.max);
+      std::printf(
+          "%9d %7.2f %7.1f   %7.2f %7.1f   %7.2f %7.1f  %7.2f %7.1f  %5d  %7d  %8d  %4d  %6.0f  %7.1f %5.1f %3.0f\n",
+          k + 1, win.wall.mean(), win.wall.max, win.cpu.mean(), win.cpu.max, win.render_wall.mean(),
+          win.render_wall.max, win.render_cpu.mean(), win.render_cpu.max, closures, ls.linked_pair_checked,
+          ls.linked_pair_rejected, win.full_solves, memory_mb("VmRSS"), win.full_cpu.mean(), win.full_iterations.mean(),
+          win.full_iterations.max);
       std::fflush(stdout);
       win = Window{};
     }
@@ -371,12 +377,14 @@ int main(int argc, char** argv) {
                 worst, n);
   };
   const int implausible = mapper.link_stats().linked_pair_implausible;
-  std::printf("closures refused: %d implausible for a linked pair (unchecked); by the map check %d inconclusive "
-              "(too little overlap), %d contradicted\n",
-              implausible, rejected_inconclusive, rejected_contradicted - implausible);
+  std::printf(
+      "closures refused: %d implausible for a linked pair (unchecked); by the map check %d inconclusive "
+      "(too little overlap), %d contradicted\n",
+      implausible, rejected_inconclusive, rejected_contradicted - implausible);
   int wrong = 0, inter = 0;  // accepted closures more than 0.3 m / 0.1 rad off the truth
   for (const cairn::base::LoopClosure& c : mapper.loop_closures()) {
-    const SE2 E = truth[size_t(c.a.robot.value)][size_t(c.a.seq)].between(truth[size_t(c.b.robot.value)][size_t(c.b.seq)])
+    const SE2 E = truth[size_t(c.a.robot.value)][size_t(c.a.seq)]
+                      .between(truth[size_t(c.b.robot.value)][size_t(c.b.seq)])
                       .between(c.T_a_b);
     wrong += E.translation().norm() > 0.3 || std::abs(E.yaw()) > 0.1;
     inter += c.a.robot != c.b.robot;
@@ -393,8 +401,10 @@ int main(int argc, char** argv) {
   report_error("refined");
   if (!export_g2o.empty()) {
     std::string error;
-    if (!cairn::base::write_graph_g2o(mapper.graph(), export_g2o, &error)) std::fprintf(stderr, "%s\n", error.c_str());
-    else std::printf("graph written: %s\n", export_g2o.c_str());
+    if (!cairn::base::write_graph_g2o(mapper.graph(), export_g2o, &error))
+      std::fprintf(stderr, "%s\n", error.c_str());
+    else
+      std::printf("graph written: %s\n", export_g2o.c_str());
   }
   std::fflush(stdout);
   // The whole map from scratch (what every render cost before incremental rendering).
@@ -407,9 +417,10 @@ int main(int argc, char** argv) {
   // A plain full render: one grid, every keyframe once in id order (the former global_map()).
   // Its grid grows 5 m at a time (a copy each time): skipped on large runs, it takes minutes.
   if (total > 5000) {
-    std::printf("global map of %d keyframes from scratch: tiled %.0f ms (cpu %.0f, %.0f m2); incremental map "
-                "%.0f m2; peak rss %.0f MB\n", total, tiled_ms, tiled_cpu_ms, area, mapper.mapped_area_m2(),
-                memory_mb("VmHWM"));
+    std::printf(
+        "global map of %d keyframes from scratch: tiled %.0f ms (cpu %.0f, %.0f m2); incremental map "
+        "%.0f m2; peak rss %.0f MB\n",
+        total, tiled_ms, tiled_cpu_ms, area, mapper.mapped_area_m2(), memory_mb("VmHWM"));
     return 0;
   }
   const auto t2 = std::chrono::steady_clock::now();
@@ -425,9 +436,10 @@ int main(int argc, char** argv) {
     plain.insert_scan(*mapper.global_pose(id), cairn::scan_to_points(kf.scan), no_return);
   }
   const double plain_ms = ms_since(t2), plain_cpu_ms = cpu_ms() - c2;
-  std::printf("global map of %d keyframes from scratch: tiled %.0f ms (cpu %.0f, %.0f m2), plain full render "
-              "%.0f ms (cpu %.0f, %.0f m2); incremental map %.0f m2; peak rss %.0f MB\n",
-              total, tiled_ms, tiled_cpu_ms, area, plain_ms, plain_cpu_ms, plain.known_area_m2(),
-              mapper.mapped_area_m2(), memory_mb("VmHWM"));
+  std::printf(
+      "global map of %d keyframes from scratch: tiled %.0f ms (cpu %.0f, %.0f m2), plain full render "
+      "%.0f ms (cpu %.0f, %.0f m2); incremental map %.0f m2; peak rss %.0f MB\n",
+      total, tiled_ms, tiled_cpu_ms, area, plain_ms, plain_cpu_ms, plain.known_area_m2(), mapper.mapped_area_m2(),
+      memory_mb("VmHWM"));
   return 0;
 }

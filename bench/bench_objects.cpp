@@ -9,9 +9,9 @@
 #include <random>
 
 #include "common/cloud_codec.h"
+#include "common/registration/rgb_icp.h"
 #include "robot_agent/core/objects/object_detector.h"
 #include "robot_agent/core/objects/object_tracker.h"
-#include "common/registration/rgb_icp.h"
 #include "sim/rgbd_renderer.h"
 #include "sim/world.h"
 
@@ -64,7 +64,8 @@ std::pair<ColoredCloud, ColoredCloud> two_views() {
   const auto frames = render_frames(640, 480, 20);
   agent::ObjectDetector detector;
   ColoredCloud a, b;
-  for (const auto& d : detector.detect(frames[5])) if (d.class_name == "hazard") a = d.cloud_base;
+  for (const auto& d : detector.detect(frames[5]))
+    if (d.class_name == "hazard") a = d.cloud_base;
   for (const auto& d : detector.detect(frames[8]))
     if (d.class_name == "hazard")
       for (ColoredPoint p : d.cloud_base) p.x += 0.3f, b.push_back(p);
@@ -110,7 +111,8 @@ void BM_ObjectMessage(benchmark::State& state) {
   agent::ObjectTracker tracker(RobotId(0));
   std::vector<ObjectReport> reports;
   for (size_t i = 0; i < frames.size(); ++i) {
-    auto r = tracker.update(frames[i].stamp_ns, detector.detect(frames[i]), SE2(0.1 * double(i), 0, 0), agent::Anchor{0, SE2()});
+    auto r = tracker.update(frames[i].stamp_ns, detector.detect(frames[i]), SE2(0.1 * double(i), 0, 0),
+                            agent::Anchor{0, SE2()});
     for (auto& x : r) reports.push_back(std::move(x));
   }
   if (reports.empty()) return state.SkipWithError("no object report");

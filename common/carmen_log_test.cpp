@@ -23,10 +23,10 @@ std::string flaser(int n, const std::string& range, const std::string& tail) {
 }
 
 TEST(CarmenLog, ParsesFlaserOdomAndSkipsTheRest) {
-  const auto path = write_log(
-      "ok.clf", "# comment\nPARAM robot_x 1\n" + flaser(180, "1.5", "1 2 0.5 3 4 0.25 100.5 host 100.6") +
-                    "ODOM 3 4 0.25 0.1 0.2 0 100.55 host 100.56\nNEFF 12\nWEIRDTHING 1 2 3\n" +
-                    flaser(361, "81.91", "0 0 0 0 0 0 101.0 host 101.1"));
+  const auto path =
+      write_log("ok.clf", "# comment\nPARAM robot_x 1\n" + flaser(180, "1.5", "1 2 0.5 3 4 0.25 100.5 host 100.6") +
+                              "ODOM 3 4 0.25 0.1 0.2 0 100.55 host 100.56\nNEFF 12\nWEIRDTHING 1 2 3\n" +
+                              flaser(361, "81.91", "0 0 0 0 0 0 101.0 host 101.1"));
   const CarmenLog log = read_carmen_log(path);
   ASSERT_EQ(log.scans.size(), 2u);
   ASSERT_EQ(log.odometry.size(), 1u);
@@ -54,7 +54,8 @@ TEST(CarmenLog, MalformedAndTruncatedLinesNameTheLine) {
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
     }
   };
-  expect_error("PARAM a b\n" + flaser(180, "1.0", "1 2 x 3 4 0.25 100.5 host 100.6"), "bad.clf:2: FLASER field x y theta is not a number: 'x'");
+  expect_error("PARAM a b\n" + flaser(180, "1.0", "1 2 x 3 4 0.25 100.5 host 100.6"),
+               "bad.clf:2: FLASER field x y theta is not a number: 'x'");
   expect_error("FLASER 180 1.0 2.0\n", "bad.clf:1: FLASER record ends before range (truncated?)");
   expect_error("FLASER -3\n", "num_readings must be a whole number");
   expect_error("ODOM 1 2 nan 0 0 0 1 h 1\n", "bad.clf:1: ODOM x y theta is not finite");

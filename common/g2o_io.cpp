@@ -207,8 +207,8 @@ bool write_g2o(const std::string& path, const G2oGraph& graph, const std::map<G2
   auto key = [&](G2oKey k) { return se3 ? encode_g2o_key(k) : uint64_t(k.index); };
   for (const auto& [k, p] : v) {
     if (se3) {
-      out << "VERTEX_SE3:QUAT " << key(k) << ' ' << p.x() << ' ' << p.y() << " 0 0 0 " << std::sin(p.yaw() / 2)
-          << ' ' << std::cos(p.yaw() / 2) << '\n';
+      out << "VERTEX_SE3:QUAT " << key(k) << ' ' << p.x() << ' ' << p.y() << " 0 0 0 " << std::sin(p.yaw() / 2) << ' '
+          << std::cos(p.yaw() / 2) << '\n';
     } else {
       out << "VERTEX_SE2 " << key(k) << ' ' << p.x() << ' ' << p.y() << ' ' << p.yaw() << '\n';
     }
@@ -229,9 +229,8 @@ bool write_g2o(const std::string& path, const G2oGraph& graph, const std::map<G2
       }
       out << '\n';
     } else {
-      out << "EDGE_SE2 " << key(e.from) << ' ' << key(e.to) << ' ' << m.x() << ' ' << m.y() << ' ' << m.yaw()
-          << ' ' << I(0, 0) << ' ' << I(0, 1) << ' ' << I(0, 2) << ' ' << I(1, 1) << ' ' << I(1, 2) << ' '
-          << I(2, 2) << '\n';
+      out << "EDGE_SE2 " << key(e.from) << ' ' << key(e.to) << ' ' << m.x() << ' ' << m.y() << ' ' << m.yaw() << ' '
+          << I(0, 0) << ' ' << I(0, 1) << ' ' << I(0, 2) << ' ' << I(1, 1) << ' ' << I(1, 2) << ' ' << I(2, 2) << '\n';
     }
   }
   if (!se3) {
@@ -259,7 +258,10 @@ std::map<G2oKey, SE2> initialize_from_odometry(const G2oGraph& graph) {
   for (int pass = 0; pass < 2; ++pass) {
     std::deque<G2oKey> queue;
     for (const auto& [k, p] : poses) queue.push_back(k);
-    if (poses.empty() && !adj.empty()) { poses[adj.begin()->first] = SE2(); queue.push_back(adj.begin()->first); }
+    if (poses.empty() && !adj.empty()) {
+      poses[adj.begin()->first] = SE2();
+      queue.push_back(adj.begin()->first);
+    }
     std::set<G2oKey> visited(queue.begin(), queue.end());
     while (!queue.empty()) {
       const G2oKey k = queue.front();

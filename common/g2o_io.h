@@ -47,8 +47,8 @@ struct G2oGraph {
   std::vector<G2oEdge> edges;
   std::map<G2oKey, Eigen::Vector2d> points;  ///< VERTEX_XY; an id is never both a pose and a point
   std::vector<G2oPointEdge> point_edges;     ///< EDGE_SE2_XY: from a pose to a point
-  bool se3 = false;                ///< read from SE3:QUAT records
-  bool robot_keys = false;         ///< keys carried robot letters
+  bool se3 = false;                          ///< read from SE3:QUAT records
+  bool robot_keys = false;                   ///< keys carried robot letters
 };
 
 /// Reads a g2o file. Throws InputError "<path>:<line>: <reason>" for a malformed line, a

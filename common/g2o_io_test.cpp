@@ -63,7 +63,8 @@ TEST(G2oIo, MultiRobotKeysAndSe3Quat) {
   EXPECT_EQ(decode_g2o_key(b3).index, 3);
   EXPECT_EQ(encode_g2o_key({1, 3}), b3);
   std::string info;
-  for (int r = 0; r < 6; ++r) for (int c = r; c < 6; ++c) info += r == c ? " 10" : " 0";
+  for (int r = 0; r < 6; ++r)
+    for (int c = r; c < 6; ++c) info += r == c ? " 10" : " 0";
   const G2oGraph g = read_g2o(write_temp("q.g2o", "VERTEX_SE3:QUAT " + std::to_string(a0) + " 0 0 0 0 0 0 1\n" +
                                                       "EDGE_SE3:QUAT " + std::to_string(a0) + " " + std::to_string(b3) +
                                                       " 1 2 0 0 0 0.7071068 0.7071068" + info + "\n"));
@@ -122,7 +123,8 @@ TEST(G2oIo, MalformedLandmarkLinesNameTheLine) {
   expect_error("xy_nan.g2o", poses + "VERTEX_XY 1 nan 2\n", "xy_nan.g2o:2: VERTEX_XY: non-finite");
   expect_error("xy_short.g2o", poses + "VERTEX_XY 1 2\n", "xy_short.g2o:2: VERTEX_XY expects 2 numbers");
   expect_error("xy_extra.g2o", poses + "VERTEX_XY 1 2 3 4\n", "xy_extra.g2o:2: VERTEX_XY: unexpected extra");
-  expect_error("exy_nan.g2o", poses + "VERTEX_XY 1 2 3\nEDGE_SE2_XY 0 1 1 inf 1 0 1\n", "exy_nan.g2o:3: EDGE_SE2_XY: non-finite");
+  expect_error("exy_nan.g2o", poses + "VERTEX_XY 1 2 3\nEDGE_SE2_XY 0 1 1 inf 1 0 1\n",
+               "exy_nan.g2o:3: EDGE_SE2_XY: non-finite");
   expect_error("exy_short.g2o", poses + "VERTEX_XY 1 2 3\nEDGE_SE2_XY 0 1 1 1 1 0\n",
                "exy_short.g2o:3: EDGE_SE2_XY expects 3 numbers");
   expect_error("exy_npd.g2o", poses + "VERTEX_XY 1 2 3\nEDGE_SE2_XY 0 1 1 1 1 2 1\n",

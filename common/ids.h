@@ -22,9 +22,7 @@ struct RobotId {
 struct KeyframeId {
   RobotId robot;
   int32_t seq = -1;
-  friend constexpr bool operator==(KeyframeId a, KeyframeId b) {
-    return a.robot == b.robot && a.seq == b.seq;
-  }
+  friend constexpr bool operator==(KeyframeId a, KeyframeId b) { return a.robot == b.robot && a.seq == b.seq; }
   friend constexpr bool operator!=(KeyframeId a, KeyframeId b) { return !(a == b); }
   friend constexpr bool operator<(KeyframeId a, KeyframeId b) {
     return a.robot != b.robot ? a.robot < b.robot : a.seq < b.seq;
@@ -35,9 +33,7 @@ struct KeyframeId {
 struct ObjectId {
   RobotId robot;
   int32_t seq = -1;
-  friend constexpr bool operator==(ObjectId a, ObjectId b) {
-    return a.robot == b.robot && a.seq == b.seq;
-  }
+  friend constexpr bool operator==(ObjectId a, ObjectId b) { return a.robot == b.robot && a.seq == b.seq; }
   friend constexpr bool operator!=(ObjectId a, ObjectId b) { return !(a == b); }
   friend constexpr bool operator<(ObjectId a, ObjectId b) {
     return a.robot != b.robot ? a.robot < b.robot : a.seq < b.seq;
@@ -56,12 +52,8 @@ struct LandmarkId {
 };
 
 inline std::string to_string(RobotId id) { return "robot" + std::to_string(id.value); }
-inline std::string to_string(KeyframeId id) {
-  return to_string(id.robot) + "/kf" + std::to_string(id.seq);
-}
-inline std::string to_string(ObjectId id) {
-  return to_string(id.robot) + "/obj" + std::to_string(id.seq);
-}
+inline std::string to_string(KeyframeId id) { return to_string(id.robot) + "/kf" + std::to_string(id.seq); }
+inline std::string to_string(ObjectId id) { return to_string(id.robot) + "/obj" + std::to_string(id.seq); }
 inline std::string to_string(LandmarkId id) { return "landmark" + std::to_string(id.value); }
 inline std::ostream& operator<<(std::ostream& os, RobotId id) { return os << to_string(id); }
 inline std::ostream& operator<<(std::ostream& os, KeyframeId id) { return os << to_string(id); }

@@ -15,14 +15,14 @@ namespace cairn {
 struct Keyframe {
   KeyframeId id;
   StampNs stamp_ns = 0;
-  SE2 T_local_base;                                      ///< pose in the robot's local frame
+  SE2 T_local_base;  ///< pose in the robot's local frame
   Covariance3 covariance = Covariance3::Identity() * 1e-4;
   /// Relative pose from the previous keyframe (seq-1) to this one, as local SLAM measured it.
   /// Unused for seq 0.
   SE2 T_prev_this;
   Covariance3 edge_covariance = Covariance3::Identity() * 1e-4;
-  LaserScan scan;                                        ///< in the base frame (laser at origin)
-  std::vector<float> place_descriptor;                   ///< rotation-invariant, may be empty
+  LaserScan scan;                       ///< in the base frame (laser at origin)
+  std::vector<float> place_descriptor;  ///< rotation-invariant, may be empty
   /// Identified landmarks (markers) seen around this keyframe, expressed from its base frame.
   std::vector<LandmarkObservation> landmarks;
 };
@@ -37,7 +37,7 @@ struct KeyframePose {
 };
 struct KeyframePoses {
   RobotId robot;
-  StampNs stamp_ns = 0;  ///< of the latest scan the estimate includes
+  StampNs stamp_ns = 0;             ///< of the latest scan the estimate includes
   std::vector<KeyframePose> poses;  ///< ascending seq
 };
 

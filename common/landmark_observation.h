@@ -25,9 +25,7 @@ struct LandmarkObservation {
   double sigma_bearing_rad = 0.02;
 
   /// The observed point in the observing base frame.
-  Eigen::Vector2d point_m() const {
-    return {range_m * std::cos(bearing_rad), range_m * std::sin(bearing_rad)};
-  }
+  Eigen::Vector2d point_m() const { return {range_m * std::cos(bearing_rad), range_m * std::sin(bearing_rad)}; }
 };
 
 /// Why an observation is unusable (NaN or negative values, zero sigma, invalid id), empty if valid.
@@ -70,4 +68,3 @@ inline LandmarkObservation reexpress_landmark(const LandmarkObservation& o, cons
 }
 
 }  // namespace cairn
-

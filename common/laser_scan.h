@@ -24,7 +24,10 @@ struct ScanFilterStats {
   int too_close = 0;   ///< zero or below range_min_m
   int max_range = 0;   ///< at or beyond range_max_m, or +inf: no return
   ScanFilterStats& operator+=(const ScanFilterStats& o) {
-    valid += o.valid; nan_or_inf += o.nan_or_inf; too_close += o.too_close; max_range += o.max_range;
+    valid += o.valid;
+    nan_or_inf += o.nan_or_inf;
+    too_close += o.too_close;
+    max_range += o.max_range;
     return *this;
   }
 };

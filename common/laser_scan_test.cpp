@@ -18,7 +18,7 @@ TEST(LaserScan, FiltersAndCountsBadReadings) {
   const auto pts = scan_to_points(s, &stats);
   ASSERT_EQ(pts.size(), 2u);
   EXPECT_NEAR(pts[0].x(), 1.f, 1e-6);
-  EXPECT_NEAR(pts[1].x(), 0.f, 1e-5);   // beam 5 at 450 deg = 90 deg
+  EXPECT_NEAR(pts[1].x(), 0.f, 1e-5);  // beam 5 at 450 deg = 90 deg
   EXPECT_NEAR(pts[1].y(), 2.f, 1e-5);
   EXPECT_EQ(stats.valid, 2);
   EXPECT_EQ(stats.nan_or_inf, 2);

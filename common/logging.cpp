@@ -12,8 +12,6 @@ std::shared_ptr<spdlog::logger> make_logger(const std::string& component, RobotI
   return logger;
 }
 
-void set_log_level(const std::string& level) {
-  spdlog::set_level(spdlog::level::from_str(level));
-}
+void set_log_level(const std::string& level) { spdlog::set_level(spdlog::level::from_str(level)); }
 
 }  // namespace cairn

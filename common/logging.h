@@ -18,12 +18,12 @@ void set_log_level(const std::string& level);
 
 }  // namespace cairn
 
-#define CAIRN_LOG_EVERY_N_SEC(logger, level, seconds, ...)                                  \
-  do {                                                                                     \
-    static std::chrono::steady_clock::time_point cairn_last_log_{};                        \
-    const auto cairn_now_ = std::chrono::steady_clock::now();                              \
-    if (cairn_now_ - cairn_last_log_ >= std::chrono::duration<double>(seconds)) {          \
-      cairn_last_log_ = cairn_now_;                                                        \
-      (logger)->log(level, __VA_ARGS__);                                                   \
-    }                                                                                      \
+#define CAIRN_LOG_EVERY_N_SEC(logger, level, seconds, ...)                        \
+  do {                                                                            \
+    static std::chrono::steady_clock::time_point cairn_last_log_{};               \
+    const auto cairn_now_ = std::chrono::steady_clock::now();                     \
+    if (cairn_now_ - cairn_last_log_ >= std::chrono::duration<double>(seconds)) { \
+      cairn_last_log_ = cairn_now_;                                               \
+      (logger)->log(level, __VA_ARGS__);                                          \
+    }                                                                             \
   } while (0)

@@ -66,8 +66,9 @@ class Record {
 template <typename T>
 void check_order(Record& r, const std::vector<T>& list, StampNs t, const char* what) {
   if (!list.empty() && t < list.back().stamp_ns) {
-    r.fail("stamp " + std::to_string(ns_to_sec(t)) + " s is older than the robot's previous " + what +
-           " record (" + std::to_string(ns_to_sec(list.back().stamp_ns)) + " s): records of one robot and type must be in time order");
+    r.fail("stamp " + std::to_string(ns_to_sec(t)) + " s is older than the robot's previous " + what + " record (" +
+           std::to_string(ns_to_sec(list.back().stamp_ns)) +
+           " s): records of one robot and type must be in time order");
   }
 }
 
@@ -121,7 +122,8 @@ void read_record(Record& r, MultiRobotLog* log, const MultiRobotLogReadOptions& 
     return;
   }
   if (type != "ODOM" && type != "SCAN" && type != "LANDMARK" && type != "TRUTH") {
-    throw InputError(r.where() + ": unknown record type '" + type + "' (expected ODOM, SCAN, LANDMARK, TRUTH or MARKER)");
+    throw InputError(r.where() + ": unknown record type '" + type +
+                     "' (expected ODOM, SCAN, LANDMARK, TRUTH or MARKER)");
   }
   RobotLogData& robot = log->robot_data(RobotId(r.integer("robot", 0, 1000000)));
   const StampNs t = r.stamp();
@@ -205,7 +207,8 @@ void write_multirobot_log(std::ostream& out, const MultiRobotLog& log, const std
     std::istringstream ss(comment);
     for (std::string line; std::getline(ss, line);) out << "# " << line << '\n';
   }
-  for (const auto& [id, p] : log.markers) out << "MARKER " << id.value << ' ' << num(p.x()) << ' ' << num(p.y()) << '\n';
+  for (const auto& [id, p] : log.markers)
+    out << "MARKER " << id.value << ' ' << num(p.x()) << ' ' << num(p.y()) << '\n';
   // (stamp, type order, robot, index) of every record, then written in that order.
   std::vector<std::tuple<StampNs, int, int32_t, size_t>> order;
   for (const auto& [id, r] : log.robots) {
@@ -220,7 +223,8 @@ void write_multirobot_log(std::ostream& out, const MultiRobotLog& log, const std
     const std::string head = std::to_string(robot) + ' ' + stamp(t);
     if (type == 0 || type == 3) {
       const SE2& T = type == 0 ? r.odometry[i].T_odom_base : r.truth[i].pose;
-      out << (type == 0 ? "ODOM " : "TRUTH ") << head << ' ' << num(T.x()) << ' ' << num(T.y()) << ' ' << num(T.yaw()) << '\n';
+      out << (type == 0 ? "ODOM " : "TRUTH ") << head << ' ' << num(T.x()) << ' ' << num(T.y()) << ' ' << num(T.yaw())
+          << '\n';
     } else if (type == 1) {
       const LaserScan& s = r.scans[i];
       out << "SCAN " << head << ' ' << num(s.angle_min_rad) << ' ' << num(s.angle_increment_rad) << ' '

@@ -29,10 +29,10 @@ constexpr int kMultiRobotLogVersion = 1;
 /// One robot's readings, each list in non-decreasing stamp order (the reader enforces it).
 struct RobotLogData {
   RobotId robot;
-  std::vector<OdometryReading> odometry;     ///< T_odom_base (linear/angular speeds left 0)
+  std::vector<OdometryReading> odometry;  ///< T_odom_base (linear/angular speeds left 0)
   std::vector<LaserScan> scans;
   std::vector<LandmarkObservation> landmarks;
-  Trajectory truth;                          ///< optional reference poses (common world frame)
+  Trajectory truth;  ///< optional reference poses (common world frame)
 };
 
 struct MultiRobotLogStats {

@@ -15,16 +15,16 @@ namespace cairn {
 
 struct ObjectReport {
   ObjectId id;
-  std::string class_name;          ///< "victim", "hazard", "exit", ...
-  float confidence = 0.f;          ///< 0..1
-  StampNs stamp_ns = 0;            ///< last observation
-  int32_t anchor_seq = -1;         ///< keyframe of the same robot the pose is relative to
+  std::string class_name;   ///< "victim", "hazard", "exit", ...
+  float confidence = 0.f;   ///< 0..1
+  StampNs stamp_ns = 0;     ///< last observation
+  int32_t anchor_seq = -1;  ///< keyframe of the same robot the pose is relative to
   Eigen::Isometry3d T_anchor_object = Eigen::Isometry3d::Identity();
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity() * 0.01;  ///< x y z roll pitch yaw
-  int observations = 0;            ///< frames that contributed
+  int observations = 0;                                                                     ///< frames that contributed
   Eigen::Vector3f size_m = Eigen::Vector3f::Zero();  ///< extent of the cloud's bounding box
-  ColoredCloud cloud;              ///< in the object frame (centred on the object)
-  std::vector<uint8_t> thumbnail_jpeg;  ///< may be empty
+  ColoredCloud cloud;                                ///< in the object frame (centred on the object)
+  std::vector<uint8_t> thumbnail_jpeg;               ///< may be empty
 };
 
 }  // namespace cairn

@@ -84,8 +84,14 @@ void OccupancyGrid::trace_ray(const Eigen::Vector2i& from, const Eigen::Vector2i
   while (!(x0 == x1 && y0 == y1)) {
     update_cell(x0, y0, options_.miss_log_odds);
     const int e2 = 2 * err;
-    if (e2 >= dy) { err += dy; x0 += sx; }
-    if (e2 <= dx) { err += dx; y0 += sy; }
+    if (e2 >= dy) {
+      err += dy;
+      x0 += sx;
+    }
+    if (e2 <= dx) {
+      err += dx;
+      y0 += sy;
+    }
   }
   update_cell(x1, y1, hit_at_end ? options_.hit_log_odds : options_.miss_log_odds);
 }
@@ -104,9 +110,11 @@ void OccupancyGrid::insert_scan_clipped(const SE2& T_map_sensor, const std::vect
 void OccupancyGrid::cell_range(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m, Eigen::Vector2i* lo,
                                Eigen::Vector2i* hi) const {
   // Cell c's centre origin + (c + 0.5) res lies in [min, max) iff c in [ceil(a - 0.5), ceil(b - 0.5)).
-  const Eigen::Vector2d a = (min_m - origin_m_) / options_.resolution_m, b = (max_m - origin_m_) / options_.resolution_m;
+  const Eigen::Vector2d a = (min_m - origin_m_) / options_.resolution_m,
+                        b = (max_m - origin_m_) / options_.resolution_m;
   *lo = Eigen::Vector2i(int(std::ceil(a.x() - 0.5)), int(std::ceil(a.y() - 0.5))).cwiseMax(Eigen::Vector2i(0, 0));
-  *hi = Eigen::Vector2i(int(std::ceil(b.x() - 0.5)), int(std::ceil(b.y() - 0.5))).cwiseMin(Eigen::Vector2i(width_, height_));
+  *hi = Eigen::Vector2i(int(std::ceil(b.x() - 0.5)), int(std::ceil(b.y() - 0.5)))
+            .cwiseMin(Eigen::Vector2i(width_, height_));
 }
 
 void OccupancyGrid::clear_region(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m) {
@@ -171,8 +179,10 @@ std::vector<uint8_t> OccupancyGrid::to_image(double occupied_threshold, double f
       if (!known(c, r)) continue;
       const double p = probability(c, r);
       uint8_t v = 205;
-      if (p >= occupied_threshold) v = 0;
-      else if (p <= free_threshold) v = 254;
+      if (p >= occupied_threshold)
+        v = 0;
+      else if (p <= free_threshold)
+        v = 254;
       img[size_t(height_ - 1 - r) * width_ + c] = v;  // top row first
     }
   }

@@ -18,15 +18,14 @@ struct OccupancyGridOptions {
   float miss_log_odds = -0.40f;  ///< added to each cell a beam passes through (p_miss ~ 0.40)
   float min_log_odds = -4.0f;
   float max_log_odds = 4.0f;
-  double max_range_m = 30.0;     ///< beams are cut to this length before ray casting
+  double max_range_m = 30.0;  ///< beams are cut to this length before ray casting
 };
 
 class OccupancyGrid {
  public:
   explicit OccupancyGrid(const OccupancyGridOptions& options = {});
   /// A grid with fixed initial bounds (it still grows when needed).
-  OccupancyGrid(const OccupancyGridOptions& options, const Eigen::Vector2d& min_m,
-                const Eigen::Vector2d& max_m);
+  OccupancyGrid(const OccupancyGridOptions& options, const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m);
 
   /// Ray-casts each beam: cells along the beam get a miss, the endpoint cell a hit.
   /// `points_sensor` are beam endpoints in the sensor frame; `T_map_sensor` places the sensor.

@@ -17,8 +17,8 @@ std::vector<SE2> add_odometry_noise(const std::vector<SE2>& poses, const Odometr
     const double dist_m = d.translation().norm();
     const double scale = 1.0 + o.translation_noise_per_m * n01(rng);
     // Lateral error as large as the longitudinal one, both proportional to the step length.
-    const Eigen::Vector2d t = scale * d.translation() +
-                              o.translation_noise_per_m * n01(rng) * Eigen::Vector2d(-d.y(), d.x());
+    const Eigen::Vector2d t =
+        scale * d.translation() + o.translation_noise_per_m * n01(rng) * Eigen::Vector2d(-d.y(), d.x());
     const double yaw_sigma = o.rotation_noise_rad_per_m * dist_m + o.rotation_noise_rad_per_rad * std::abs(d.yaw());
     out.push_back(out.back() * SE2(t, d.yaw() + yaw_sigma * n01(rng)));
   }

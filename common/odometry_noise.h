@@ -13,9 +13,9 @@
 namespace cairn {
 
 struct OdometryNoiseOptions {
-  double translation_noise_per_m = 0.10;                ///< sigma of the step length error, per metre
+  double translation_noise_per_m = 0.10;                 ///< sigma of the step length error, per metre
   double rotation_noise_rad_per_m = 3.0 * M_PI / 180.0;  ///< sigma of the yaw error, per metre
-  double rotation_noise_rad_per_rad = 0.02;             ///< sigma of the yaw error, per radian turned
+  double rotation_noise_rad_per_rad = 0.02;              ///< sigma of the yaw error, per radian turned
   uint32_t seed = 1;
 };
 

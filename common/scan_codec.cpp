@@ -46,15 +46,19 @@ std::optional<std::vector<uint8_t>> zstd_decompress(const std::vector<uint8_t>& 
 
 std::vector<uint8_t> encode_scan(const LaserScan& scan, const ScanCodecOptions& options) {
   std::vector<uint8_t> raw(sizeof(Header) + 2 * scan.ranges_m.size());
-  Header h{kMagic, uint32_t(scan.ranges_m.size()), scan.angle_min_rad, scan.angle_increment_rad,
-           scan.range_min_m, scan.range_max_m};
+  Header h{
+      kMagic,          uint32_t(scan.ranges_m.size()), scan.angle_min_rad, scan.angle_increment_rad, scan.range_min_m,
+      scan.range_max_m};
   std::memcpy(raw.data(), &h, sizeof(h));
   uint8_t* p = raw.data() + sizeof(Header);
   for (float r : scan.ranges_m) {
     uint16_t q = 0;
-    if (!std::isfinite(r) || r <= scan.range_min_m) q = 0;
-    else if (r >= scan.range_max_m || r * 1000.f >= float(kNoReturn)) q = kNoReturn;
-    else q = uint16_t(std::lround(r * 1000.f));
+    if (!std::isfinite(r) || r <= scan.range_min_m)
+      q = 0;
+    else if (r >= scan.range_max_m || r * 1000.f >= float(kNoReturn))
+      q = kNoReturn;
+    else
+      q = uint16_t(std::lround(r * 1000.f));
     std::memcpy(p, &q, 2);
     p += 2;
   }

@@ -58,8 +58,8 @@ std::vector<float> scan_context_ring_key(const std::vector<float>& descriptor, c
 struct ScanContextMatch {
   double distance = 1.0;  ///< 0 (identical) .. 1 (nothing in common)
   int shift_sectors = 0;
-  double yaw_rad = 0.0;   ///< estimated yaw of b's sensor frame in a's (T_a_b.yaw)
-  bool valid = false;     ///< false when sizes mismatch or no common column
+  double yaw_rad = 0.0;  ///< estimated yaw of b's sensor frame in a's (T_a_b.yaw)
+  bool valid = false;    ///< false when sizes mismatch or no common column
 };
 
 /// Distance between two descriptors, minimised over all column shifts.

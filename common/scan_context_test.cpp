@@ -43,7 +43,8 @@ TEST(ScanContext, DifferentPlacesAreFar) {
     corridor.emplace_back(float(t), 1.0f);
     corridor.emplace_back(float(t), -1.0f);
   }
-  const ScanContextMatch m = scan_context_distance(compute_scan_context(scene(0, &rng)), compute_scan_context(corridor));
+  const ScanContextMatch m =
+      scan_context_distance(compute_scan_context(scene(0, &rng)), compute_scan_context(corridor));
   EXPECT_GT(m.distance, 0.3);
   EXPECT_TRUE(compute_scan_context(std::vector<Eigen::Vector2f>{}).empty());
 }

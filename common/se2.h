@@ -31,9 +31,7 @@ class SE2 {
   Eigen::Matrix2d rotation() const { return Eigen::Rotation2Dd(yaw_rad_).toRotationMatrix(); }
   Eigen::Vector3d vector() const { return {t_.x(), t_.y(), yaw_rad_}; }
 
-  SE2 operator*(const SE2& o) const {
-    return SE2(t_ + rotation() * o.t_, yaw_rad_ + o.yaw_rad_);
-  }
+  SE2 operator*(const SE2& o) const { return SE2(t_ + rotation() * o.t_, yaw_rad_ + o.yaw_rad_); }
   Eigen::Vector2d operator*(const Eigen::Vector2d& p) const { return t_ + rotation() * p; }
   SE2 inverse() const {
     const Eigen::Matrix2d Rt = rotation().transpose();

@@ -31,8 +31,8 @@ struct RgbdFrame {
   StampNs stamp_ns = 0;
   CameraIntrinsics intrinsics;
   Eigen::Isometry3d T_base_camera = Eigen::Isometry3d::Identity();
-  std::vector<uint8_t> rgb;        ///< RGB8, row-major, width*height*3
-  std::vector<uint16_t> depth;     ///< depth units (see depth_scale_m), 0 = no reading
+  std::vector<uint8_t> rgb;     ///< RGB8, row-major, width*height*3
+  std::vector<uint16_t> depth;  ///< depth units (see depth_scale_m), 0 = no reading
   bool valid() const {
     const size_t n = size_t(intrinsics.width) * size_t(intrinsics.height);
     return n > 0 && rgb.size() == 3 * n && depth.size() == n;

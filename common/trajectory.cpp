@@ -45,8 +45,8 @@ bool write_trajectory_csv(const std::string& path, const Trajectory& trajectory)
 
 std::optional<SE2> interpolate_pose(const Trajectory& t, StampNs stamp_ns, StampNs max_gap_ns) {
   if (t.empty() || stamp_ns < t.front().stamp_ns || stamp_ns > t.back().stamp_ns) return std::nullopt;
-  auto it = std::lower_bound(t.begin(), t.end(), stamp_ns,
-                             [](const StampedPose& p, StampNs s) { return p.stamp_ns < s; });
+  auto it =
+      std::lower_bound(t.begin(), t.end(), stamp_ns, [](const StampedPose& p, StampNs s) { return p.stamp_ns < s; });
   if (it->stamp_ns == stamp_ns) return it->pose;
   const StampedPose& b = *it;
   const StampedPose& a = *(it - 1);
@@ -59,7 +59,10 @@ SE2 align_points_2d(const std::vector<Eigen::Vector2d>& est, const std::vector<E
   const size_t n = std::min(est.size(), ref.size());
   if (n == 0) return SE2();
   Eigen::Vector2d me = Eigen::Vector2d::Zero(), mr = Eigen::Vector2d::Zero();
-  for (size_t i = 0; i < n; ++i) { me += est[i]; mr += ref[i]; }
+  for (size_t i = 0; i < n; ++i) {
+    me += est[i];
+    mr += ref[i];
+  }
   me /= double(n);
   mr /= double(n);
   double sxx = 0, sxy = 0;  // sum of dot and cross products of centred pairs
@@ -87,7 +90,10 @@ std::optional<TrajectoryErrorStats> trajectory_error(const Trajectory& estimate,
   s.matched = int(est.size());
   if (options.align) {
     std::vector<Eigen::Vector2d> pe, pr;
-    for (size_t i = 0; i < est.size(); ++i) { pe.push_back(est[i].translation()); pr.push_back(ref[i].translation()); }
+    for (size_t i = 0; i < est.size(); ++i) {
+      pe.push_back(est[i].translation());
+      pr.push_back(ref[i].translation());
+    }
     s.T_reference_estimate = align_points_2d(pe, pr);
   }
   double sq = 0, sum = 0;

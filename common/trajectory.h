@@ -22,19 +22,18 @@ bool write_trajectory_csv(const std::string& path, const Trajectory& trajectory)
 
 /// Pose at `stamp_ns` by interpolation; nullopt outside the trajectory's time span
 /// (or across a gap longer than max_gap_ns). `trajectory` must be sorted by stamp.
-std::optional<SE2> interpolate_pose(const Trajectory& trajectory, StampNs stamp_ns,
-                                    StampNs max_gap_ns = 2 * kNsPerSec);
+std::optional<SE2> interpolate_pose(const Trajectory& trajectory, StampNs stamp_ns, StampNs max_gap_ns = 2 * kNsPerSec);
 
 struct TrajectoryErrorStats {
-  int matched = 0;                  ///< poses compared
+  int matched = 0;  ///< poses compared
   double ate_rmse_m = 0, ate_mean_m = 0, ate_max_m = 0;
-  double rpe_trans_mean_m = 0;      ///< per-step relative error over consecutive estimate poses
+  double rpe_trans_mean_m = 0;  ///< per-step relative error over consecutive estimate poses
   double rpe_rot_mean_rad = 0;
-  SE2 T_reference_estimate;         ///< the alignment applied to the estimate
+  SE2 T_reference_estimate;  ///< the alignment applied to the estimate
 };
 
 struct TrajectoryErrorOptions {
-  bool align = true;                ///< best SE2 (Umeyama, no scale) alignment before ATE
+  bool align = true;  ///< best SE2 (Umeyama, no scale) alignment before ATE
   StampNs max_gap_ns = 2 * kNsPerSec;
 };
 

@@ -44,7 +44,9 @@ class YamlConfig {
   }
   /// This node's own value (for sequence elements).
   template <typename T>
-  T as() const { return convert<T>(node_, ""); }
+  T as() const {
+    return convert<T>(node_, "");
+  }
 
   /// Throws for any key of this map not in `allowed`: a typo must never silently become a default.
   void allow_only(std::initializer_list<const char*> allowed) const;

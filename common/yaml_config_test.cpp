@@ -36,8 +36,9 @@ TEST(YamlConfig, ErrorsNameFileAndKey) {
   EXPECT_NE(error_of([] { YamlConfig::from_string("a: [1, 2\n", "bad.yaml"); }).find("bad.yaml: malformed YAML"),
             std::string::npos);
   auto typo = YamlConfig::from_string("map: {resolutoin_m: 0.05, image: a.pgm}\n", "t.yaml");
-  EXPECT_NE(error_of([&] { typo["map"].allow_only({"image", "resolution_m"}); })
-                .find("t.yaml: key 'map.resolutoin_m' is not a known key (expected one of: image, resolution_m)"),
+  EXPECT_NE(error_of([&] {
+              typo["map"].allow_only({"image", "resolution_m"});
+            }).find("t.yaml: key 'map.resolutoin_m' is not a known key (expected one of: image, resolution_m)"),
             std::string::npos);
   EXPECT_NE(error_of([] { YamlConfig::load("/nonexistent/x.yaml"); }).find("cannot open"), std::string::npos);
 }

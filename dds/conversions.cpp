@@ -219,7 +219,10 @@ cairn_msgs::Keyframe to_msg(const Keyframe& kf) {
 
 std::optional<Keyframe> from_msg(const cairn_msgs::Keyframe& m, std::string* error) {
   if (!valid_robot(m.robot_id(), error)) return std::nullopt;
-  if (m.seq() < 0) { fail(error, "keyframe: negative seq"); return std::nullopt; }
+  if (m.seq() < 0) {
+    fail(error, "keyframe: negative seq");
+    return std::nullopt;
+  }
   if (!finite_pose(m.T_local_base()) || !finite_pose(m.T_prev_this())) {
     fail(error, "keyframe: non-finite T_local_base or T_prev_this");
     return std::nullopt;
@@ -230,7 +233,10 @@ std::optional<Keyframe> from_msg(const cairn_msgs::Keyframe& m, std::string* err
   }
   std::string scan_error;
   auto scan = decode_scan(m.scan_zstd(), &scan_error);
-  if (!scan) { fail(error, "keyframe: scan_zstd: " + scan_error); return std::nullopt; }
+  if (!scan) {
+    fail(error, "keyframe: scan_zstd: " + scan_error);
+    return std::nullopt;
+  }
   Keyframe kf;
   kf.id = {RobotId(m.robot_id()), m.seq()};
   kf.stamp_ns = m.stamp_ns();
@@ -248,8 +254,8 @@ std::optional<Keyframe> from_msg(const cairn_msgs::Keyframe& m, std::string* err
   kf.place_descriptor = std::move(*descriptor);
   for (size_t i = 0; i < m.landmarks().size(); ++i) {
     const cairn_msgs::LandmarkObservation& l = m.landmarks()[i];
-    const LandmarkObservation o{LandmarkId(l.landmark_id()), l.stamp_ns(), l.range_m(), l.bearing_rad(),
-                                l.sigma_range_m(), l.sigma_bearing_rad()};
+    const LandmarkObservation o{LandmarkId(l.landmark_id()), l.stamp_ns(),         l.range_m(), l.bearing_rad(),
+                                l.sigma_range_m(),           l.sigma_bearing_rad()};
     const std::string bad = validate_landmark_observation(o);
     if (!bad.empty()) {
       fail(error, "keyframe: landmarks[" + std::to_string(i) + "]: " + bad);
@@ -295,11 +301,20 @@ std::optional<ObjectReport> from_msg(const cairn_msgs::ObjectReport& m, std::str
     return std::nullopt;
   }
   auto T = array_to_iso(m.T_anchor_object());
-  if (!T) { fail(error, "object: T_anchor_object is not a finite rigid transform"); return std::nullopt; }
-  if (!all_finite(m.covariance())) { fail(error, "object: non-finite covariance"); return std::nullopt; }
+  if (!T) {
+    fail(error, "object: T_anchor_object is not a finite rigid transform");
+    return std::nullopt;
+  }
+  if (!all_finite(m.covariance())) {
+    fail(error, "object: non-finite covariance");
+    return std::nullopt;
+  }
   std::string cloud_error;
   auto cloud = decode_cloud(m.cloud_zstd(), &cloud_error);
-  if (!cloud) { fail(error, "object: cloud_zstd: " + cloud_error); return std::nullopt; }
+  if (!cloud) {
+    fail(error, "object: cloud_zstd: " + cloud_error);
+    return std::nullopt;
+  }
   ObjectReport o;
   o.id = {RobotId(m.robot_id()), m.object_seq()};
   o.class_name = m.class_name();

@@ -9,8 +9,8 @@
 namespace cairn::dds {
 
 struct DomainLeaseOptions {
-  int first_domain = 1;    ///< 0 is the default of hand-started agents and bases: left alone
-  int last_domain = 200;   ///< UDP ports stay below 65535 up to 232
+  int first_domain = 1;   ///< 0 is the default of hand-started agents and bases: left alone
+  int last_domain = 200;  ///< UDP ports stay below 65535 up to 232
   std::string lock_dir = "/tmp";
 };
 

@@ -1,11 +1,11 @@
 #pragma once
 // Typed writer and reader over a Participant. Readers are polled with take_all() from the app's
 // own loop (no listener threads touching app state), which keeps the app single-threaded.
+#include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
+#include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
-#include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
-#include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
 
 #include <cstdint>
 #include <string>

@@ -1,12 +1,12 @@
 #include "dds/participant.h"
 
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 #include <limits.h>
 #include <stdlib.h>
 #include <unistd.h>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 namespace cairn::dds {
 

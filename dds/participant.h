@@ -60,8 +60,7 @@ class Participant {
 
  private:
   explicit Participant(const ParticipantOptions& options) : options_(options) {}
-  eprosima::fastdds::dds::Topic* register_topic(const std::string& name,
-                                                eprosima::fastdds::dds::TypeSupport type);
+  eprosima::fastdds::dds::Topic* register_topic(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
 
   ParticipantOptions options_;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;

@@ -10,15 +10,15 @@
 namespace cairn::dds {
 
 enum class TopicKind {
-  kSensor,      ///< odometry, laser, RGB-D: reliable, keep all (a replay must not drop input)
-  kClock,       ///< mission clock: reliable, transient local, keep last 1
-  kKeyframe,    ///< reliable, transient local, keep all: the writer history is the outbox
-  kObject,      ///< reliable, transient local, keep last 1 per object, flow-controlled
-  kStatus,      ///< best effort, keep last 1
-  kAck,         ///< reliable, keep last 1 per robot
-  kCorrection,  ///< reliable, transient local, keep last 1 per robot
+  kSensor,         ///< odometry, laser, RGB-D: reliable, keep all (a replay must not drop input)
+  kClock,          ///< mission clock: reliable, transient local, keep last 1
+  kKeyframe,       ///< reliable, transient local, keep all: the writer history is the outbox
+  kObject,         ///< reliable, transient local, keep last 1 per object, flow-controlled
+  kStatus,         ///< best effort, keep last 1
+  kAck,            ///< reliable, keep last 1 per robot
+  kCorrection,     ///< reliable, transient local, keep last 1 per robot
   kKeyframePoses,  ///< like kCorrection, agent -> base: only the newest estimate matters
-  kGoal,        ///< like kCorrection: each robot's newest exploration goal
+  kGoal,           ///< like kCorrection: each robot's newest exploration goal
 };
 
 struct QosOptions {

@@ -139,7 +139,8 @@ TEST_F(Security, AMissingKeyIsNamed) {
 }
 
 TEST_F(Security, AKeyThatIsNotTheCertificatesIsRefused) {
-  const fs::path dir = identity("mixed", {{"ca.pem", "team/robot0"}, {"cert.pem", "team/robot0"}, {"key.pem", "team/base"}});
+  const fs::path dir =
+      identity("mixed", {{"ca.pem", "team/robot0"}, {"cert.pem", "team/robot0"}, {"key.pem", "team/base"}});
   EXPECT_NE(create_error(dir).find("DDS security from " + dir.string()), std::string::npos);
 }
 

@@ -13,6 +13,7 @@ PACKAGES=(
   python3 procps
   iproute2 nftables                     # emulated radio link (cairn_mission --link-loss/--link-kbit)
   openssl                               # DDS Security certificates (deploy/security/make_certs.sh)
+  clang-format                          # house style, checked by the Style.Format test
 )
 
 missing=()

@@ -5,8 +5,7 @@
 
 namespace cairn::sim {
 
-WaypointFollower::WaypointFollower(const Eigen::Vector2d& start_m,
-                                   std::vector<Eigen::Vector2d> waypoints_m,
+WaypointFollower::WaypointFollower(const Eigen::Vector2d& start_m, std::vector<Eigen::Vector2d> waypoints_m,
                                    const FollowerOptions& options)
     : options_(options), waypoints_(std::move(waypoints_m)), segment_start_(start_m) {}
 
@@ -28,11 +27,10 @@ VelocityCommand WaypointFollower::update(const SE2& T_world_base) {
     carrot = segment_start_ + std::min(seg_len, s + options_.lookahead_m) * u;
   }
   const Eigen::Vector2d to_carrot = carrot - p;
-  const double heading_error =
-      normalize_angle(std::atan2(to_carrot.y(), to_carrot.x()) - T_world_base.yaw());
+  const double heading_error = normalize_angle(std::atan2(to_carrot.y(), to_carrot.x()) - T_world_base.yaw());
   VelocityCommand cmd;
-  cmd.angular_radps = std::clamp(options_.heading_gain * heading_error, -options_.max_turn_radps,
-                                 options_.max_turn_radps);
+  cmd.angular_radps =
+      std::clamp(options_.heading_gain * heading_error, -options_.max_turn_radps, options_.max_turn_radps);
   if (std::abs(heading_error) < options_.turn_in_place_rad) {
     double v = options_.max_speed_mps * std::cos(heading_error);
     if (next_ + 1 == waypoints_.size()) {
@@ -56,8 +54,7 @@ SE2 integrate_unicycle(const SE2& T_world_base, double linear_mps, double angula
   return T_world_base * SE2(t_base, dyaw);
 }
 
-OdometryIntegrator::OdometryIntegrator(const OdometryOptions& options, uint64_t seed)
-    : options_(options), rng_(seed) {}
+OdometryIntegrator::OdometryIntegrator(const OdometryOptions& options, uint64_t seed) : options_(options), rng_(seed) {}
 
 void OdometryIntegrator::add_step(const SE2& delta_true, double dt_s) {
   const double d = delta_true.translation().norm();

@@ -19,11 +19,11 @@ struct VelocityCommand {
 struct FollowerOptions {
   double max_speed_mps = 0.6;
   double max_turn_radps = 1.2;
-  double lookahead_m = 0.4;          ///< pure-pursuit carrot distance along the segment
-  double waypoint_tolerance_m = 0.1; ///< a waypoint is reached within this distance
-  double turn_in_place_rad = 0.6;    ///< heading errors above this rotate without moving
-  double heading_gain = 2.5;         ///< angular_radps per rad of heading error
-  double stop_gain = 1.0;            ///< speed limit near the final waypoint: gain * distance
+  double lookahead_m = 0.4;           ///< pure-pursuit carrot distance along the segment
+  double waypoint_tolerance_m = 0.1;  ///< a waypoint is reached within this distance
+  double turn_in_place_rad = 0.6;     ///< heading errors above this rotate without moving
+  double heading_gain = 2.5;          ///< angular_radps per rad of heading error
+  double stop_gain = 1.0;             ///< speed limit near the final waypoint: gain * distance
 };
 
 /// Drives a robot through its waypoints in order and stops at the last one. Tracks the segment

@@ -8,8 +8,7 @@ namespace cairn::sim {
 
 FloorPlan::FloorPlan(int width, int height, double resolution_m, const Eigen::Vector2d& origin_m,
                      std::vector<uint8_t> walls)
-    : width_(width), height_(height), resolution_m_(resolution_m), origin_m_(origin_m),
-      walls_(std::move(walls)) {
+    : width_(width), height_(height), resolution_m_(resolution_m), origin_m_(origin_m), walls_(std::move(walls)) {
   walls_.resize(size_t(std::max(0, width_)) * size_t(std::max(0, height_)), 0);
 }
 
@@ -29,8 +28,7 @@ RayHit FloorPlan::cast_ray(const Eigen::Vector2d& from_m, double angle_rad, doub
 
 // Amanatides-Woo traversal in grid units. t is the distance along the ray in cells; a wall cell
 // stops the ray at the face through which it was entered.
-RayHit FloorPlan::cast_ray_dir(const Eigen::Vector2d& from_m, const Eigen::Vector2d& dir,
-                               double max_range_m) const {
+RayHit FloorPlan::cast_ray_dir(const Eigen::Vector2d& from_m, const Eigen::Vector2d& dir, double max_range_m) const {
   RayHit out;
   out.range_m = max_range_m;
   const double inv_res = 1.0 / resolution_m_;
@@ -57,13 +55,19 @@ RayHit FloorPlan::cast_ray_dir(const Eigen::Vector2d& from_m, const Eigen::Vecto
     double t;
     bool x_face;
     if (t_x < t_y) {
-      t = t_x; x_face = true; cx += step_x; t_x += dt_x;
+      t = t_x;
+      x_face = true;
+      cx += step_x;
+      t_x += dt_x;
     } else {
-      t = t_y; x_face = false; cy += step_y; t_y += dt_y;
+      t = t_y;
+      x_face = false;
+      cy += step_y;
+      t_y += dt_y;
     }
     if (t > t_max_cells) return out;
-    if ((cx < 0 && step_x < 0) || (cx >= width_ && step_x > 0) ||
-        (cy < 0 && step_y < 0) || (cy >= height_ && step_y > 0)) {
+    if ((cx < 0 && step_x < 0) || (cx >= width_ && step_x > 0) || (cy < 0 && step_y < 0) ||
+        (cy >= height_ && step_y > 0)) {
       return out;
     }
     if (wall(cx, cy)) {
@@ -94,8 +98,7 @@ bool FloorPlan::disc_free(const Eigen::Vector2d& p_m, double radius_m) const {
   return true;
 }
 
-bool FloorPlan::segment_free(const Eigen::Vector2d& a_m, const Eigen::Vector2d& b_m,
-                             double radius_m) const {
+bool FloorPlan::segment_free(const Eigen::Vector2d& a_m, const Eigen::Vector2d& b_m, double radius_m) const {
   // Discs every quarter cell along the segment: the swept area is covered up to 1/8 cell.
   const double len = (b_m - a_m).norm();
   const int n = std::max(1, int(std::ceil(len / (0.25 * resolution_m_))));

@@ -28,8 +28,8 @@ TEST(FloorPlan, RayHitsKnownWallDistance) {
 
 TEST(FloorPlan, RayWithoutWallOrBeyondRangeHasNoReturn) {
   const FloorPlan plan = wall_at_x3();
-  EXPECT_FALSE(plan.cast_ray(Eigen::Vector2d(1.0, 2.5), M_PI, 10.0).hit);   // leaves the map
-  EXPECT_FALSE(plan.cast_ray(Eigen::Vector2d(1.0, 2.5), 0.0, 1.5).hit);     // wall at 2 m
+  EXPECT_FALSE(plan.cast_ray(Eigen::Vector2d(1.0, 2.5), M_PI, 10.0).hit);  // leaves the map
+  EXPECT_FALSE(plan.cast_ray(Eigen::Vector2d(1.0, 2.5), 0.0, 1.5).hit);    // wall at 2 m
   EXPECT_FALSE(plan.cast_ray(Eigen::Vector2d(1.0, 2.5), M_PI / 2, 10.0).hit);
 }
 

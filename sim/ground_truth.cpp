@@ -14,10 +14,10 @@ bool write_objects(const std::vector<WorldObject>& objects, const std::string& p
   if (!out) return false;
   out << "id,class,shape,x_m,y_m,z_m,yaw_rad,size_x,size_y,size_z,r,g,b\n" << std::setprecision(9);
   for (const WorldObject& o : objects) {
-    out << o.id << ',' << o.object_class << ',' << to_string(o.shape) << ',' << o.center_m.x() << ','
-        << o.center_m.y() << ',' << o.center_m.z() << ',' << o.yaw_rad << ',' << o.size_m.x() << ','
-        << o.size_m.y() << ',' << o.size_m.z() << ',' << int(o.color_rgb[0]) << ','
-        << int(o.color_rgb[1]) << ',' << int(o.color_rgb[2]) << '\n';
+    out << o.id << ',' << o.object_class << ',' << to_string(o.shape) << ',' << o.center_m.x() << ',' << o.center_m.y()
+        << ',' << o.center_m.z() << ',' << o.yaw_rad << ',' << o.size_m.x() << ',' << o.size_m.y() << ','
+        << o.size_m.z() << ',' << int(o.color_rgb[0]) << ',' << int(o.color_rgb[1]) << ',' << int(o.color_rgb[2])
+        << '\n';
   }
   out.flush();
   return bool(out);

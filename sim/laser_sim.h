@@ -16,8 +16,7 @@ class LaserSimulator {
  public:
   explicit LaserSimulator(const LaserOptions& options);
   /// One scan from T_world_laser; `rng` supplies the range noise.
-  LaserScan scan(const FloorPlan& plan, const SE2& T_world_laser, StampNs stamp_ns,
-                 std::mt19937_64& rng) const;
+  LaserScan scan(const FloorPlan& plan, const SE2& T_world_laser, StampNs stamp_ns, std::mt19937_64& rng) const;
   const LaserOptions& options() const { return options_; }
 
  private:

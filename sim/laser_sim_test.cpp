@@ -45,7 +45,7 @@ TEST(LaserSimulator, NoiseAndMaxRange) {
   for (int k = 0; k < n; ++k) {
     const LaserScan s = laser.scan(box_room(), facing_north, 0, rng);
     EXPECT_TRUE(std::isinf(s.ranges_m[90]));  // sensor -pi/2 = world +x: wall at 3.95 m > max
-    const double r = s.ranges_m[180];          // forward = world +y: wall at 2.95 m
+    const double r = s.ranges_m[180];         // forward = world +y: wall at 2.95 m
     sum += r;
     sum_sq += (r - 2.95) * (r - 2.95);
   }

@@ -13,8 +13,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 enum class Surface { kNone, kWall, kFloor, kCeiling, kObject };
 
 // Ray (o + t d) against an axis-aligned box of half extents `half` centred at the origin.
-bool intersect_box(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& half,
-                   double* t, Eigen::Vector3d* n) {
+bool intersect_box(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& half, double* t,
+                   Eigen::Vector3d* n) {
   double t_min = -kInf, t_max = kInf;
   int axis = -1;
   for (int i = 0; i < 3; ++i) {
@@ -25,7 +25,10 @@ bool intersect_box(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eig
     const double inv = 1.0 / d[i];
     double t1 = (-half[i] - o[i]) * inv, t2 = (half[i] - o[i]) * inv;
     if (t1 > t2) std::swap(t1, t2);
-    if (t1 > t_min) { t_min = t1; axis = i; }
+    if (t1 > t_min) {
+      t_min = t1;
+      axis = i;
+    }
     t_max = std::min(t_max, t2);
     if (t_min > t_max) return false;
   }
@@ -37,8 +40,8 @@ bool intersect_box(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eig
 }
 
 // Ray against a vertical cylinder of radius r, half height hz, centred at the origin.
-bool intersect_cylinder(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double r, double hz,
-                        double* t, Eigen::Vector3d* n) {
+bool intersect_cylinder(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double r, double hz, double* t,
+                        Eigen::Vector3d* n) {
   double best = kInf;
   const double a = d.x() * d.x() + d.y() * d.y();
   if (a > 1e-12) {
@@ -69,8 +72,7 @@ bool intersect_cylinder(const Eigen::Vector3d& o, const Eigen::Vector3d& d, doub
   return true;
 }
 
-bool intersect_sphere(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double r, double* t,
-                      Eigen::Vector3d* n) {
+bool intersect_sphere(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double r, double* t, Eigen::Vector3d* n) {
   const double a = d.squaredNorm(), b = 2.0 * o.dot(d), c = o.squaredNorm() - r * r;
   const double disc = b * b - 4.0 * a * c;
   if (disc < 0.0) return false;
@@ -86,7 +88,9 @@ uint8_t to_u8(double v) { return uint8_t(std::lround(std::clamp(v, 0.0, 255.0)))
 // Small deterministic texture offset in [-amplitude, amplitude] for a cell.
 double texture(int a, int b, int c, double amplitude) {
   uint32_t h = uint32_t(a) * 73856093u ^ uint32_t(b) * 19349663u ^ uint32_t(c) * 83492791u;
-  h ^= h >> 13; h *= 0x5bd1e995u; h ^= h >> 15;
+  h ^= h >> 13;
+  h *= 0x5bd1e995u;
+  h ^= h >> 15;
   return amplitude * (double(h % 1001) / 500.0 - 1.0);
 }
 
@@ -132,12 +136,14 @@ CameraIntrinsics RgbdRenderer::intrinsics_of(const CameraOptions& options) {
 
 RgbdRenderer::RgbdRenderer(const CameraOptions& options, FloorPlan plan, double wall_height_m,
                            std::vector<WorldObject> objects)
-    : options_(options), plan_(std::move(plan)), wall_height_m_(wall_height_m),
-      objects_(std::move(objects)), intrinsics_(intrinsics_of(options)),
+    : options_(options),
+      plan_(std::move(plan)),
+      wall_height_m_(wall_height_m),
+      objects_(std::move(objects)),
+      intrinsics_(intrinsics_of(options)),
       T_base_camera_(camera_mount(options)) {}
 
-std::vector<RgbdRenderer::ObjectView> RgbdRenderer::visible_objects(
-    const Eigen::Isometry3d& T_world_camera) const {
+std::vector<RgbdRenderer::ObjectView> RgbdRenderer::visible_objects(const Eigen::Isometry3d& T_world_camera) const {
   std::vector<ObjectView> views;
   const Eigen::Isometry3d T_camera_world = T_world_camera.inverse();
   const Eigen::Vector3d c = T_world_camera.translation();
@@ -152,9 +158,14 @@ std::vector<RgbdRenderer::ObjectView> RgbdRenderer::visible_objects(
       const Eigen::Vector3d s((corner & 1) ? 1 : -1, (corner & 2) ? 1 : -1, (corner & 4) ? 1 : -1);
       const Eigen::Vector3d p = T_camera_world * (obj.center_m + R * half.cwiseProduct(s));
       z_min = std::min(z_min, p.z());
-      if (p.z() < kNear) { behind = true; continue; }
-      u0 = std::min(u0, k.fx * p.x() / p.z() + k.cx); u1 = std::max(u1, k.fx * p.x() / p.z() + k.cx);
-      v0 = std::min(v0, k.fy * p.y() / p.z() + k.cy); v1 = std::max(v1, k.fy * p.y() / p.z() + k.cy);
+      if (p.z() < kNear) {
+        behind = true;
+        continue;
+      }
+      u0 = std::min(u0, k.fx * p.x() / p.z() + k.cx);
+      u1 = std::max(u1, k.fx * p.x() / p.z() + k.cx);
+      v0 = std::min(v0, k.fy * p.y() / p.z() + k.cy);
+      v1 = std::max(v1, k.fy * p.y() / p.z() + k.cy);
     }
     if (u0 == kInf && behind) continue;  // entirely behind the camera
     if (z_min > options_.render_range_m) continue;
@@ -175,8 +186,8 @@ std::vector<RgbdRenderer::ObjectView> RgbdRenderer::visible_objects(
   return views;
 }
 
-RgbdRenderer::Hit RgbdRenderer::background(const Eigen::Vector3d& c, const Eigen::Vector3d& d,
-                                           const RayHit& wall, double horizontal_norm) const {
+RgbdRenderer::Hit RgbdRenderer::background(const Eigen::Vector3d& c, const Eigen::Vector3d& d, const RayHit& wall,
+                                           double horizontal_norm) const {
   Hit h;
   if (wall.hit && horizontal_norm > 1e-12) {
     const double t_w = wall.range_m / horizontal_norm;
@@ -184,8 +195,7 @@ RgbdRenderer::Hit RgbdRenderer::background(const Eigen::Vector3d& c, const Eigen
     if (z >= 0.0 && z <= wall_height_m_) {
       h.surface = Surface::kWall;
       h.t = t_w;
-      h.normal = wall.x_face ? Eigen::Vector3d(d.x() > 0 ? -1 : 1, 0, 0)
-                             : Eigen::Vector3d(0, d.y() > 0 ? -1 : 1, 0);
+      h.normal = wall.x_face ? Eigen::Vector3d(d.x() > 0 ? -1 : 1, 0, 0) : Eigen::Vector3d(0, d.y() > 0 ? -1 : 1, 0);
       h.point = Eigen::Vector3d(wall.col, wall.row, z);  // cell indices + height, for texture
       return h;
     }
@@ -208,7 +218,8 @@ void RgbdRenderer::shade_pixel(const Hit& h, const Eigen::Vector3d& d, uint8_t* 
   const double facing = std::abs(h.normal.dot(view));
   double r = 0, g = 0, b = 0;
   switch (h.surface) {
-    case Surface::kNone: break;
+    case Surface::kNone:
+      break;
     case Surface::kWall: {
       const double v = 165.0 * (0.5 + 0.5 * facing) +
                        texture(int(h.point.x()), int(h.point.y()), int(std::floor(h.point.z() / 0.2)), 12.0);
@@ -218,21 +229,28 @@ void RgbdRenderer::shade_pixel(const Hit& h, const Eigen::Vector3d& d, uint8_t* 
     case Surface::kFloor: {
       const int tile = int(std::floor(h.point.x() / 0.5)) + int(std::floor(h.point.y() / 0.5));
       const double v = (0.75 + 0.25 * facing) + ((tile & 1) ? 0.06 : -0.06);
-      r = 128 * v; g = 115 * v; b = 102 * v;
+      r = 128 * v;
+      g = 115 * v;
+      b = 102 * v;
       break;
     }
     case Surface::kCeiling:
-      r = 72; g = 72; b = 78;
+      r = 72;
+      g = 72;
+      b = 78;
       break;
     case Surface::kObject: {
       const auto& col = objects_[size_t(h.object)].color_rgb;
-      const double shade = 0.35 + 0.5 * std::max(0.0, h.normal.dot(view)) +
-                           0.15 * std::max(0.0, h.normal.z());
-      r = col[0] * shade; g = col[1] * shade; b = col[2] * shade;
+      const double shade = 0.35 + 0.5 * std::max(0.0, h.normal.dot(view)) + 0.15 * std::max(0.0, h.normal.z());
+      r = col[0] * shade;
+      g = col[1] * shade;
+      b = col[2] * shade;
       break;
     }
   }
-  rgb[0] = to_u8(r); rgb[1] = to_u8(g); rgb[2] = to_u8(b);
+  rgb[0] = to_u8(r);
+  rgb[1] = to_u8(g);
+  rgb[2] = to_u8(b);
 }
 
 void RgbdRenderer::intersect(const ObjectView& view, const Eigen::Vector3d& d, Hit* hit) const {
@@ -247,8 +265,7 @@ void RgbdRenderer::intersect(const ObjectView& view, const Eigen::Vector3d& d, H
       found = intersect_box(view.o_local, d_local, 0.5 * obj.size_m, &t, &n_local);
       break;
     case ObjectShape::kCylinder:
-      found = intersect_cylinder(view.o_local, d_local, 0.5 * obj.size_m.x(), 0.5 * obj.size_m.z(),
-                                 &t, &n_local);
+      found = intersect_cylinder(view.o_local, d_local, 0.5 * obj.size_m.x(), 0.5 * obj.size_m.z(), &t, &n_local);
       break;
     case ObjectShape::kSphere:
       found = intersect_sphere(view.o_local, d_local, 0.5 * obj.size_m.x(), &t, &n_local);
@@ -295,8 +312,7 @@ RgbdFrame RgbdRenderer::render(const SE2& T_world_base, StampNs stamp_ns, std::m
       const Eigen::Vector3d d = d_u + R.col(1) * ((v - k.cy) / k.fy);
       const double s = d.head<2>().norm();
       if (v == 0 || cast_per_pixel) {
-        wall = s > 1e-12 ? plan_.cast_ray_dir(c.head<2>(), d.head<2>() / s, options_.render_range_m)
-                         : RayHit{};
+        wall = s > 1e-12 ? plan_.cast_ray_dir(c.head<2>(), d.head<2>() / s, options_.render_range_m) : RayHit{};
       }
       Hit hit = background(c, d, wall, s);
       for (const ObjectView* view : column_views) {

@@ -23,8 +23,7 @@ namespace cairn::sim {
 
 class RgbdRenderer {
  public:
-  RgbdRenderer(const CameraOptions& options, FloorPlan plan, double wall_height_m,
-               std::vector<WorldObject> objects);
+  RgbdRenderer(const CameraOptions& options, FloorPlan plan, double wall_height_m, std::vector<WorldObject> objects);
 
   /// Renders the view from a robot at T_world_base. When `object_ids` is given it receives, per
   /// pixel (row-major), the id of the object seen there or -1 (ground truth for detector tests).
@@ -42,8 +41,7 @@ class RgbdRenderer {
   struct Hit;
   struct ObjectView;
   std::vector<ObjectView> visible_objects(const Eigen::Isometry3d& T_world_camera) const;
-  Hit background(const Eigen::Vector3d& c, const Eigen::Vector3d& d, const RayHit& wall,
-                 double horizontal_norm) const;
+  Hit background(const Eigen::Vector3d& c, const Eigen::Vector3d& d, const RayHit& wall, double horizontal_norm) const;
   /// Replaces *hit when the object is nearer along world direction d.
   void intersect(const ObjectView& view, const Eigen::Vector3d& d, Hit* hit) const;
   void shade_pixel(const Hit& hit, const Eigen::Vector3d& d, uint8_t* rgb) const;

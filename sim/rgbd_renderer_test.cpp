@@ -37,7 +37,7 @@ CameraOptions noiseless() {
 TEST(RgbdRenderer, ObjectAtTheRightPixelAndDepth) {
   const CameraOptions options = noiseless();
   const std::vector<WorldObject> objects = {
-      make_object(4, ObjectShape::kBox, {3.0, 0.0, 0.5}, 0.4),       // straight ahead
+      make_object(4, ObjectShape::kBox, {3.0, 0.0, 0.5}, 0.4),      // straight ahead
       make_object(9, ObjectShape::kSphere, {4.0, 1.0, 0.5}, 0.4)};  // 1 m to the left
   const RgbdRenderer renderer(options, open_floor(), 2.0, objects);
   std::mt19937_64 rng(3);
@@ -94,7 +94,7 @@ TEST(RgbdRenderer, DepthBeyondMaxIsZeroAndNoiseIsSeeded) {
   EXPECT_EQ(fa.depth, fb.depth);
   EXPECT_NE(fa.depth, fc.depth);
   const CameraIntrinsics& k = fa.intrinsics;
-  EXPECT_EQ(fa.depth[size_t(k.cy) * size_t(k.width) + size_t(k.cx)], 0);  // wall at 3 m > 2.5
+  EXPECT_EQ(fa.depth[size_t(k.cy) * size_t(k.width) + size_t(k.cx)], 0);      // wall at 3 m > 2.5
   EXPECT_GT(fa.rgb[3 * (size_t(k.cy) * size_t(k.width) + size_t(k.cx))], 0);  // colour still drawn
 }
 

@@ -36,13 +36,13 @@ struct CameraOptions {
   int width = 320;
   int height = 240;
   double hfov_deg = 70.0;
-  double max_depth_m = 6.0;        ///< depth pixels beyond this read 0 (colour is still rendered)
+  double max_depth_m = 6.0;  ///< depth pixels beyond this read 0 (colour is still rendered)
   double height_m = 0.5;
-  double pitch_deg = 0.0;          ///< positive tilts the camera down
-  double forward_offset_m = 0.0;   ///< camera x in the base frame
+  double pitch_deg = 0.0;         ///< positive tilts the camera down
+  double forward_offset_m = 0.0;  ///< camera x in the base frame
   double depth_noise_sd_m = 0.005;
-  double rgb_noise_sd = 0.0;       ///< Gaussian noise on RGB values (0..255 scale); 0 = off
-  double render_range_m = 25.0;    ///< walls further than this (horizontally) are not drawn
+  double rgb_noise_sd = 0.0;     ///< Gaussian noise on RGB values (0..255 scale); 0 = off
+  double render_range_m = 25.0;  ///< walls further than this (horizontally) are not drawn
 };
 
 /// Everything the Simulator needs besides the World.
@@ -50,7 +50,7 @@ struct SimOptions {
   uint64_t seed = 7;
   double dt_s = 0.05;
   double duration_s = 120.0;
-  double settle_time_s = 1.0;      ///< mission ends this long after the last robot stopped
+  double settle_time_s = 1.0;  ///< mission ends this long after the last robot stopped
   bool enable_laser = true;
   bool enable_camera = true;
   OdometryOptions odometry;
@@ -61,7 +61,7 @@ struct SimOptions {
 /// What the loader accepts and checks.
 struct WorldLoadOptions {
   std::vector<std::string> object_classes = {"victim", "hazard", "exit"};
-  double robot_radius_m = 0.2;     ///< start poses closer than this to a wall are rejected
+  double robot_radius_m = 0.2;  ///< start poses closer than this to a wall are rejected
 };
 
 }  // namespace cairn::sim

@@ -19,7 +19,8 @@ StampNs period_ns(double rate_hz) { return std::max<StampNs>(1, sec_to_ns(1.0 / 
 }  // namespace
 
 Simulator::Simulator(const World& world, const SimOptions& options)
-    : world_(world), options_(options),
+    : world_(world),
+      options_(options),
       dt_ns_(std::max<StampNs>(1, sec_to_ns(options.dt_s))),
       duration_ns_(sec_to_ns(options.duration_s)),
       odometry_period_ns_(period_ns(options.odometry.rate_hz)),
@@ -33,16 +34,15 @@ Simulator::Simulator(const World& world, const SimOptions& options)
     follower.max_speed_mps = spec.max_speed_mps;
     follower.max_turn_radps = spec.max_turn_radps;
     const int id = spec.id.value;
-    robots_.push_back(RobotState{
-        spec, spec.T_world_start,
-        WaypointFollower(spec.T_world_start.translation(), spec.waypoints_m, follower),
-        OdometryIntegrator(options_.odometry, stream_seed(options_.seed, id, 0)),
-        std::mt19937_64(stream_seed(options_.seed, id, 1)),
-        std::mt19937_64(stream_seed(options_.seed, id, 2)), Trajectory{}});
+    robots_.push_back(RobotState{spec, spec.T_world_start,
+                                 WaypointFollower(spec.T_world_start.translation(), spec.waypoints_m, follower),
+                                 OdometryIntegrator(options_.odometry, stream_seed(options_.seed, id, 0)),
+                                 std::mt19937_64(stream_seed(options_.seed, id, 1)),
+                                 std::mt19937_64(stream_seed(options_.seed, id, 2)), Trajectory{}});
   }
   if (options_.enable_camera) {
-    renderer_ = std::make_unique<RgbdRenderer>(options_.camera, world_.floor_plan,
-                                               world_.wall_height_m, world_.objects);
+    renderer_ =
+        std::make_unique<RgbdRenderer>(options_.camera, world_.floor_plan, world_.wall_height_m, world_.objects);
   }
 }
 

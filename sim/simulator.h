@@ -83,7 +83,7 @@ class Simulator {
   StampNs odometry_period_ns_, laser_period_ns_, camera_period_ns_;
   StampNs next_odometry_ns_ = 0, next_laser_ns_ = 0, next_camera_ns_ = 0;
   int64_t step_index_ = 0;
-  StampNs all_finished_ns_ = -1;  ///< first stamp at which every robot had finished
+  StampNs all_finished_ns_ = -1;    ///< first stamp at which every robot had finished
   std::vector<RobotState> robots_;  ///< ascending robot id
   LaserSimulator laser_;
   std::unique_ptr<RgbdRenderer> renderer_;

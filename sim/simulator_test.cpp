@@ -63,8 +63,8 @@ TEST(Simulator, StampsOrderAndRates) {
     frames += int(s.frames.size());
     ++steps;
   }
-  EXPECT_EQ(odo, 2 * steps);                   // 20 Hz = every 50 ms step
-  EXPECT_NEAR(scans, 2 * (steps + 1) / 2, 2);  // 10 Hz
+  EXPECT_EQ(odo, 2 * steps);                     // 20 Hz = every 50 ms step
+  EXPECT_NEAR(scans, 2 * (steps + 1) / 2, 2);    // 10 Hz
   EXPECT_NEAR(frames, 2 * (steps + 9) / 10, 2);  // 2 Hz
   EXPECT_EQ(sim.ground_truth(RobotId(0)).size(), size_t(steps));
 }
@@ -100,8 +100,8 @@ TEST(Simulator, OdometryStartsAtIdentityAndFollowsTheTruthWithoutNoise) {
 }
 
 bool same(const SimStep& a, const SimStep& b) {
-  if (a.odometry.size() != b.odometry.size() || a.scans.size() != b.scans.size() ||
-      a.frames.size() != b.frames.size()) return false;
+  if (a.odometry.size() != b.odometry.size() || a.scans.size() != b.scans.size() || a.frames.size() != b.frames.size())
+    return false;
   for (size_t i = 0; i < a.odometry.size(); ++i) {
     if (a.odometry[i].reading.T_odom_base.vector() != b.odometry[i].reading.T_odom_base.vector()) return false;
   }
@@ -109,8 +109,8 @@ bool same(const SimStep& a, const SimStep& b) {
     if (a.scans[i].reading.ranges_m != b.scans[i].reading.ranges_m) return false;
   }
   for (size_t i = 0; i < a.frames.size(); ++i) {
-    if (a.frames[i].reading.depth != b.frames[i].reading.depth ||
-        a.frames[i].reading.rgb != b.frames[i].reading.rgb) return false;
+    if (a.frames[i].reading.depth != b.frames[i].reading.depth || a.frames[i].reading.rgb != b.frames[i].reading.rgb)
+      return false;
   }
   return true;
 }
@@ -131,7 +131,8 @@ TEST(Simulator, DeterministicForASeed) {
 TEST(GroundTruth, WritesTheFiles) {
   Simulator sim(small_world(), fast_options(1));
   for (int i = 0; i < 20; ++i) sim.step();
-  const std::string dir = (std::filesystem::temp_directory_path() / ("cairn_sim_gt_test_" + std::to_string(::getpid()))).string();
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("cairn_sim_gt_test_" + std::to_string(::getpid()))).string();
   std::filesystem::remove_all(dir);
   ASSERT_TRUE(write_ground_truth(sim, dir));
   const Trajectory t = read_trajectory_csv(dir + "/gt_robot3.csv");

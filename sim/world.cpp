@@ -69,8 +69,8 @@ void load_sensors(const YamlConfig& root, SimOptions& sim) {
   }
   if (s.has("camera")) {
     const YamlConfig c = s["camera"];
-    c.allow_only({"rate_hz", "width", "height", "hfov_deg", "max_depth_m", "height_m", "pitch_deg",
-                  "forward_offset_m", "depth_noise_sd_m", "rgb_noise_sd", "render_range_m"});
+    c.allow_only({"rate_hz", "width", "height", "hfov_deg", "max_depth_m", "height_m", "pitch_deg", "forward_offset_m",
+                  "depth_noise_sd_m", "rgb_noise_sd", "render_range_m"});
     CameraOptions& co = sim.camera;
     co.rate_hz = positive(c, "rate_hz", co.rate_hz);
     co.width = positive_int(c, "width", co.width);
@@ -112,8 +112,8 @@ RobotSpec load_robot(const YamlConfig& r, const FloorPlan& plan, const WorldLoad
   const auto start = require_numbers(r, "start", 3);
   spec.T_world_start = SE2(start[0], start[1], start[2]);
   if (!plan.disc_free(spec.T_world_start.translation(), options.robot_radius_m)) {
-    r.fail("start", "is off the map, inside a wall or closer than " +
-                        std::to_string(options.robot_radius_m) + " m to one");
+    r.fail("start",
+           "is off the map, inside a wall or closer than " + std::to_string(options.robot_radius_m) + " m to one");
   }
   spec.max_speed_mps = positive(r, "max_speed_mps", spec.max_speed_mps);
   spec.max_turn_radps = positive(r, "max_turn_radps", spec.max_turn_radps);
@@ -169,15 +169,17 @@ WorldObject load_object(const YamlConfig& o, const WorldLoadOptions& options) {
 
 const char* to_string(ObjectShape shape) {
   switch (shape) {
-    case ObjectShape::kBox: return "box";
-    case ObjectShape::kCylinder: return "cylinder";
-    case ObjectShape::kSphere: return "sphere";
+    case ObjectShape::kBox:
+      return "box";
+    case ObjectShape::kCylinder:
+      return "cylinder";
+    case ObjectShape::kSphere:
+      return "sphere";
   }
   return "?";
 }
 
-FloorPlan load_floor_plan_image(const std::string& image_path, double resolution_m,
-                                const Eigen::Vector2d& origin_m) {
+FloorPlan load_floor_plan_image(const std::string& image_path, double resolution_m, const Eigen::Vector2d& origin_m) {
   if (!std::filesystem::exists(image_path)) throw InputError(image_path + ": cannot open file");
   const cv::Mat img = cv::imread(image_path, cv::IMREAD_GRAYSCALE);
   if (img.empty()) throw InputError(image_path + ": not a readable PGM/PNG image");
@@ -200,14 +202,12 @@ WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& 
   map.allow_only({"image", "resolution_m", "origin_m", "wall_height_m"});
   const std::string image = map.require<std::string>("image");
   const double resolution_m = positive(map, "resolution_m", 0.05);
-  const auto origin = map.has("origin_m") ? require_numbers(map, "origin_m", 2)
-                                          : std::vector<double>{0.0, 0.0};
+  const auto origin = map.has("origin_m") ? require_numbers(map, "origin_m", 2) : std::vector<double>{0.0, 0.0};
   world.wall_height_m = positive(map, "wall_height_m", world.wall_height_m);
   std::filesystem::path image_path(image);
   if (image_path.is_relative()) image_path = std::filesystem::path(yaml_path).parent_path() / image_path;
   try {
-    world.floor_plan = load_floor_plan_image(image_path.string(), resolution_m,
-                                             Eigen::Vector2d(origin[0], origin[1]));
+    world.floor_plan = load_floor_plan_image(image_path.string(), resolution_m, Eigen::Vector2d(origin[0], origin[1]));
   } catch (const InputError& e) {
     map.fail("image", std::string("cannot be loaded: ") + e.what());
   }

@@ -22,12 +22,12 @@ const char* to_string(ObjectShape shape);
 /// axis) = (diameter, diameter, height); sphere = (diameter, diameter, diameter).
 struct WorldObject {
   int id = 0;
-  std::string object_class;                 ///< "victim", "hazard", "exit", ...
+  std::string object_class;  ///< "victim", "hazard", "exit", ...
   ObjectShape shape = ObjectShape::kBox;
   std::array<uint8_t, 3> color_rgb{{255, 0, 0}};
   Eigen::Vector3d size_m = Eigen::Vector3d::Constant(0.5);
   Eigen::Vector3d center_m = Eigen::Vector3d::Zero();  ///< world frame, z = height of the centre
-  double yaw_rad = 0.0;                                 ///< rotation about the vertical axis
+  double yaw_rad = 0.0;                                ///< rotation about the vertical axis
 };
 
 /// A robot and the route it drives.
@@ -59,7 +59,6 @@ struct WorldFile {
 WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& options = {});
 
 /// Loads a floor-plan image (PGM/PNG) into a FloorPlan; throws InputError naming the file.
-FloorPlan load_floor_plan_image(const std::string& image_path, double resolution_m,
-                                const Eigen::Vector2d& origin_m);
+FloorPlan load_floor_plan_image(const std::string& image_path, double resolution_m, const Eigen::Vector2d& origin_m);
 
 }  // namespace cairn::sim

@@ -43,8 +43,7 @@ MissionSummary run_mission(const WorldFile& file) {
   MissionSummary out;
   out.end_s = ns_to_sec(sim.now_ns());
   for (RobotId id : sim.robot_ids()) EXPECT_TRUE(sim.robot_finished(id)) << to_string(id);
-  const RgbdRenderer renderer(file.sim.camera, file.world.floor_plan, file.world.wall_height_m,
-                              file.world.objects);
+  const RgbdRenderer renderer(file.sim.camera, file.world.floor_plan, file.world.wall_height_m, file.world.objects);
   std::mt19937_64 rng(1);
   for (RobotId id : sim.robot_ids()) {
     const Trajectory& gt = sim.ground_truth(id);
@@ -158,9 +157,11 @@ TEST_F(BadInput, InvalidValues) {
   expect_error(yaml(good_map_, good_robot_,
                     "objects:\n  - {id: 0, class: cat, color: [1, 2, 3], size_m: [1, 1, 1], pose: [1, 1, 0, 0]}\n"),
                "objects[0].class");
-  expect_error(yaml(good_map_, good_robot_,
-                    "objects:\n  - {id: 0, class: exit, shape: cone, color: [1, 2, 3], size_m: [1, 1, 1], pose: [1, 1, 0, 0]}\n"),
-               "objects[0].shape");
+  expect_error(
+      yaml(
+          good_map_, good_robot_,
+          "objects:\n  - {id: 0, class: exit, shape: cone, color: [1, 2, 3], size_m: [1, 1, 1], pose: [1, 1, 0, 0]}\n"),
+      "objects[0].shape");
   expect_error(yaml(good_map_, good_robot_,
                     "objects:\n  - {id: 0, class: exit, color: [1, 2, 3], size_m: [1, 1, 1], pose: [1, .nan, 0, 0]}\n"),
                "objects[0].pose");

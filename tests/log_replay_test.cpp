@@ -4,8 +4,8 @@
 // long gone.
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <filesystem>
@@ -46,8 +46,8 @@ TEST(LogReplay, AgentReplaysACarmenLogToTheBaseOverDds) {
   const auto lease = dds::DomainLease::claim({}, &error);  // no concurrent mission shares it
   ASSERT_TRUE(lease) << error;
   const int domain = lease->domain_id();
-  const std::string base = bin("cairn_base") + " --domain " + std::to_string(domain) + " --out " + (dir / "map").string() +
-                           " --robots 1 --start 0,0,0,0 --port 0";
+  const std::string base = bin("cairn_base") + " --domain " + std::to_string(domain) + " --out " +
+                           (dir / "map").string() + " --robots 1 --start 0,0,0,0 --port 0";
   const std::string agent = bin("cairn_agent") + " --robot 0 --domain " + std::to_string(domain) + " --log " + log;
   const auto r = run_command("(" + base + " > " + (dir / "base.log").string() + " 2>&1 & " + agent +
                              "; status=$?; wait; exit $status)");
@@ -122,7 +122,8 @@ TEST(LogReplay, KilledBaseResumesFromItsJournalAfterTheRobotIsGone) {
   std::ifstream fresh(dir / "map" / "summary.json");
   EXPECT_EQ(nlohmann::json::parse(fresh)["robots"].size(), 0u);
   int kept = 0;
-  for (const auto& e : fs::directory_iterator(dir / "map")) kept += e.path().filename().string().rfind("journal.sqlite.", 0) == 0;
+  for (const auto& e : fs::directory_iterator(dir / "map"))
+    kept += e.path().filename().string().rfind("journal.sqlite.", 0) == 0;
   EXPECT_GE(kept, 1);
 }
 

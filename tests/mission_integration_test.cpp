@@ -33,7 +33,11 @@ Pgm read_pgm(const std::string& path) {
   in >> magic;
   auto skip_comments = [&] {
     in >> std::ws;
-    while (in.peek() == '#') { std::string line; std::getline(in, line); in >> std::ws; }
+    while (in.peek() == '#') {
+      std::string line;
+      std::getline(in, line);
+      in >> std::ws;
+    }
   };
   skip_comments();
   int maxval = 0;
@@ -131,8 +135,8 @@ TEST(MissionIntegration, TwoRobotsOverSecureDdsMatchGroundTruth) {
   const nlohmann::json summary = nlohmann::json::parse(summary_in);
   EXPECT_GE(summary["exploration"]["goals"].size(), 1u) << summary["exploration"].dump();
 
-  for (const char* f : {"map.pgm", "map.yaml", "map.png", "objects.geojson", "objects.csv", "objects.bt",
-                        "graph.g2o", "summary.json"}) {
+  for (const char* f : {"map.pgm", "map.yaml", "map.png", "objects.geojson", "objects.csv", "objects.bt", "graph.g2o",
+                        "summary.json"}) {
     EXPECT_TRUE(fs::exists(out / "map" / f)) << f;
   }
   int ply = 0;
@@ -188,10 +192,10 @@ TEST(MissionIntegration, DemoFloorMergesEveryRobotAndEveryObjectOnceAndSurvivesA
   std::string error;
   const auto lease = dds::DomainLease::claim({}, &error);  // no other mission's robots on it
   ASSERT_TRUE(lease) << error;
-  const CommandResult b = run_command("timeout 120 " + bin("cairn_base") + " --domain " +
-                                      std::to_string(lease->domain_id()) + " --out " + again.string() +
-                                      " --robots 4 --port 0 --start 0," + std::to_string(start[0]) + "," +
-                                      std::to_string(start[1]) + "," + std::to_string(start[2]));
+  const CommandResult b =
+      run_command("timeout 120 " + bin("cairn_base") + " --domain " + std::to_string(lease->domain_id()) + " --out " +
+                  again.string() + " --robots 4 --port 0 --start 0," + std::to_string(start[0]) + "," +
+                  std::to_string(start[1]) + "," + std::to_string(start[2]));
   ASSERT_EQ(b.exit_code, 0) << b.output;
   const eval::MissionScore restored = eval::evaluate_mission((out / "ground_truth").string(), again.string());
   ASSERT_EQ(restored.robots.size(), 4u);

@@ -2,8 +2,8 @@
 // wrong (file, key, argument), and leaves files already written alone.
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -107,11 +107,13 @@ TEST(ProcessBadInput, BaseSkipsAndNamesDamagedJournalRecordsAndKeepsThem) {
 TEST(ProcessBadInput, EveryProcessNamesTheSecurityFileItCannotRead) {
   const std::string dir = ::testing::TempDir() + "/no_such_identity";
   const std::string world = std::string(CAIRN_SOURCE_DIR) + "/worlds/office.yaml";
-  for (const std::string& cmd : {bin("cairn_agent") + " --robot 0", bin("cairn_base") + " --port 0 --out " + dir + "_out",
-                                 bin("cairn_sim") + " --world " + world + " --out " + dir + "_gt"}) {
+  for (const std::string& cmd :
+       {bin("cairn_agent") + " --robot 0", bin("cairn_base") + " --port 0 --out " + dir + "_out",
+        bin("cairn_sim") + " --world " + world + " --out " + dir + "_gt"}) {
     const auto r = run_command(cmd + " --security " + dir);
     EXPECT_NE(r.exit_code, 0) << cmd << "\n" << r.output;
-    EXPECT_NE(r.output.find("DDS security: cannot read " + dir + "/ca.pem"), std::string::npos) << cmd << "\n" << r.output;
+    EXPECT_NE(r.output.find("DDS security: cannot read " + dir + "/ca.pem"), std::string::npos) << cmd << "\n"
+                                                                                                << r.output;
   }
 }
 

@@ -49,8 +49,9 @@ int main(int argc, char** argv) {
   bool no_shm = false;
   app.add_flag("--no-shm", no_shm, "UDP only, no shared memory (e.g. behind an emulated radio link)");
   app.add_flag("--serve", options.serve_after_finish, "keep the console up after the mission");
-  app.add_option("--journal", options.journal_path,
-                 "journal of everything received (SQLite; default <out>/journal.sqlite); a restarted base resumes from it");
+  app.add_option(
+      "--journal", options.journal_path,
+      "journal of everything received (SQLite; default <out>/journal.sqlite); a restarted base resumes from it");
   app.add_flag("--new-mission", options.new_mission, "move an existing journal aside and start an empty map");
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);

@@ -53,12 +53,12 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   if (!n->participant_) return nullptr;
   auto& p = *n->participant_;
   using dds::TopicKind;
-  n->keyframe_in_ = std::make_unique<R<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>>(
-      p, dds::kKeyframeTopic, TopicKind::kKeyframe);
+  n->keyframe_in_ = std::make_unique<R<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>>(p, dds::kKeyframeTopic,
+                                                                                              TopicKind::kKeyframe);
   n->object_in_ = std::make_unique<R<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>>(
       p, dds::kObjectTopic, TopicKind::kObject);
-  n->status_in_ = std::make_unique<R<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>>(
-      p, dds::kStatusTopic, TopicKind::kStatus);
+  n->status_in_ = std::make_unique<R<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>>(p, dds::kStatusTopic,
+                                                                                                  TopicKind::kStatus);
   n->keyframe_poses_in_ = std::make_unique<R<cairn_msgs::KeyframePoses, cairn_msgs::KeyframePosesPubSubType>>(
       p, dds::kKeyframePosesTopic, TopicKind::kKeyframePoses);
   n->ack_out_ = std::make_unique<W<cairn_msgs::Ack, cairn_msgs::AckPubSubType>>(p, dds::kAckTopic, TopicKind::kAck);
@@ -103,7 +103,8 @@ AddResult BaseNode::ingest(const cairn_msgs::KeyframePoses& m) {
   const AddResult r = convert_and_add(m, [&](const KeyframePoses& p) { return mapper_.add_keyframe_poses(p); });
   if (r.status == AddStatus::kRejected) {
     count_rejected(m.robot_id());
-    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe poses of robot{}: {}", m.robot_id(), r.reason);
+    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe poses of robot{}: {}", m.robot_id(),
+                          r.reason);
   } else {
     ++links_[RobotId(m.robot_id())].keyframe_pose_updates;
   }
@@ -137,7 +138,8 @@ bool BaseNode::poll_inputs() {
   bool any = false;
   for (const auto& m : keyframe_in_->take_all()) {
     any = true;
-    if (ingest(m).stored()) journal(JournalKind::kKeyframe, m.robot_id(), m.seq(), dds::to_cdr<cairn_msgs::KeyframePubSubType>(m));
+    if (ingest(m).stored())
+      journal(JournalKind::kKeyframe, m.robot_id(), m.seq(), dds::to_cdr<cairn_msgs::KeyframePubSubType>(m));
   }
   for (const auto& m : keyframe_poses_in_->take_all()) {  // after this poll's keyframes
     any = true;
@@ -153,7 +155,8 @@ bool BaseNode::poll_inputs() {
   }
   for (const auto& m : status_in_->take_all()) {
     const RobotId robot(m.robot_id());
-    const bool news = !links_.count(robot) || !links_[robot].has_status || links_[robot].last_status.finished() != m.finished();
+    const bool news =
+        !links_.count(robot) || !links_[robot].has_status || links_[robot].last_status.finished() != m.finished();
     ingest(m, /*live=*/true);
     unjournaled_status_[robot] = m;  // the newest per robot; see flush_journal()
     status_urgent_ = status_urgent_ || news;
@@ -216,12 +219,12 @@ nlohmann::json BaseNode::link_stats() const {
     const double age_s = link.last_heard_s < 0 ? -1.0 : now_s() - link.last_heard_s;
     j["last_heard_age_s"] = age_s;
     // What the console shows: the link's state and the bytes received from the robot.
-    j["state"] = !link.has_status ? "unknown"
+    j["state"] = !link.has_status              ? "unknown"
                  : link.last_status.finished() ? "finished"
-                 : age_s < 0.0 ? "lost"  // known from the journal only
-                 : age_s < 2.0 ? "ok"
-                 : age_s < 10.0 ? "stale"
-                 : "lost";
+                 : age_s < 0.0                 ? "lost"  // known from the journal only
+                 : age_s < 2.0                 ? "ok"
+                 : age_s < 10.0                ? "stale"
+                                               : "lost";
     j["bytes_rx"] = link.has_status ? link.last_status.bytes_sent() : 0;
     j["bad_samples"] = link.bad_samples;
     j["keyframe_pose_updates"] = link.keyframe_pose_updates;
@@ -230,9 +233,7 @@ nlohmann::json BaseNode::link_stats() const {
   return links;
 }
 
-void BaseNode::refresh_snapshot() {
-  latest_snapshot_.publish(make_snapshot(mapper_, link_stats(), {}, &plan_));
-}
+void BaseNode::refresh_snapshot() { latest_snapshot_.publish(make_snapshot(mapper_, link_stats(), {}, &plan_)); }
 
 bool BaseNode::all_finished() const {
   if (options_.expected_robots <= 0) return false;
@@ -270,7 +271,8 @@ int BaseNode::run() {
   log_->info("console at http://{}:{}/  (domain {}, expecting {} robots)", options_.console.bind_address,
              console_->port(), options_.domain_id, options_.expected_robots);
   auto next_optimize = Clock::now();
-  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.optimize_period_s));
+  const auto period =
+      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.optimize_period_s));
   auto next_plan = Clock::now();
   const auto plan_period =
       std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.exploration_period_s));
@@ -342,7 +344,8 @@ int BaseNode::finish() {
                         {"commits", journal_commits_},
                         {"commit_s", journal_commit_s_}};
   summary["landmarks"] = nlohmann::json::array();  // identified markers, global frame
-  for (const auto& [id, p] : mapper_.landmarks()) summary["landmarks"].push_back({{"id", id.value}, {"x_m", p.x()}, {"y_m", p.y()}});
+  for (const auto& [id, p] : mapper_.landmarks())
+    summary["landmarks"].push_back({{"id", id.value}, {"x_m", p.x()}, {"y_m", p.y()}});
   summary["export_ok"] = exported.ok();
   std::ofstream out(options_.out_dir + "/summary.json");
   out << summary.dump(2) << "\n";

@@ -27,18 +27,18 @@ namespace cairn::base {
 
 struct BaseNodeOptions {
   int domain_id = 0;
-  std::vector<std::string> peers;         ///< unicast discovery peers (IPv4): the robots
-  bool use_shared_memory = true;          ///< false: UDP only, even to processes on this host
-  std::string security_dir;               ///< DDS Security identity (dds::ParticipantOptions); empty = off
+  std::vector<std::string> peers;  ///< unicast discovery peers (IPv4): the robots
+  bool use_shared_memory = true;   ///< false: UDP only, even to processes on this host
+  std::string security_dir;        ///< DDS Security identity (dds::ParticipantOptions); empty = off
   std::string out_dir = "out";
-  int expected_robots = 0;                ///< finish once this many robots reported "finished"; 0 = run until stopped
-  std::map<RobotId, SE2> robot_starts;    ///< known start poses (until cross-robot merging lands)
+  int expected_robots = 0;              ///< finish once this many robots reported "finished"; 0 = run until stopped
+  std::map<RobotId, SE2> robot_starts;  ///< known start poses (until cross-robot merging lands)
   double optimize_period_s = 1.0;
-  double exploration_period_s = 2.0;      ///< how often the exploration goals are planned anew (when the map changed)
+  double exploration_period_s = 2.0;  ///< how often the exploration goals are planned anew (when the map changed)
   ConsoleOptions console;
-  bool serve_after_finish = false;        ///< keep the console up after the mission ended
-  std::string journal_path;               ///< default <out_dir>/journal.sqlite
-  bool new_mission = false;               ///< move an existing journal aside instead of resuming it
+  bool serve_after_finish = false;  ///< keep the console up after the mission ended
+  std::string journal_path;         ///< default <out_dir>/journal.sqlite
+  bool new_mission = false;         ///< move an existing journal aside instead of resuming it
 };
 
 class BaseNode {
@@ -54,7 +54,7 @@ class BaseNode {
   struct RobotLink {
     cairn_msgs::RobotStatus last_status;
     bool has_status = false;
-    double last_heard_s = -1;     ///< wall seconds since start
+    double last_heard_s = -1;  ///< wall seconds since start
     int bad_samples = 0;
     int keyframe_pose_updates = 0;  ///< the agent's loop-closed keyframe poses, stored
   };
@@ -98,8 +98,8 @@ class BaseNode {
   std::unique_ptr<W<cairn_msgs::ExplorationGoal, cairn_msgs::ExplorationGoalPubSubType>> goal_out_;
   std::unique_ptr<ConsoleServer> console_;
   std::unique_ptr<Journal> journal_;
-  ExplorationPlan plan_;  ///< the newest exploration plan (console, goal topic, final export)
-  uint64_t planned_version_ = 0;  ///< mapper_.version() plan_ was made for
+  ExplorationPlan plan_;                    ///< the newest exploration plan (console, goal topic, final export)
+  uint64_t planned_version_ = 0;            ///< mapper_.version() plan_ was made for
   std::vector<JournalRecord> unjournaled_;  ///< stored in the mapper, not yet in the journal: no ack
   std::map<RobotId, cairn_msgs::RobotStatus> unjournaled_status_;  ///< newest status per robot, not yet journaled
   bool status_urgent_ = false;  ///< a robot's first status or a change of "finished": journal now

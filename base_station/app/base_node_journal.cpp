@@ -61,8 +61,12 @@ void BaseNode::restore(const JournalContents& contents) {
   for (const JournalRecord& r : contents.records) {
     std::string why;
     switch (r.kind) {
-      case JournalKind::kKeyframe: why = replay<cairn_msgs::KeyframePubSubType, cairn_msgs::Keyframe>(r, taken); break;
-      case JournalKind::kObject: why = replay<cairn_msgs::ObjectReportPubSubType, cairn_msgs::ObjectReport>(r, taken); break;
+      case JournalKind::kKeyframe:
+        why = replay<cairn_msgs::KeyframePubSubType, cairn_msgs::Keyframe>(r, taken);
+        break;
+      case JournalKind::kObject:
+        why = replay<cairn_msgs::ObjectReportPubSubType, cairn_msgs::ObjectReport>(r, taken);
+        break;
       case JournalKind::kKeyframePoses:
         why = replay<cairn_msgs::KeyframePosesPubSubType, cairn_msgs::KeyframePoses>(r, taken);
         break;
@@ -74,8 +78,10 @@ void BaseNode::restore(const JournalContents& contents) {
             });
         break;
     }
-    if (why.empty()) ++restored_records_;
-    else skip(r, why);
+    if (why.empty())
+      ++restored_records_;
+    else
+      skip(r, why);
   }
   for (const std::string& s : restore_skipped_) log_->warn("journal {}: skipped {}", journal_->path(), s);
   if (restored_records_ > 0) {

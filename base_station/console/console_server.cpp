@@ -41,9 +41,9 @@ ConsoleServer::ConsoleServer(const ConsoleOptions& options, SharedProvider provi
 }
 
 ConsoleServer::ConsoleServer(const ConsoleOptions& options, Provider provider)
-    : ConsoleServer(options, SharedProvider([p = std::move(provider)] {
-                      return std::make_shared<const ConsoleSnapshot>(p());
-                    })) {}
+    : ConsoleServer(
+          options, SharedProvider([p = std::move(provider)] { return std::make_shared<const ConsoleSnapshot>(p()); })) {
+}
 
 ConsoleServer::~ConsoleServer() { stop(); }
 
@@ -63,15 +63,12 @@ void ConsoleServer::register_routes() {
   server_->Get("/index.html", asset("index.html", "text/html; charset=utf-8"));
   server_->Get("/app.js", asset("app.js", "application/javascript; charset=utf-8"));
   server_->Get("/style.css", asset("style.css", "text/css; charset=utf-8"));
-  server_->Get("/api/status", [snapshot](const httplib::Request&, httplib::Response& res) {
-    reply_json(res, snapshot()->status);
-  });
-  server_->Get("/api/robots", [snapshot](const httplib::Request&, httplib::Response& res) {
-    reply_json(res, snapshot()->robots);
-  });
-  server_->Get("/api/objects", [snapshot](const httplib::Request&, httplib::Response& res) {
-    reply_json(res, snapshot()->objects);
-  });
+  server_->Get("/api/status",
+               [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->status); });
+  server_->Get("/api/robots",
+               [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->robots); });
+  server_->Get("/api/objects",
+               [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->objects); });
   server_->Get("/api/map.png", [snapshot](const httplib::Request&, httplib::Response& res) {
     const auto s = snapshot();
     if (s->map_png.empty()) return reply_not_found(res, "map");

@@ -18,8 +18,10 @@ std::vector<size_t> decimate(const std::vector<T>& v, size_t max_points) {
   const size_t step = (v.size() + max_points - 1) / max_points;
   for (size_t i = 0; i < v.size(); i += step) idx.push_back(i);
   if (idx.back() != v.size() - 1) {
-    if (idx.size() >= max_points) idx.back() = v.size() - 1;
-    else idx.push_back(v.size() - 1);
+    if (idx.size() >= max_points)
+      idx.back() = v.size() - 1;
+    else
+      idx.push_back(v.size() - 1);
   }
   return idx;
 }
@@ -46,8 +48,8 @@ nlohmann::json robot_json(const MultiRobotMapper& mapper, const RobotSummary& r,
           {"missing_keyframes", r.missing_keyframes},
           {"objects", r.objects},
           {"last_stamp_s", ns_to_sec(r.last_stamp_ns)},
-          {"correction", {{"x_m", r.T_global_local.x()}, {"y_m", r.T_global_local.y()},
-                          {"yaw_rad", r.T_global_local.yaw()}}},
+          {"correction",
+           {{"x_m", r.T_global_local.x()}, {"y_m", r.T_global_local.y()}, {"yaw_rad", r.T_global_local.yaw()}}},
           {"trajectory", trajectory},
           {"link", link_stats.is_object() && link_stats.contains(key) ? link_stats[key] : nlohmann::json::object()}};
 }
@@ -68,7 +70,8 @@ nlohmann::json object_json(const GlobalObject& o) {
           {"reports", reports},
           {"observations", o.observations},
           {"last_stamp_s", ns_to_sec(o.last_stamp_ns)},
-          {"thumbnail", o.thumbnail_jpeg.empty() ? nlohmann::json() : nlohmann::json("/api/objects/" + key + "/thumbnail.jpg")},
+          {"thumbnail",
+           o.thumbnail_jpeg.empty() ? nlohmann::json() : nlohmann::json("/api/objects/" + key + "/thumbnail.jpg")},
           {"cloud", "/api/objects/" + key + "/cloud"},
           {"cloud_points", o.cloud_global.size()}};
 }
@@ -81,12 +84,16 @@ nlohmann::json alerts_json(const std::vector<RobotSummary>& robots, const std::v
     std::snprintf(where, sizeof(where), " at (%.1f, %.1f) m", o.position_m.x(), o.position_m.y());
     std::string what = o.class_name;
     if (!what.empty()) what[0] = char(std::toupper(static_cast<unsigned char>(what[0])));
-    alerts.push_back({{"level", level}, {"object", object_key(o.id)}, {"stamp_s", ns_to_sec(o.last_stamp_ns)},
+    alerts.push_back({{"level", level},
+                      {"object", object_key(o.id)},
+                      {"stamp_s", ns_to_sec(o.last_stamp_ns)},
                       {"text", what + " found by " + robots_text(o.robots) + where}});
   }
   for (const RobotSummary& r : robots) {
     if (!r.linked) {
-      alerts.push_back({{"level", "warning"}, {"robot", r.id.value}, {"stamp_s", ns_to_sec(r.last_stamp_ns)},
+      alerts.push_back({{"level", "warning"},
+                        {"robot", r.id.value},
+                        {"stamp_s", ns_to_sec(r.last_stamp_ns)},
                         {"text", "Robot " + std::to_string(r.id.value) + " is not linked to the global map"}});
     }
   }

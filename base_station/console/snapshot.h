@@ -15,12 +15,12 @@
 namespace cairn::base {
 
 struct ConsoleSnapshot {
-  nlohmann::json status = nlohmann::json::object();   ///< mission_time_s, mapped_area_m2, counts, alerts
-  nlohmann::json robots = nlohmann::json::array();    ///< one entry per robot (see make_snapshot)
-  nlohmann::json objects = nlohmann::json::array();   ///< one entry per merged object
+  nlohmann::json status = nlohmann::json::object();  ///< mission_time_s, mapped_area_m2, counts, alerts
+  nlohmann::json robots = nlohmann::json::array();   ///< one entry per robot (see make_snapshot)
+  nlohmann::json objects = nlohmann::json::array();  ///< one entry per merged object
   std::vector<uint8_t> map_png;
   std::map<std::string, std::vector<uint8_t>> thumbnails;  ///< object key ("1-3") -> JPEG
-  std::map<std::string, nlohmann::json> clouds;             ///< object key -> [[x,y,z,r,g,b],...]
+  std::map<std::string, nlohmann::json> clouds;            ///< object key -> [[x,y,z,r,g,b],...]
 };
 
 struct SnapshotOptions {

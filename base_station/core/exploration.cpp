@@ -183,9 +183,9 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
   }
   const Grid g = classify(grid, o);
   std::vector<std::vector<Eigen::Vector2i>> pieces = frontier_pieces(g);
-  pieces.erase(std::remove_if(pieces.begin(), pieces.end(),
-                              [&](const auto& p) { return int(p.size()) < o.min_frontier_cells; }),
-               pieces.end());
+  pieces.erase(
+      std::remove_if(pieces.begin(), pieces.end(), [&](const auto& p) { return int(p.size()) < o.min_frontier_cells; }),
+      pieces.end());
   std::sort(pieces.begin(), pieces.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
   for (const auto& piece : pieces) {
     Frontier f;
@@ -238,8 +238,7 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
       }
       if (!std::isfinite(best)) continue;
       const Frontier& fr = plan.frontiers[f];
-      options.push_back({robot, int(f), g.centre_m(grid, best_cell), best,
-                         fr.weight * fr.length_m / (best + 1.0)});
+      options.push_back({robot, int(f), g.centre_m(grid, best_cell), best, fr.weight * fr.length_m / (best + 1.0)});
     }
   }
   // Greedy: the best (robot, frontier) pair first; then neither that robot nor any frontier goal

@@ -15,35 +15,35 @@
 namespace cairn::base {
 
 struct ExplorationOptions {
-  double free_below = 0.25;          ///< a known cell below this occupancy probability is free
-  double occupied_above = 0.65;      ///< above it, a wall
-  int min_frontier_cells = 10;       ///< smaller pieces are noise (0.5 m of frontier at 5 cm cells)
-  double clearance_m = 0.25;         ///< paths within this of a wall cost `near_wall_cost` times more
+  double free_below = 0.25;      ///< a known cell below this occupancy probability is free
+  double occupied_above = 0.65;  ///< above it, a wall
+  int min_frontier_cells = 10;   ///< smaller pieces are noise (0.5 m of frontier at 5 cm cells)
+  double clearance_m = 0.25;     ///< paths within this of a wall cost `near_wall_cost` times more
   double near_wall_cost = 4.0;
-  double victim_radius_m = 6.0;      ///< frontier cells this close to a victim weigh 1 + victim_weight
+  double victim_radius_m = 6.0;  ///< frontier cells this close to a victim weigh 1 + victim_weight
   double victim_weight = 2.0;
-  double separation_m = 4.0;         ///< no two robots get goals closer than this
+  double separation_m = 4.0;  ///< no two robots get goals closer than this
 };
 
 struct Frontier {
   Eigen::Vector2d centre_m{0, 0};  ///< the piece's cell nearest its centroid
   int cells = 0;
-  double length_m = 0;             ///< cells x resolution
-  double weight = 1;               ///< 1 + victim_weight x fraction of cells near a victim
+  double length_m = 0;  ///< cells x resolution
+  double weight = 1;    ///< 1 + victim_weight x fraction of cells near a victim
 };
 
 struct ExplorationGoal {
   RobotId robot;
-  int frontier = -1;               ///< index into ExplorationPlan::frontiers
-  Eigen::Vector2d goal_m{0, 0};    ///< the frontier's cell nearest to the robot along free space
-  double path_m = 0;               ///< path length there through known free cells
-  double utility = 0;              ///< weight x length / (path + 1 m)
+  int frontier = -1;             ///< index into ExplorationPlan::frontiers
+  Eigen::Vector2d goal_m{0, 0};  ///< the frontier's cell nearest to the robot along free space
+  double path_m = 0;             ///< path length there through known free cells
+  double utility = 0;            ///< weight x length / (path + 1 m)
 };
 
 struct ExplorationPlan {
-  std::vector<Frontier> frontiers;      ///< largest first
-  std::vector<ExplorationGoal> goals;   ///< at most one per robot, best first
-  std::vector<RobotId> idle;            ///< robots with no reachable frontier left (or none for them)
+  std::vector<Frontier> frontiers;     ///< largest first
+  std::vector<ExplorationGoal> goals;  ///< at most one per robot, best first
+  std::vector<RobotId> idle;           ///< robots with no reachable frontier left (or none for them)
 };
 
 ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<RobotId, Eigen::Vector2d>& robots_m,

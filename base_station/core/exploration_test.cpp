@@ -104,11 +104,11 @@ TEST(Exploration, PathsGoAroundWalls) {
   // Two rooms side by side joined by a door at the top; the frontier is in the east room's floor
   // (open to the south), the robot in the west room right behind the dividing wall.
   d.free(1, 1, 11, 5);
-  d.wall(1, 5, 11, 5.2);    // north wall
-  d.wall(0.8, 1, 1, 5.2);   // west wall
-  d.wall(10.8, 1, 11, 5.2); // east wall
-  d.wall(1, 0.8, 6, 1);     // south wall of the west room only: the east room opens south
-  d.wall(6, 1, 6.2, 4);     // the dividing wall, door from y = 4 to 5
+  d.wall(1, 5, 11, 5.2);     // north wall
+  d.wall(0.8, 1, 1, 5.2);    // west wall
+  d.wall(10.8, 1, 11, 5.2);  // east wall
+  d.wall(1, 0.8, 6, 1);      // south wall of the west room only: the east room opens south
+  d.wall(6, 1, 6.2, 4);      // the dividing wall, door from y = 4 to 5
   const ExplorationPlan plan = plan_exploration(d.grid, {{RobotId(0), {5.5, 1.5}}}, {});
   ASSERT_EQ(plan.goals.size(), 1u);
   const ExplorationGoal& g = plan.goals[0];

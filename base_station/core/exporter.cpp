@@ -82,8 +82,8 @@ bool write_objects_csv(const std::vector<GlobalObject>& objects, const std::stri
   s << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n";
   for (const GlobalObject& o : objects) {
     s << object_key(o.id) << ',' << o.class_name << ',' << o.confidence << ',' << o.position_m.x() << ','
-      << o.position_m.y() << ',' << o.position_m.z() << ',' << join_robots(o.robots, ";") << ','
-      << o.observations << ',' << o.size_m.x() << ',' << o.size_m.y() << ',' << o.size_m.z() << '\n';
+      << o.position_m.y() << ',' << o.position_m.z() << ',' << join_robots(o.robots, ";") << ',' << o.observations
+      << ',' << o.size_m.x() << ',' << o.size_m.y() << ',' << o.size_m.z() << '\n';
   }
   return write_text(path, s.str(), error);
 }
@@ -120,8 +120,8 @@ bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::str
     s << ' ' << I(0, 0) << ' ' << I(0, 1) << ' ' << I(0, 2) << ' ' << I(1, 1) << ' ' << I(1, 2) << ' ' << I(2, 2);
   };
   for (const PoseGraphEdge& e : graph.edges()) {
-    s << "EDGE_SE2 " << index.at(e.from) << ' ' << index.at(e.to) << ' ' << e.T_from_to.x() << ' '
-      << e.T_from_to.y() << ' ' << e.T_from_to.yaw();
+    s << "EDGE_SE2 " << index.at(e.from) << ' ' << index.at(e.to) << ' ' << e.T_from_to.x() << ' ' << e.T_from_to.y()
+      << ' ' << e.T_from_to.yaw();
     upper(e.information);
     s << '\n';
   }
@@ -163,9 +163,8 @@ ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_
   }
   const std::string dir = out_dir + "/";
   const std::vector<GlobalObject> objects = mapper.objects();
-  run(&summary, dir + "map.pgm", [&](const std::string&, std::string*) {
-    return mapper.global_map().write_pgm_yaml(dir + "map");
-  });
+  run(&summary, dir + "map.pgm",
+      [&](const std::string&, std::string*) { return mapper.global_map().write_pgm_yaml(dir + "map"); });
   summary.files.push_back({dir + "map.yaml", summary.files.back().ok, summary.files.back().error});
   run(&summary, dir + "map.png",
       [&](const std::string& p, std::string* e) { return write_map_png(mapper, p, options, e, plan); });
@@ -188,9 +187,7 @@ ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_
   for (const RobotSummary& r : mapper.robots()) {
     if (!r.linked) continue;
     run(&summary, dir + "trajectory_robot" + std::to_string(r.id.value) + ".csv",
-        [&](const std::string& p, std::string*) {
-          return write_trajectory_csv(p, mapper.global_trajectory(r.id));
-        });
+        [&](const std::string& p, std::string*) { return write_trajectory_csv(p, mapper.global_trajectory(r.id)); });
   }
   return summary;
 }

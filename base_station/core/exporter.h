@@ -14,7 +14,7 @@ namespace cairn::base {
 
 struct ExportOptions {
   double octomap_resolution_m = 0.03;
-  int png_min_size_px = 800;   ///< the map image is scaled up (integer factor) to about this size
+  int png_min_size_px = 800;  ///< the map image is scaled up (integer factor) to about this size
   int png_max_scale = 8;
 };
 
@@ -27,7 +27,8 @@ struct ExportedFile {
 struct ExportSummary {
   std::vector<ExportedFile> files;
   bool ok() const {
-    for (const auto& f : files) if (!f.ok) return false;
+    for (const auto& f : files)
+      if (!f.ok) return false;
     return !files.empty();
   }
   int failures() const {
@@ -39,8 +40,8 @@ struct ExportSummary {
 
 /// Writes every export into out_dir (created if needed). With a `plan`, map.png shows where each
 /// robot should search next.
-ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_dir,
-                         const ExportOptions& options = {}, const ExplorationPlan* plan = nullptr);
+ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_dir, const ExportOptions& options = {},
+                         const ExplorationPlan* plan = nullptr);
 
 /// The map image (grid, trajectories, keyframes, objects, and the plan's goals when given) as PNG
 /// bytes; empty on failure.
@@ -58,10 +59,9 @@ bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::str
 bool write_map_png(const MultiRobotMapper& mapper, const std::string& path, const ExportOptions& options,
                    std::string* error, const ExplorationPlan* plan = nullptr);
 /// Any row-major RGB picture (top row first, 3 bytes per pixel) as PNG, e.g. draw_map_consistency's.
-bool write_rgb_png(int width, int height, const std::vector<uint8_t>& rgb, const std::string& path,
-                   std::string* error);
+bool write_rgb_png(int width, int height, const std::vector<uint8_t>& rgb, const std::string& path, std::string* error);
 bool write_object_ply(const GlobalObject& object, const std::string& path, std::string* error);
-bool write_objects_octomap(const std::vector<GlobalObject>& objects, double resolution_m,
-                           const std::string& path, std::string* error);
+bool write_objects_octomap(const std::vector<GlobalObject>& objects, double resolution_m, const std::string& path,
+                           std::string* error);
 
 }  // namespace cairn::base

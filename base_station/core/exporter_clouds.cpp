@@ -30,8 +30,12 @@ bool write_object_ply(const GlobalObject& object, const std::string& path, std::
   cloud.reserve(object.cloud_global.size());
   for (const ColoredPoint& p : object.cloud_global) {
     pcl::PointXYZRGB q;
-    q.x = p.x; q.y = p.y; q.z = p.z;
-    q.r = p.r; q.g = p.g; q.b = p.b;
+    q.x = p.x;
+    q.y = p.y;
+    q.z = p.z;
+    q.r = p.r;
+    q.g = p.g;
+    q.b = p.b;
     cloud.push_back(q);
   }
   pcl::PLYWriter writer;  // binary, without PCL's "camera" element so other tools read it cleanly

@@ -13,7 +13,8 @@ namespace cairn::base {
 namespace {
 
 cv::Scalar robot_colour(RobotId robot) {
-  static const cv::Scalar kPalette[] = {  // BGR, distinct on light grey
+  static const cv::Scalar kPalette[] = {
+      // BGR, distinct on light grey
       {200, 90, 20}, {30, 140, 30}, {150, 40, 160}, {20, 120, 200}, {120, 120, 0}, {90, 60, 140}};
   return kPalette[size_t(std::max(0, robot.value)) % (sizeof(kPalette) / sizeof(kPalette[0]))];
 }
@@ -47,8 +48,10 @@ CellBox known_box(const OccupancyGrid& grid, int margin_cells) {
   for (int r = 0; r < grid.height(); ++r) {
     for (int c = 0; c < grid.width(); ++c) {
       if (!grid.known(c, r)) continue;
-      b.col0 = std::min(b.col0, c); b.col1 = std::max(b.col1, c);
-      b.row0 = std::min(b.row0, r); b.row1 = std::max(b.row1, r);
+      b.col0 = std::min(b.col0, c);
+      b.col1 = std::max(b.col1, c);
+      b.row0 = std::min(b.row0, r);
+      b.row1 = std::max(b.row1, r);
     }
   }
   if (b.col1 < 0) return {0, 0, grid.width() - 1, grid.height() - 1};
@@ -77,8 +80,8 @@ void draw_trajectories(const MultiRobotMapper& mapper, const PixelMapper& px, cv
     if (points.size() >= 2) cv::polylines(*img, points, false, colour, 2, cv::LINE_AA);
     for (const cv::Point& p : points) cv::circle(*img, p, 3, colour, cv::FILLED, cv::LINE_AA);
     if (!points.empty()) {
-      cv::putText(*img, "R" + std::to_string(r.id.value), points.back() + cv::Point(6, -6),
-                  cv::FONT_HERSHEY_SIMPLEX, 0.6, colour, 2, cv::LINE_AA);
+      cv::putText(*img, "R" + std::to_string(r.id.value), points.back() + cv::Point(6, -6), cv::FONT_HERSHEY_SIMPLEX,
+                  0.6, colour, 2, cv::LINE_AA);
     }
   }
 }
@@ -124,7 +127,8 @@ cv::Mat render(const MultiRobotMapper& mapper, const ExportOptions& options, con
   }
   const CellBox box = known_box(grid, int(std::ceil(0.5 / grid.resolution_m())));
   const int longest = std::max(box.col1 - box.col0 + 1, box.row1 - box.row0 + 1);
-  const int scale = std::clamp((options.png_min_size_px + longest - 1) / longest, 1, std::max(1, options.png_max_scale));
+  const int scale =
+      std::clamp((options.png_min_size_px + longest - 1) / longest, 1, std::max(1, options.png_max_scale));
   cv::Mat img = grid_image(grid, box, scale);
   const Eigen::Vector2d origin_m = grid.origin_m() + grid.resolution_m() * Eigen::Vector2d(box.col0, box.row0);
   const PixelMapper px{origin_m, grid.resolution_m(), box.row1 - box.row0 + 1, scale};

@@ -27,9 +27,12 @@ MultiRobotMapper make_mapper() {
   MultiRobotMapper mapper(options);
   mapper.set_robot_start(RobotId(0), left_path()[0]);
   mapper.set_robot_start(RobotId(1), right_path()[0]);
-  for (const Keyframe& kf : testing::make_keyframes(RobotId(0), left_path(), testing::room_walls())) mapper.add_keyframe(kf);
-  for (const Keyframe& kf : testing::make_keyframes(RobotId(1), right_path(), testing::room_walls())) mapper.add_keyframe(kf);
-  for (const Keyframe& kf : testing::make_keyframes(RobotId(2), right_path(), testing::room_walls())) mapper.add_keyframe(kf);
+  for (const Keyframe& kf : testing::make_keyframes(RobotId(0), left_path(), testing::room_walls()))
+    mapper.add_keyframe(kf);
+  for (const Keyframe& kf : testing::make_keyframes(RobotId(1), right_path(), testing::room_walls()))
+    mapper.add_keyframe(kf);
+  for (const Keyframe& kf : testing::make_keyframes(RobotId(2), right_path(), testing::room_walls()))
+    mapper.add_keyframe(kf);
   mapper.add_object(testing::make_object({RobotId(0), 0}, "victim", {4.3, 3.5, 0.2}, 3, left_path()[3]));
   mapper.add_object(testing::make_object({RobotId(1), 0}, "victim", {4.1, 3.4, 0.2}, 4, right_path()[4]));
   mapper.add_object(testing::make_object({RobotId(1), 1}, "hazard", {8.0, 2.0, 0.1}, 1, right_path()[1]));

@@ -49,8 +49,9 @@ class GlobalMapRenderer {
   struct Drawn {
     SE2 T_global_base;
     std::vector<Eigen::Vector2f> hits, no_return;  ///< beam ends in the sensor frame
-    Eigen::Vector2d lo_m = Eigen::Vector2d::Constant(NAN), hi_m;  ///< footprint (origin and beam ends); NaN: never drawn
-    Tile lo, hi;  ///< inclusive tile range of the footprint (one cell of margin)
+    Eigen::Vector2d lo_m = Eigen::Vector2d::Constant(NAN),
+                    hi_m;  ///< footprint (origin and beam ends); NaN: never drawn
+    Tile lo, hi;           ///< inclusive tile range of the footprint (one cell of margin)
   };
   Tile tile_of(const Eigen::Vector2d& p_m) const;
   void footprint(Drawn* d) const;

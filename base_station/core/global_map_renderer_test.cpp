@@ -15,7 +15,8 @@ const SE2 kOffGrid(0.01234, 0.00567, 0.0);
 /// Robot 0 on the left path, robot 1 on the right path of the synthetic room (id order).
 std::vector<Keyframe> room_keyframes() {
   std::vector<Keyframe> out = testing::make_keyframes(RobotId(0), testing::left_path(), testing::room_walls());
-  for (Keyframe& k : testing::make_keyframes(RobotId(1), testing::right_path(), testing::room_walls())) out.push_back(k);
+  for (Keyframe& k : testing::make_keyframes(RobotId(1), testing::right_path(), testing::room_walls()))
+    out.push_back(k);
   for (Keyframe& k : out) k.scan.ranges_m[7] = k.scan.range_max_m;  // a no-return beam too
   return out;
 }

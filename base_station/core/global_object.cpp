@@ -61,7 +61,8 @@ MergeCheck check_same_object(const PlacedObjectReport& a, const PlacedObjectRepo
   const double extent = std::max(a.report->size_m.maxCoeff(), b.report->size_m.maxCoeff());
   const bool cross_robot = a.report->id.robot != b.report->id.robot;
   // Two robots' placements may disagree by a few decimetres: their gate is the widest one.
-  const double gate = cross_robot ? o.max_gate_m : std::min(o.max_gate_m, std::max(o.min_gate_m, o.size_factor * extent));
+  const double gate =
+      cross_robot ? o.max_gate_m : std::min(o.max_gate_m, std::max(o.min_gate_m, o.size_factor * extent));
   const ColoredCloud ca = placed_cloud(a), cb = placed_cloud(b);
   const bool clouds = int(ca.size()) >= o.min_cloud_points && int(cb.size()) >= o.min_cloud_points;
   const Eigen::AlignedBox3d ba = bounds(ca), bb = bounds(cb);
@@ -107,7 +108,8 @@ MergeCheck check_same_object(const PlacedObjectReport& a, const PlacedObjectRepo
       c.accepted = true;
       c.reason = "ICP " + std::string(k == 0 ? "from the placements" : "from the centres") + ": fitness " +
                  std::to_string(r.score) + ", RMSE " + std::to_string(r.rmse_m) + " m, correction " +
-                 std::to_string(dt) + " m" + (r.degenerate ? " (weakly constrained directions held at the placement)" : "");
+                 std::to_string(dt) + " m" +
+                 (r.degenerate ? " (weakly constrained directions held at the placement)" : "");
       return c;
     }
   }
@@ -126,7 +128,8 @@ MergeCheck check_same_object(const PlacedObjectReport& a, const PlacedObjectRepo
       c.fitness = 0.0;  // no ICP alignment to apply
       c.T_a_b = Eigen::Isometry3d::Identity();
       return c.reason = "centres coincide (" + std::to_string(d) + " m) and the clouds, seen from different sides, " +
-                        "do not overlap; together " + std::to_string(union_xy_m) + " m across: one object", c;
+                        "do not overlap; together " + std::to_string(union_xy_m) + " m across: one object",
+             c;
     }
     why += "; centres coincide but the clouds together are " + std::to_string(union_xy_m) + " m across";
   }
@@ -238,22 +241,22 @@ GlobalObject fuse(const std::vector<PlacedObjectReport>& placed, const std::vect
 std::string robot_frame_objects_csv(const std::map<KeyframeId, Keyframe>& keyframes,
                                     const std::map<ObjectId, ObjectReport>& reports) {
   std::ostringstream s;
-  s << std::setprecision(9) << "id,class,robot,anchor_seq,anchor_stamp_ns,anchor_x_m,anchor_y_m,anchor_yaw_rad,x_m,y_m,"
-                                         "z_m,observations\n";
+  s << std::setprecision(9)
+    << "id,class,robot,anchor_seq,anchor_stamp_ns,anchor_x_m,anchor_y_m,anchor_yaw_rad,x_m,y_m,"
+       "z_m,observations\n";
   for (const auto& [id, r] : reports) {
     const auto kf = keyframes.find(KeyframeId{id.robot, r.anchor_seq});
     if (kf == keyframes.end()) continue;
     const Eigen::Vector3d p = (kf->second.T_local_base.to_isometry3() * r.T_anchor_object).translation();
     const SE2& A = kf->second.T_local_base;
     s << object_key(id) << ',' << r.class_name << ',' << id.robot.value << ',' << r.anchor_seq << ','
-      << kf->second.stamp_ns << ',' << A.x() << ',' << A.y() << ',' << A.yaw() << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << r.observations << '\n';
+      << kf->second.stamp_ns << ',' << A.x() << ',' << A.y() << ',' << A.yaw() << ',' << p.x() << ',' << p.y() << ','
+      << p.z() << ',' << r.observations << '\n';
   }
   return s.str();
 }
 
-std::string object_key(ObjectId id) {
-  return std::to_string(id.robot.value) + "-" + std::to_string(id.seq);
-}
+std::string object_key(ObjectId id) { return std::to_string(id.robot.value) + "-" + std::to_string(id.seq); }
 
 ColoredCloud voxel_downsample(const ColoredCloud& cloud, double voxel_m) {
   if (voxel_m <= 0.0) return cloud;

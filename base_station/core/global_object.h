@@ -7,8 +7,9 @@
 // (union-find). Reports of different robots are also tried from their centres made to coincide
 // (robust to the robots' relative placement error; max_cross_robot_correction_m). Views from
 // opposite sides share no surface for ICP: they are one object when their fitted centres coincide
-// and their clouds together are one object's size (max_coincident_centre_m). A merged object's cloud is the union of its reports' clouds after alignment onto the
-// most observed report, voxel-downsampled; its position is the observation-weighted mean.
+// and their clouds together are one object's size (max_coincident_centre_m). A merged object's cloud is the union of
+// its reports' clouds after alignment onto the most observed report, voxel-downsampled; its position is the
+// observation-weighted mean.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <map>
@@ -24,13 +25,13 @@
 namespace cairn::base {
 
 struct GlobalObject {
-  ObjectId id;                          ///< merged id: the smallest ObjectId among its reports
+  ObjectId id;  ///< merged id: the smallest ObjectId among its reports
   std::string class_name;
-  float confidence = 0.f;               ///< max over reports
-  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  ///< global frame, observation-weighted
+  float confidence = 0.f;                                           ///< max over reports
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();             ///< global frame, observation-weighted
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity() * 0.01;  ///< of position_m, global
-  Eigen::Vector3f size_m = Eigen::Vector3f::Zero();      ///< max extent over reports
-  int observations = 0;                 ///< sum over reports
+  Eigen::Vector3f size_m = Eigen::Vector3f::Zero();                 ///< max extent over reports
+  int observations = 0;                                             ///< sum over reports
   StampNs last_stamp_ns = 0;
   std::vector<ObjectId> reports;        ///< sorted
   std::vector<RobotId> robots;          ///< sorted, unique
@@ -46,7 +47,7 @@ struct ObjectMergeOptions {
   double min_gate_m = 0.3;
   double size_factor = 2.0;
   double max_gate_m = 0.75;
-  double bbox_margin_m = 0.02;           ///< bounding boxes closer than this also make a candidate
+  double bbox_margin_m = 0.02;  ///< bounding boxes closer than this also make a candidate
   /// RGB-ICP verification in the global frame (prior: the placements; no features, the placement is
   /// good to a few decimetres and features on symmetric objects are ambiguous).
   double icp_voxel_m = 0.03;
@@ -55,9 +56,9 @@ struct ObjectMergeOptions {
   /// Weakly constrained directions (a partial cylinder turning about its axis) are held fixed:
   /// partial views from different sides must not slide around the object.
   double icp_min_eigen_ratio = 1e-2;
-  double min_fitness = 0.3;              ///< fraction of the smaller cloud within the gate after ICP
+  double min_fitness = 0.3;  ///< fraction of the smaller cloud within the gate after ICP
   double max_rmse_m = 0.04;
-  double max_correction_m = 0.3;         ///< larger ICP corrections mean another object (same robot)
+  double max_correction_m = 0.3;  ///< larger ICP corrections mean another object (same robot)
   /// Reports of different robots: their placements come from different pose-graph links and may be
   /// off by a few decimetres relative to each other (0.22-0.28 m RMSE in the simulated missions).
   /// When ICP from the placements fails, it is retried from the two reported centres made to
@@ -70,8 +71,8 @@ struct ObjectMergeOptions {
   /// report's extent across (+ bbox_margin_m).
   double max_coincident_centre_m = 0.10;
   double max_union_extent_factor = 1.3;
-  int min_cloud_points = 10;             ///< below this a report is merged by centroid gate alone
-  double object_voxel_m = 0.02;          ///< voxel of the merged clouds
+  int min_cloud_points = 10;     ///< below this a report is merged by centroid gate alone
+  double object_voxel_m = 0.02;  ///< voxel of the merged clouds
 };
 
 /// A report placed in the global frame through its anchor keyframe.
@@ -98,8 +99,9 @@ std::vector<GlobalObject> merge_object_reports(const std::vector<PlacedObjectRep
 
 /// Every stored report in its own robot's local frame (T_local_anchor * T_anchor_object, the anchor
 /// keyframe's pose as the robot sent it), as CSV: id,class,robot,anchor_seq,anchor_stamp_ns,
-/// anchor_x_m,anchor_y_m,anchor_yaw_rad (T_local_anchor),x_m,y_m,z_m,observations. With each robot's true start this scores the object pipeline without the
-/// robots' placement error at the base (tools/eval). Reports whose anchor has not arrived are left out.
+/// anchor_x_m,anchor_y_m,anchor_yaw_rad (T_local_anchor),x_m,y_m,z_m,observations. With each robot's true start this
+/// scores the object pipeline without the robots' placement error at the base (tools/eval). Reports whose anchor has
+/// not arrived are left out.
 std::string robot_frame_objects_csv(const std::map<KeyframeId, Keyframe>& keyframes,
                                     const std::map<ObjectId, ObjectReport>& reports);
 

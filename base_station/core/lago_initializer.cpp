@@ -40,7 +40,8 @@ Indexed index_graph(const PoseGraph2d& graph, std::vector<std::vector<std::pair<
 
 /// Breadth-first spanning-tree yaw of each node, from the anchors; components without an anchor
 /// get their first node as one (at its current estimate).
-std::vector<double> tree_yaw(const PoseGraph2d& graph, Indexed* g, const std::vector<std::vector<std::pair<int, int>>>& adj) {
+std::vector<double> tree_yaw(const PoseGraph2d& graph, Indexed* g,
+                             const std::vector<std::vector<std::pair<int, int>>>& adj) {
   const size_t n = g->ids.size();
   std::vector<double> yaw(n, 0.0);
   std::vector<bool> seen(n, false);
@@ -100,7 +101,10 @@ std::optional<Eigen::VectorXd> solve_orientations(const PoseGraph2d& graph, cons
     const double wraps = std::round((tree[size_t(j)] - tree[size_t(i)] - measured) / (2.0 * M_PI));
     const double delta = measured + 2.0 * M_PI * wraps;
     const double w = std::max(e.information(2, 2), 1e-9);
-    t.emplace_back(i, i, w); t.emplace_back(j, j, w); t.emplace_back(i, j, -w); t.emplace_back(j, i, -w);
+    t.emplace_back(i, i, w);
+    t.emplace_back(j, j, w);
+    t.emplace_back(i, j, -w);
+    t.emplace_back(j, i, -w);
     b[i] -= w * delta;
     b[j] += w * delta;
   }
@@ -129,7 +133,10 @@ std::optional<Eigen::VectorXd> solve_positions(const PoseGraph2d& graph, const I
     const Eigen::Matrix2d R = Eigen::Rotation2Dd(theta[i]).toRotationMatrix();
     const Eigen::Matrix2d W = R * e.information.topLeftCorner<2, 2>() * R.transpose();
     const Eigen::Vector2d d = R * e.T_from_to.translation();
-    add_block(i, i, W); add_block(j, j, W); add_block(i, j, -W); add_block(j, i, -W);
+    add_block(i, i, W);
+    add_block(j, j, W);
+    add_block(i, j, -W);
+    add_block(j, i, -W);
     b.segment<2>(2 * i) -= W * d;
     b.segment<2>(2 * j) += W * d;
   }

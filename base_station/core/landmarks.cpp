@@ -7,7 +7,6 @@
 namespace cairn::base {
 namespace {
 
-
 double spread_of(const Eigen::Matrix2Xd& p) {
   double best = 0;
   for (int i = 0; i < p.cols(); ++i) {
@@ -49,8 +48,8 @@ int shared_landmarks(const LocalLandmarks& a, const LocalLandmarks& b) {
   return n;
 }
 
-LandmarkAlignment align_landmarks(const LocalLandmarks& a, const LocalLandmarks& b, int min_landmarks,
-                                  double max_rms_m, double min_spread_m) {
+LandmarkAlignment align_landmarks(const LocalLandmarks& a, const LocalLandmarks& b, int min_landmarks, double max_rms_m,
+                                  double min_spread_m) {
   LandmarkAlignment out;
   for (const auto& [id, l] : a) {
     if (b.count(id)) out.used.push_back(id);
@@ -82,8 +81,8 @@ LandmarkAlignment align_landmarks(const LocalLandmarks& a, const LocalLandmarks&
     out.used.erase(out.used.begin() + worst);
   }
   if (out.spread_m < min_spread_m) {
-    out.reason = "shared landmarks span " + format_number("%.2f", out.spread_m) + " m (< " + format_number("%.2f", min_spread_m) +
-                 " m): rotation too uncertain";
+    out.reason = "shared landmarks span " + format_number("%.2f", out.spread_m) + " m (< " +
+                 format_number("%.2f", min_spread_m) + " m): rotation too uncertain";
     return out;
   }
   out.ok = true;

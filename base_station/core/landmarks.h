@@ -19,8 +19,8 @@
 namespace cairn::base {
 
 struct LandmarkOptions {
-  bool enabled = true;               ///< landmark nodes in the graph and marker-based links
-  double min_range_m = 0.05;         ///< closer observations are ignored (bearing undefined)
+  bool enabled = true;        ///< landmark nodes in the graph and marker-based links
+  double min_range_m = 0.05;  ///< closer observations are ignored (bearing undefined)
   /// The graph uses the observations' sigmas times this. Many detections of few markers, each an
   /// independent residual, against conservative keyframe edges: unscaled, the markers' noise bends
   /// the trajectories (simulated corridor, tools/mrlog/mrlog_replay_test.cpp: trajectory max error
@@ -31,8 +31,8 @@ struct LandmarkOptions {
   /// inconclusive (featureless or unseen overlap), and when it positively confirms the hypothesis.
   int min_link_landmarks = 3;
   int min_link_landmarks_map_confirmed = 2;
-  double max_link_rms_m = 0.35;      ///< RMS of the aligned landmark positions
-  double min_link_spread_m = 1.5;    ///< the shared landmarks span at least this (rotation accuracy)
+  double max_link_rms_m = 0.35;    ///< RMS of the aligned landmark positions
+  double min_link_spread_m = 1.5;  ///< the shared landmarks span at least this (rotation accuracy)
   /// The closure that places a robot linked on markers (the landmark residuals then do the work).
   double link_sigma_xy_m = 0.5;
   double link_sigma_yaw_rad = 0.2;
@@ -44,7 +44,7 @@ struct LandmarkOptions {
 struct LocalLandmark {
   Eigen::Vector2d sum_m = Eigen::Vector2d::Zero();  ///< sum of observed points (local frame)
   int observations = 0;
-  KeyframeId nearest;                   ///< keyframe with the closest observation
+  KeyframeId nearest;  ///< keyframe with the closest observation
   double nearest_range_m = 1e300;
   Eigen::Vector2d position_m() const { return observations > 0 ? Eigen::Vector2d(sum_m / observations) : sum_m; }
 };
@@ -56,18 +56,18 @@ int accumulate_landmarks(const Keyframe& kf, double min_range_m, LocalLandmarks*
 
 struct LandmarkAlignment {
   bool ok = false;
-  SE2 T_a_b;                       ///< maps robot b's local frame into robot a's
-  std::vector<LandmarkId> used;    ///< shared landmarks kept by the alignment
-  std::vector<LandmarkId> dropped; ///< shared landmarks dropped as outliers
+  SE2 T_a_b;                        ///< maps robot b's local frame into robot a's
+  std::vector<LandmarkId> used;     ///< shared landmarks kept by the alignment
+  std::vector<LandmarkId> dropped;  ///< shared landmarks dropped as outliers
   double rms_m = 0.0;
-  double spread_m = 0.0;           ///< largest distance between two used landmarks
-  std::string reason;              ///< why not ok
+  double spread_m = 0.0;  ///< largest distance between two used landmarks
+  std::string reason;     ///< why not ok
 };
 
 /// Aligns the landmarks both `a` and `b` saw (see the file comment); ok when at least `min_landmarks`
 /// remain with RMS <= max_rms_m and spread >= min_spread_m.
-LandmarkAlignment align_landmarks(const LocalLandmarks& a, const LocalLandmarks& b, int min_landmarks,
-                                  double max_rms_m, double min_spread_m);
+LandmarkAlignment align_landmarks(const LocalLandmarks& a, const LocalLandmarks& b, int min_landmarks, double max_rms_m,
+                                  double min_spread_m);
 
 /// Number of landmark ids present in both.
 int shared_landmarks(const LocalLandmarks& a, const LocalLandmarks& b);

@@ -15,15 +15,15 @@
 namespace cairn::base {
 namespace {
 
-const std::map<LandmarkId, Eigen::Vector2d> kMarkers = {
-    {LandmarkId(0), {2, 3}}, {LandmarkId(1), {5, 1}}, {LandmarkId(2), {8, 5}},
-    {LandmarkId(3), {3, 7}}, {LandmarkId(4), {7, 8}}, {LandmarkId(5), {10, 2}}};
+const std::map<LandmarkId, Eigen::Vector2d> kMarkers = {{LandmarkId(0), {2, 3}}, {LandmarkId(1), {5, 1}},
+                                                        {LandmarkId(2), {8, 5}}, {LandmarkId(3), {3, 7}},
+                                                        {LandmarkId(4), {7, 8}}, {LandmarkId(5), {10, 2}}};
 
 /// Robot `robot` drives a circle of radius 3 m around `center` (world frame) at 0.5 m/s for one lap;
 /// 10 Hz odometry (small seeded drift), featureless scans (all no-return) and range-bearing
 /// observations of the markers within 5 m. `swap` relabels marker swap.first as swap.second.
-void simulate_robot(RobotId robot, const Eigen::Vector2d& center, double phase_rad, uint32_t seed,
-                    MultiRobotLog* log, std::pair<int, int> swap = {-1, -1}) {
+void simulate_robot(RobotId robot, const Eigen::Vector2d& center, double phase_rad, uint32_t seed, MultiRobotLog* log,
+                    std::pair<int, int> swap = {-1, -1}) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> n01(0.0, 1.0);
   RobotLogData& r = log->robot_data(robot);
@@ -123,8 +123,9 @@ TEST(Landmarks, FeaturelessRobotsLinkOnSharedMarkers) {
   const MultiRobotLog log = two_robot_log();
   MultiRobotMapper mapper;
   merge(log, &mapper);
-  ASSERT_TRUE(mapper.linked(RobotId(1))) << (mapper.landmark_link_events().empty() ? "no marker link event"
-                                                                              : mapper.landmark_link_events().back().reason);
+  ASSERT_TRUE(mapper.linked(RobotId(1))) << (mapper.landmark_link_events().empty()
+                                                 ? "no marker link event"
+                                                 : mapper.landmark_link_events().back().reason);
   EXPECT_TRUE(mapper.landmark_link_events().back().accepted);
   int compared = 0;
   const double err = max_landmark_error_m(mapper, log, &compared);
@@ -132,7 +133,8 @@ TEST(Landmarks, FeaturelessRobotsLinkOnSharedMarkers) {
   EXPECT_LT(err, 0.15) << "max marker position error";
   // Robot 1's start is recovered: its last keyframe's global pose against the truth.
   const Trajectory t1 = mapper.global_trajectory(RobotId(1));
-  const SE2 truth = log.robot(RobotId(0))->truth.front().pose.inverse() * log.robot(RobotId(1))->truth[t1.size() * 5 - 5].pose;
+  const SE2 truth =
+      log.robot(RobotId(0))->truth.front().pose.inverse() * log.robot(RobotId(1))->truth[t1.size() * 5 - 5].pose;
   EXPECT_LT((t1.back().pose.translation() - truth.translation()).norm(), 0.2);
   std::printf("[landmarks] robot 1 linked: %s; max marker error %.3f m over %d markers; last pose error %.3f m\n",
               mapper.landmark_link_events().back().reason.c_str(), err, compared,
@@ -157,7 +159,8 @@ TEST(Landmarks, MisidentifiedMarkerIsDroppedNotMerged) {
   ASSERT_FALSE(mapper.landmark_link_events().empty());
   if (mapper.linked(RobotId(1))) {  // linked on the consistent markers only: placed right
     const Trajectory t1 = mapper.global_trajectory(RobotId(1));
-    const SE2 truth = log.robot(RobotId(0))->truth.front().pose.inverse() * log.robot(RobotId(1))->truth[t1.size() * 5 - 5].pose;
+    const SE2 truth =
+        log.robot(RobotId(0))->truth.front().pose.inverse() * log.robot(RobotId(1))->truth[t1.size() * 5 - 5].pose;
     EXPECT_LT((t1.back().pose.translation() - truth.translation()).norm(), 0.5);
   }
 }

@@ -20,7 +20,8 @@ const std::vector<float>* LoopCloser::descriptor(KeyframeId id) const {
   return it == database_.end() ? nullptr : &it->second.descriptor;
 }
 
-std::vector<float> LoopCloser::descriptor_of(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes) const {
+std::vector<float> LoopCloser::descriptor_of(const Keyframe& kf,
+                                             const std::map<KeyframeId, Keyframe>& keyframes) const {
   if (scan_context_size_ok(kf.place_descriptor, options_.scan_context)) return kf.place_descriptor;
   std::vector<const Keyframe*> recent;
   for (int k = 1; k < options_.scan_context.descriptor_keyframes; ++k) {
@@ -30,7 +31,8 @@ std::vector<float> LoopCloser::descriptor_of(const Keyframe& kf, const std::map<
   return compute_keyframe_scan_context(kf, recent, options_.scan_context);
 }
 
-std::vector<Eigen::Vector2f> LoopCloser::local_map(KeyframeId center, const std::map<KeyframeId, Keyframe>& keyframes) const {
+std::vector<Eigen::Vector2f> LoopCloser::local_map(KeyframeId center,
+                                                   const std::map<KeyframeId, Keyframe>& keyframes) const {
   std::vector<Eigen::Vector2f> points;
   const Keyframe& c = keyframes.at(center);
   const int n = options_.local_map_half_keyframes;
@@ -41,7 +43,8 @@ std::vector<Eigen::Vector2f> LoopCloser::local_map(KeyframeId center, const std:
   return points;
 }
 
-std::vector<Eigen::Vector2f> LoopCloser::query_points(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes) const {
+std::vector<Eigen::Vector2f> LoopCloser::query_points(const Keyframe& kf,
+                                                      const std::map<KeyframeId, Keyframe>& keyframes) const {
   std::vector<Eigen::Vector2f> query = scan_to_points(kf.scan);
   for (int back = 1; back <= options_.query_submap_keyframes; ++back) {
     auto it = keyframes.find(KeyframeId{kf.id.robot, kf.id.seq - back});
@@ -50,16 +53,18 @@ std::vector<Eigen::Vector2f> LoopCloser::query_points(const Keyframe& kf, const 
   return query;
 }
 
-std::optional<LoopClosure> LoopCloser::verify_guided(KeyframeId candidate, KeyframeId query, const SE2& T_candidate_query,
+std::optional<LoopClosure> LoopCloser::verify_guided(KeyframeId candidate, KeyframeId query,
+                                                     const SE2& T_candidate_query,
                                                      const std::map<KeyframeId, Keyframe>& keyframes,
                                                      const LoopVerifierOptions& verifier) const {
-  const LoopVerification v =
-      verify_loop(local_map(candidate, keyframes), query_points(keyframes.at(query), keyframes), T_candidate_query, verifier);
+  const LoopVerification v = verify_loop(local_map(candidate, keyframes), query_points(keyframes.at(query), keyframes),
+                                         T_candidate_query, verifier);
   if (!v.accepted) return std::nullopt;
   return LoopClosure{candidate, query, v.T_map_query, v.covariance, v.score};
 }
 
-std::vector<LoopClosure> LoopCloser::add_and_detect(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes) {
+std::vector<LoopClosure> LoopCloser::add_and_detect(const Keyframe& kf,
+                                                    const std::map<KeyframeId, Keyframe>& keyframes) {
   std::vector<LoopClosure> out;
   last_candidates_.clear();
   Entry entry;
@@ -72,7 +77,8 @@ std::vector<LoopClosure> LoopCloser::add_and_detect(const Keyframe& kf, const st
   for (const auto& [id, e] : database_) {
     if (id.robot == kf.id.robot && kf.id.seq - id.seq < options_.min_intra_seq_gap) continue;
     double d2 = 0;
-    for (size_t r = 0; r < e.ring_key.size(); ++r) d2 += (e.ring_key[r] - entry.ring_key[r]) * (e.ring_key[r] - entry.ring_key[r]);
+    for (size_t r = 0; r < e.ring_key.size(); ++r)
+      d2 += (e.ring_key[r] - entry.ring_key[r]) * (e.ring_key[r] - entry.ring_key[r]);
     near.push_back({d2, id});
   }
   const size_t k = std::min(near.size(), size_t(options_.ring_key_candidates));
@@ -80,13 +86,15 @@ std::vector<LoopClosure> LoopCloser::add_and_detect(const Keyframe& kf, const st
   std::vector<std::pair<ScanContextMatch, size_t>> matches;  // second: index in last_candidates_
   for (size_t i = 0; i < k; ++i) {
     LoopCandidate cand{near[i].second, near[i].first};
-    const ScanContextMatch m = scan_context_distance(database_.at(near[i].second).descriptor, entry.descriptor, options_.scan_context);
+    const ScanContextMatch m =
+        scan_context_distance(database_.at(near[i].second).descriptor, entry.descriptor, options_.scan_context);
     if (m.valid) cand.descriptor_distance = m.distance;
     cand.descriptor_passed = m.valid && m.distance < options_.max_descriptor_distance;
     if (cand.descriptor_passed) matches.push_back({m, last_candidates_.size()});
     last_candidates_.push_back(cand);
   }
-  std::sort(matches.begin(), matches.end(), [](const auto& a, const auto& b) { return a.first.distance < b.first.distance; });
+  std::sort(matches.begin(), matches.end(),
+            [](const auto& a, const auto& b) { return a.first.distance < b.first.distance; });
   stats_.descriptor_matches += int(matches.size());
   const std::vector<Eigen::Vector2f> query = query_points(kf, keyframes);
   std::map<RobotId, LoopClosure> best_per_robot;
@@ -95,7 +103,8 @@ std::vector<LoopClosure> LoopCloser::add_and_detect(const Keyframe& kf, const st
     LoopCandidate& record = last_candidates_[matches[i].second];
     record.verification_tried = true;
     const KeyframeId cand = record.candidate;
-    const LoopVerification v = verify_loop(local_map(cand, keyframes), query, SE2(0, 0, matches[i].first.yaw_rad), options_.verifier);
+    const LoopVerification v =
+        verify_loop(local_map(cand, keyframes), query, SE2(0, 0, matches[i].first.yaw_rad), options_.verifier);
     if (!v.accepted) continue;
     record.verified = true;
     record.T_candidate_query = v.T_map_query;

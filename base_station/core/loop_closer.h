@@ -20,11 +20,11 @@ struct LoopCloserOptions {
   /// Must equal the agents' (both use the defaults of ScanContextOptions); a received descriptor
   /// of another size is ignored and recomputed here.
   ScanContextOptions scan_context;
-  int ring_key_candidates = 6;          ///< best ring-key matches given the full distance
+  int ring_key_candidates = 6;  ///< best ring-key matches given the full distance
   double max_descriptor_distance = 0.35;
-  int max_verifications = 2;            ///< per query, best descriptor distances first
-  int min_intra_seq_gap = 15;           ///< own-robot candidates at least this many keyframes back
-  int local_map_half_keyframes = 4;    ///< candidate's local map: seq - n .. seq + n
+  int max_verifications = 2;         ///< per query, best descriptor distances first
+  int min_intra_seq_gap = 15;        ///< own-robot candidates at least this many keyframes back
+  int local_map_half_keyframes = 4;  ///< candidate's local map: seq - n .. seq + n
   /// The query side of a verification: the query keyframe's scan and those of its predecessors
   /// seq - 1 .. seq - n in its frame (a narrow laser sees too little alone to tell places apart).
   /// MIT CSAIL split (180-deg laser): 10 (with a 10-keyframe local map) doubled the correctly
@@ -43,7 +43,7 @@ struct LoopCandidate {
   bool descriptor_passed = false;    ///< below max_descriptor_distance
   bool verification_tried = false;
   bool verified = false;
-  SE2 T_candidate_query;             ///< when verified
+  SE2 T_candidate_query;  ///< when verified
 };
 
 struct LoopCloserStats {

@@ -108,7 +108,9 @@ struct Search {
 void refine(const std::vector<Eigen::Vector2f>& map_points, const std::vector<Eigen::Vector2f>& query,
             const LoopVerifierOptions& o, LoopVerification* v) {
   const double cell = 0.3;
-  auto key = [&](double x, double y) { return (int64_t(std::floor(x / cell)) << 32) ^ uint32_t(int32_t(std::floor(y / cell))); };
+  auto key = [&](double x, double y) {
+    return (int64_t(std::floor(x / cell)) << 32) ^ uint32_t(int32_t(std::floor(y / cell)));
+  };
   std::unordered_map<int64_t, std::vector<Eigen::Vector2d>> hash;
   for (const auto& p : map_points) hash[key(p.x(), p.y())].push_back(p.cast<double>());
   // Calls f(m, squared distance) for every map point m in the 3 x 3 hash cells around p.
@@ -190,7 +192,8 @@ void refine(const std::vector<Eigen::Vector2f>& map_points, const std::vector<Ei
     ++lines;
   }
   const double sigma2 = std::max(lines > 3 ? line_sq / (lines - 3.0) : 1.0, 1e-4);
-  const Eigen::Vector3d prior(1.0 / (o.linear_window_m * o.linear_window_m), 1.0 / (o.linear_window_m * o.linear_window_m),
+  const Eigen::Vector3d prior(1.0 / (o.linear_window_m * o.linear_window_m),
+                              1.0 / (o.linear_window_m * o.linear_window_m),
                               1.0 / (o.angular_window_rad * o.angular_window_rad));
   Eigen::Matrix3d cov = (Hl / sigma2 + Eigen::Matrix3d(prior.asDiagonal())).inverse();
   if (!cov.allFinite()) cov = Eigen::Matrix3d::Identity();

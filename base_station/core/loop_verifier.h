@@ -23,21 +23,21 @@ struct LoopVerifierOptions {
   double max_range_for_step_m = 12.0;  ///< sets the angular step (one cell at this range)
   double min_score = 0.55;             ///< mean likelihood at the query points, 0..1
   double icp_inlier_distance_m = 0.15;
-  double min_inlier_fraction = 0.6;    ///< of query points within icp_inlier_distance_m after ICP
+  double min_inlier_fraction = 0.6;  ///< of query points within icp_inlier_distance_m after ICP
   int icp_iterations = 15;
-  double min_covariance_sigma_m = 0.02;     ///< floors of the estimated covariance
+  double min_covariance_sigma_m = 0.02;  ///< floors of the estimated covariance
   double min_covariance_sigma_rad = 0.005;
   int min_points = 40;
 };
 
 struct LoopVerification {
   bool accepted = false;
-  SE2 T_map_query;          ///< pose of the query sensor frame in the local-map frame
-  double score = 0.0;       ///< correlative score of the best candidate
+  SE2 T_map_query;     ///< pose of the query sensor frame in the local-map frame
+  double score = 0.0;  ///< correlative score of the best candidate
   double inlier_fraction = 0.0;
   Covariance3 covariance = Covariance3::Identity();
   int candidates_scored = 0;
-  std::string reason;       ///< why rejected
+  std::string reason;  ///< why rejected
 };
 
 /// Matches `query_points` (query sensor frame) into `map_points` (local-map frame) searching the

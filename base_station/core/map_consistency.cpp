@@ -68,8 +68,8 @@ bool wall_near(const OccupancyGrid& grid, const Eigen::Vector2i& c, int radius_c
 
 /// Wall cells of `walls` inside `other`'s observed area, and those in its confident free space
 /// (returned as cells of `walls`).
-std::vector<Eigen::Vector2i> count(const Rendered& side, const OccupancyGrid& other,
-                                   const MapConsistencyOptions& o, MapConsistencyResult* r) {
+std::vector<Eigen::Vector2i> count(const Rendered& side, const OccupancyGrid& other, const MapConsistencyOptions& o,
+                                   MapConsistencyResult* r) {
   const OccupancyGrid& walls = side.grid;
   const int radius = int(std::ceil(o.tolerance_m / o.resolution_m));
   std::vector<Eigen::Vector2i> contradicting;
@@ -80,7 +80,8 @@ std::vector<Eigen::Vector2i> count(const Rendered& side, const OccupancyGrid& ot
       const float v = other.log_odds(c.x(), c.y());
       if (v == 0.f) continue;  // unknown to the other side
       ++r->checked_cells;
-      if (v <= o.free_log_odds && !wall_near(other, c, radius, o.occupied_log_odds)) contradicting.emplace_back(col, row);
+      if (v <= o.free_log_odds && !wall_near(other, c, radius, o.occupied_log_odds))
+        contradicting.emplace_back(col, row);
     }
   }
   r->contradicting_cells += int(contradicting.size());
@@ -140,7 +141,8 @@ void count_beams_through(const PlacedScans& seer, const OccupancyGrid& walls, co
     if (i >= count && std::abs(count * scan.angle_increment_rad - 2 * M_PI) < 1e-3) i -= count;
     if (i < 0 || i >= count) continue;
     const float r = scan.ranges_m[size_t(i)];
-    if (!std::isfinite(r) || r >= scan.range_max_m || r <= dist_m + o.resolution_m) continue;  // no return, or ends here
+    if (!std::isfinite(r) || r >= scan.range_max_m || r <= dist_m + o.resolution_m)
+      continue;  // no return, or ends here
     const double a = T.yaw() + beam_angle_rad(scan, size_t(i));
     const Eigen::Vector2d end_m = T.translation() + double(r) * Eigen::Vector2d(std::cos(a), std::sin(a));
     ++piece->beams;
@@ -170,7 +172,8 @@ std::vector<Piece> judge_pieces(const std::vector<Eigen::Vector2i>& contradictin
 int largest_unexplained(const std::vector<Piece>& all, const MapConsistencyOptions& o, int* explained) {
   auto is_large = [&](const Piece& p) { return p.cells >= o.max_contradiction_cluster_cells; };
   auto explains = [&](int beams, int on_walls) {
-    return o.explained_min_fraction > 0 && beams >= o.explained_min_beams && on_walls >= o.explained_min_fraction * beams;
+    return o.explained_min_fraction > 0 && beams >= o.explained_min_beams &&
+           on_walls >= o.explained_min_fraction * beams;
   };
   int beams = 0, on_walls = 0;
   bool unexplained_alone = false;
@@ -197,8 +200,8 @@ int largest_unexplained(const std::vector<Piece>& all, const MapConsistencyOptio
 PlacedScans select_near_keyframes(const PlacedScans& side, const Eigen::Vector2d& center_m,
                                   const MapConsistencyOptions& o) {
   const size_t n = std::min(side.keyframes.size(), side.T_frame_base.size());
-  const double r2 = o.local_radius_m > 0 ? o.local_radius_m * o.local_radius_m
-                                     : std::numeric_limits<double>::infinity();
+  const double r2 =
+      o.local_radius_m > 0 ? o.local_radius_m * o.local_radius_m : std::numeric_limits<double>::infinity();
   std::vector<std::pair<double, size_t>> near;  // squared distance, index
   for (size_t k = 0; k < n; ++k) {
     const double d2 = (side.T_frame_base[k].translation() - center_m).squaredNorm();
@@ -212,8 +215,8 @@ PlacedScans select_near_keyframes(const PlacedScans& side, const Eigen::Vector2d
     if (out.keyframes.size() >= cap) break;
     if (o.local_thin_cell_m > 0) {
       const Eigen::Vector2d p = (side.T_frame_base[k].translation() - center_m) / o.local_thin_cell_m;
-      const uint64_t key = (uint64_t(uint32_t(int32_t(std::floor(p.x())))) << 32) |
-                           uint64_t(uint32_t(int32_t(std::floor(p.y()))));
+      const uint64_t key =
+          (uint64_t(uint32_t(int32_t(std::floor(p.x())))) << 32) | uint64_t(uint32_t(int32_t(std::floor(p.y()))));
       if (!cells.insert(key).second) continue;
     }
     out.keyframes.push_back(side.keyframes[k]);
@@ -222,8 +225,7 @@ PlacedScans select_near_keyframes(const PlacedScans& side, const Eigen::Vector2d
   return out;
 }
 
-MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedScans& b,
-                                           const MapConsistencyOptions& o) {
+MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedScans& b, const MapConsistencyOptions& o) {
   MapConsistencyResult r;
   if (a.keyframes.empty() || b.keyframes.empty()) {
     r.reason = "no keyframes on one side";
@@ -234,8 +236,8 @@ MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedSca
   for (const Piece& p : judge_pieces(count(rb, ra.grid, o, &r), rb, a, o)) all.push_back(p);
   r.largest_contradiction_cells = largest_unexplained(all, o, &r.explained_pieces);
   r.contradiction_ratio = r.checked_cells > 0 ? double(r.contradicting_cells) / r.checked_cells : 0.0;
-  r.conclusive = r.checked_cells >= o.min_checked_cells ||
-                 r.largest_contradiction_cells >= o.max_contradiction_cluster_cells;
+  r.conclusive =
+      r.checked_cells >= o.min_checked_cells || r.largest_contradiction_cells >= o.max_contradiction_cluster_cells;
   if (!r.conclusive) {
     r.reason = "inconclusive: " + std::to_string(r.checked_cells) + " overlapping wall cells";
     return r;
@@ -246,7 +248,8 @@ MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedSca
                              (r.explained_pieces > 0 ? ", " + std::to_string(r.explained_pieces) + " explained" : "");
   if (r.contradiction_ratio > o.max_contradiction_ratio) {
     r.consistent = false;
-    r.reason = "map contradiction " + std::to_string(int(std::lround(100 * r.contradiction_ratio))) + " % (" + counts + ")";
+    r.reason =
+        "map contradiction " + std::to_string(int(std::lround(100 * r.contradiction_ratio))) + " % (" + counts + ")";
   } else if (r.largest_contradiction_cells >= o.max_contradiction_cluster_cells) {
     r.consistent = false;
     r.reason = "a wall where the other robot saw free space (" + counts + ")";
@@ -270,7 +273,8 @@ MapConsistencyImage draw_map_consistency(const PlacedScans& a, const PlacedScans
   img.height = int(std::ceil((hi.y() - lo.y()) / res));
   img.rgb.assign(size_t(img.width) * img.height * 3, 255);
   auto pixel = [&](const Eigen::Vector2d& p_m) -> uint8_t* {
-    const int x = int(std::floor((p_m.x() - lo.x()) / res)), y = img.height - 1 - int(std::floor((p_m.y() - lo.y()) / res));
+    const int x = int(std::floor((p_m.x() - lo.x()) / res)),
+              y = img.height - 1 - int(std::floor((p_m.y() - lo.y()) / res));
     if (x < 0 || y < 0 || x >= img.width || y >= img.height) return nullptr;
     return &img.rgb[(size_t(y) * img.width + x) * 3];
   };
@@ -293,8 +297,10 @@ MapConsistencyImage draw_map_consistency(const PlacedScans& a, const PlacedScans
     for (int row = 0; row < g.height(); ++row) {
       for (int col = 0; col < g.width(); ++col) {
         if (g.log_odds(col, row) < o.occupied_log_odds) continue;
-        if (side == &ra) paint(g.cell_center_m(col, row), 180, 0, 0);
-        else paint(g.cell_center_m(col, row), 0, 0, 180);
+        if (side == &ra)
+          paint(g.cell_center_m(col, row), 180, 0, 0);
+        else
+          paint(g.cell_center_m(col, row), 0, 0, 180);
       }
     }
   }

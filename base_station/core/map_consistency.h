@@ -27,17 +27,17 @@
 namespace cairn::base {
 
 struct MapConsistencyOptions {
-  double resolution_m = 0.10;          ///< cell size of the comparison grids
-  double max_range_m = 10.0;           ///< beams cut to this length (no-return beams clear up to it)
-  float occupied_log_odds = 0.5f;      ///< a cell at or above is a wall
-  float free_log_odds = -1.5f;         ///< a cell at or below is confidently free
-  double tolerance_m = 0.30;           ///< a wall within this of the other side's wall agrees
+  double resolution_m = 0.10;      ///< cell size of the comparison grids
+  double max_range_m = 10.0;       ///< beams cut to this length (no-return beams clear up to it)
+  float occupied_log_odds = 0.5f;  ///< a cell at or above is a wall
+  float free_log_odds = -1.5f;     ///< a cell at or below is confidently free
+  double tolerance_m = 0.30;       ///< a wall within this of the other side's wall agrees
   /// Only wall cells a beam of at most this length ended in are checked against the other side's
   /// free space (0 = all). A wall seen only from far away is placed by the yaw of one distant
   /// keyframe (0.1 rad is 0.8 m at 8 m), so it still excuses the other side's walls near it but does
   /// not accuse the other side's free space.
   double wall_max_range_m = 5.0;
-  int min_checked_cells = 60;          ///< fewer overlapping wall cells: inconclusive (not refuted)
+  int min_checked_cells = 60;  ///< fewer overlapping wall cells: inconclusive (not refuted)
   /// Above this the hypothesis is refuted. Office simulation: right links 0.01, aliased ones 0.13-0.32.
   double max_contradiction_ratio = 0.06;
   /// A connected piece of wall this large (cells) in the other side's confident free space refutes
@@ -76,7 +76,7 @@ struct MapConsistencyResult {
   double contradiction_ratio = 0.0;
   int largest_contradiction_cells = 0;  ///< largest 8-connected piece of contradicting wall not explained
   int explained_pieces = 0;             ///< large pieces excused (MapConsistencyOptions::explained_min_fraction)
-  std::string reason;           ///< set when refuted or inconclusive
+  std::string reason;                   ///< set when refuted or inconclusive
 };
 
 /// One side's keyframes with their poses in the common frame.

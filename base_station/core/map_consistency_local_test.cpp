@@ -38,8 +38,8 @@ std::vector<Segment> corridor() {
 TEST(MapConsistencyLocal, SelectionKeepsNearestOnePerCellWithinRadiusUpToCap) {
   std::vector<Keyframe> kfs(6);
   PlacedScans side;
-  const std::vector<SE2> poses = {SE2(30, 0, 0), SE2(1, 0, 0), SE2(1.1, 0.1, 0), SE2(2, 0, 0), SE2(0.2, 0, 0),
-                                  SE2(1.05, 0.05, 1)};
+  const std::vector<SE2> poses = {SE2(30, 0, 0), SE2(1, 0, 0),   SE2(1.1, 0.1, 0),
+                                  SE2(2, 0, 0),  SE2(0.2, 0, 0), SE2(1.05, 0.05, 1)};
   for (size_t i = 0; i < kfs.size(); ++i) side.keyframes.push_back(&kfs[i]), side.T_frame_base.push_back(poses[i]);
   MapConsistencyOptions o;
   o.local_radius_m = 10.0;
@@ -114,7 +114,8 @@ TEST(MapConsistency, AnObjectOnlyOneRobotSawIsExplainedByTheRoomBothSawBehindIt)
   // beams through it end on walls B mapped too: the same room, a changed object.
   const std::vector<Segment> room = {{{0, 0}, {12, 0}}, {{12, 0}, {12, 8}}, {{12, 8}, {0, 8}}, {{0, 8}, {0, 0}}};
   std::vector<Segment> room_b = room;
-  for (const Segment& s : std::vector<Segment>{{{5, 3.5}, {7, 3.5}}, {{7, 3.5}, {7, 4.5}}, {{7, 4.5}, {5, 4.5}}, {{5, 4.5}, {5, 3.5}}}) {
+  for (const Segment& s :
+       std::vector<Segment>{{{5, 3.5}, {7, 3.5}}, {{7, 3.5}, {7, 4.5}}, {{7, 4.5}, {5, 4.5}}, {{5, 4.5}, {5, 3.5}}}) {
     room_b.push_back(s);
   }
   const std::vector<SE2> path = along({{1.5, 1.5}, {10.5, 1.5}, {10.5, 6.5}, {1.5, 6.5}, {1.5, 1.5}});
@@ -151,8 +152,8 @@ TEST(MapConsistencyLocal, AnAliasedClosureIsStillRefutedByAContradictionNearIt) 
     EXPECT_FALSE(alias.consistent) << alias.reason;
   }
   const Eigen::Vector2d truth_closure_m(15, 1.5);
-  const MapConsistencyResult truth = check_map_consistency(
-      select_near_keyframes(a, truth_closure_m, o), select_near_keyframes(b_truth, truth_closure_m, o), o);
+  const MapConsistencyResult truth = check_map_consistency(select_near_keyframes(a, truth_closure_m, o),
+                                                           select_near_keyframes(b_truth, truth_closure_m, o), o);
   EXPECT_TRUE(truth.conclusive && truth.consistent) << truth.reason;
 }
 

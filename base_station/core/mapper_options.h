@@ -30,9 +30,9 @@ struct GuidedLinkOptions {
   /// 6.0 % and 7 %; its wrong hypotheses 38-63 %, Intel's 21-30 %, the look-alike wings' 2-6 %
   /// refuted by their pieces). A refusal for a large wall piece alone still gets it.
   double max_rigid_contradiction_ratio = 0.12;
-  double sample_spacing_m = 1.0;    ///< one query keyframe of the new robot per this much of its path
-  int max_verifications = 150;      ///< per hypothesis, spread evenly over the queries
-  double max_distance_m = 1.5;      ///< the nearest keyframe of the placed side within this ...
+  double sample_spacing_m = 1.0;             ///< one query keyframe of the new robot per this much of its path
+  int max_verifications = 150;               ///< per hypothesis, spread evenly over the queries
+  double max_distance_m = 1.5;               ///< the nearest keyframe of the placed side within this ...
   double max_yaw_difference_rad = M_PI / 2;  ///< ... and heading the same way give or take this
   /// A guided closure the tentative placement (the new robot solved against the clique and every
   /// guided closure) leaves off by more than this is dropped: on the Intel split one 0.88 m off the
@@ -49,11 +49,11 @@ struct GuidedLinkOptions {
 };
 
 struct MapperOptions {
-  OccupancyGridOptions grid;                ///< global map; resolution 0.05 m by default
+  OccupancyGridOptions grid;  ///< global map; resolution 0.05 m by default
   /// Max-range beams (no return) clear free space up to min(scan range_max, this).
   double no_return_clear_range_m = 10.0;
 
-  PoseGraphOptions graph;                   ///< robust losses per edge kind (Cauchy on loops)
+  PoseGraphOptions graph;  ///< robust losses per edge kind (Cauchy on loops)
   PoseGraphSolveOptions solve;
   /// Prior pinning each linked robot's first keyframe at T_global_local * T_local_base(first).
   double start_prior_sigma_xy_m = 0.01;

@@ -114,7 +114,8 @@ TEST(MergerAliasing, AClosureFarOffALinkedPairIsDroppedUnchecked) {
   unbounded.linked_closure_max_correction_m = 1e9;
   unbounded.linked_closure_max_correction_rad = 1e9;
   const MultiRobotMapper checked = run(p0, p1, unbounded, &r, robot1_start);
-  ASSERT_GT(checked.link_stats().linked_pair_checked, 0) << "no aliased closure into the linked pair: the test lost its point";
+  ASSERT_GT(checked.link_stats().linked_pair_checked, 0)
+      << "no aliased closure into the linked pair: the test lost its point";
   EXPECT_EQ(checked.link_stats().linked_pair_implausible, 0);
 
   const MultiRobotMapper mapper = run(p0, p1, MapperOptions{}, &r, robot1_start);

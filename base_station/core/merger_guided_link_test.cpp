@@ -17,8 +17,8 @@ using testing::along;
 /// Robot keyframes through the two-wing building drifting between keyframes `from` and `until`
 /// (testing::drifting_keyframes), from an honest front end: its heading uncertainty covers the
 /// drift (a third of a sigma per step).
-std::vector<Keyframe> drifting_after(RobotId robot, const std::vector<SE2>& path_world, size_t from, double yaw_drift_rad_per_m,
-                                     size_t until = SIZE_MAX) {
+std::vector<Keyframe> drifting_after(RobotId robot, const std::vector<SE2>& path_world, size_t from,
+                                     double yaw_drift_rad_per_m, size_t until = SIZE_MAX) {
   std::vector<Keyframe> out =
       testing::drifting_keyframes(robot, path_world, testing::two_wing_building(), yaw_drift_rad_per_m, from, until);
   for (size_t i = from + 1; i < out.size(); ++i) {
@@ -39,7 +39,8 @@ struct Merge {
 Merge run(const MapperOptions& options, const std::vector<SE2>& p1, size_t drift_from, double drift,
           RobotId anchor = RobotId(0), RobotId other = RobotId(1), size_t drift_until = SIZE_MAX) {
   Merge out{MultiRobotMapper(options), {}};
-  for (const Keyframe& kf : testing::make_keyframes(anchor, along(testing::west_route(0)), testing::two_wing_building())) {
+  for (const Keyframe& kf :
+       testing::make_keyframes(anchor, along(testing::west_route(0)), testing::two_wing_building())) {
     out.mapper.add_keyframe(kf);
   }
   out.mapper.optimize();
@@ -74,7 +75,8 @@ TEST(MergerGuidedLink, ARobotWhoseMapDriftsAwayFromTheLinkIsCheckedAsTheGuidedCl
   rigid.guided_link.enabled = false;
   const Merge without = run(rigid, p1, drift_from, drift);
   ASSERT_FALSE(without.events.empty());
-  EXPECT_FALSE(without.mapper.linked(RobotId(1))) << "the drift no longer refutes a rigid placement: the test lost its point";
+  EXPECT_FALSE(without.mapper.linked(RobotId(1)))
+      << "the drift no longer refutes a rigid placement: the test lost its point";
   EXPECT_GT(without.events.front().contradiction_ratio, MapConsistencyOptions().max_contradiction_ratio);
 
   // Placed by the closures found around the hypothesis, the maps agree; with them in the graph the
@@ -90,13 +92,13 @@ TEST(MergerGuidedLink, ARobotWhoseMapDriftsAwayFromTheLinkIsCheckedAsTheGuidedCl
   const std::vector<Keyframe> k1 = drifting_after(RobotId(1), p1, drift_from, drift);
   for (size_t i = 0; i < p1.size(); ++i) {
     const Eigen::Vector2d truth = (T_global_world * p1[i]).translation();
-    front_end_worst_m = std::max(front_end_worst_m, ((T_global_world * p1.front() * k1[i].T_local_base).translation() - truth).norm());
+    front_end_worst_m =
+        std::max(front_end_worst_m, ((T_global_world * p1.front() * k1[i].T_local_base).translation() - truth).norm());
   }
   const double worst_m = worst_error_m(with.mapper, RobotId(1), p1);
   EXPECT_LT(worst_m, 0.1) << "front end placed by its true start: " << front_end_worst_m << " m";
   EXPECT_GT(front_end_worst_m, 0.5);
 }
-
 
 TEST(MergerGuidedLink, TheNewRobotMayHaveTheLowerId) {
   // Robot 1 is the anchor and robot 0 the newcomer: the hypothesis is judged from the placed side
@@ -110,7 +112,8 @@ TEST(MergerGuidedLink, TheNewRobotMayHaveTheLowerId) {
   ASSERT_TRUE(merge.mapper.linked(RobotId(0)));
   ASSERT_FALSE(merge.events.empty());
   EXPECT_GE(merge.events.front().guided.size(), 5u);
-  EXPECT_GE(merge.events.front().rigid_contradiction_ratio, 0.0) << "the rigid placement passed: the test lost its point";
+  EXPECT_GE(merge.events.front().rigid_contradiction_ratio, 0.0)
+      << "the rigid placement passed: the test lost its point";
   EXPECT_LT(worst_error_m(merge.mapper, RobotId(0), p0), 0.1);
 }
 

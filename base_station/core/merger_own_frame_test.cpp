@@ -68,7 +68,8 @@ TEST(MergerOwnFrame, AnUnlinkedRobotsOwnLoopClosuresStraightenTheMapItIsJudgedBy
 /// What a robot agent whose own loop closing got its keyframes right sends (KeyframePoses).
 KeyframePoses true_poses(RobotId robot, const std::vector<SE2>& path_world) {
   KeyframePoses update{robot, 0, {}};
-  for (size_t i = 0; i < path_world.size(); ++i) update.poses.push_back({int32_t(i), path_world.front().between(path_world[i])});
+  for (size_t i = 0; i < path_world.size(); ++i)
+    update.poses.push_back({int32_t(i), path_world.front().between(path_world[i])});
   return update;
 }
 

@@ -91,8 +91,9 @@ TEST(LoopVerifier, ACorridorMatchIsUncertainAlongTheCorridorOnly) {
   EXPECT_GT(sigma_along_m, 10 * sigma_across_m) << "along " << sigma_along_m << " across " << sigma_across_m;
   // In a room every direction is fixed.
   const auto room = testing::room_walls();
-  const LoopVerification r = verify_loop(scan_to_points(testing::simulate_scan(SE2(3, 3, 0), room)),
-                                         scan_to_points(testing::simulate_scan(SE2(3.2, 3.1, 0.1), room)), SE2(0.2, 0.1, 0.1), o);
+  const LoopVerification r =
+      verify_loop(scan_to_points(testing::simulate_scan(SE2(3, 3, 0), room)),
+                  scan_to_points(testing::simulate_scan(SE2(3.2, 3.1, 0.1), room)), SE2(0.2, 0.1, 0.1), o);
   ASSERT_TRUE(r.accepted) << r.reason;
   EXPECT_LT(std::sqrt(r.covariance(0, 0)), 0.05);
   EXPECT_LT(std::sqrt(r.covariance(1, 1)), 0.05);
@@ -101,7 +102,8 @@ TEST(LoopVerifier, ACorridorMatchIsUncertainAlongTheCorridorOnly) {
 /// Robot 1 retraces robot 0's path in the room, offset and turned: loops between them.
 std::vector<SE2> retrace(const std::vector<SE2>& path) {
   std::vector<SE2> out;
-  for (size_t i = 0; i < path.size(); ++i) out.push_back(SE2(path[i].x() + 0.25, path[i].y() - 0.2, path[i].yaw() + 0.6));
+  for (size_t i = 0; i < path.size(); ++i)
+    out.push_back(SE2(path[i].x() + 0.25, path[i].y() - 0.2, path[i].yaw() + 0.6));
   return out;
 }
 

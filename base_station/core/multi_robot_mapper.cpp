@@ -75,16 +75,22 @@ GlobalMapRenderOptions map_render_options(const MapperOptions& options) {
 
 const char* to_string(AddStatus status) {
   switch (status) {
-    case AddStatus::kAccepted: return "accepted";
-    case AddStatus::kPending: return "pending";
-    case AddStatus::kDuplicate: return "duplicate";
-    case AddStatus::kRejected: return "rejected";
+    case AddStatus::kAccepted:
+      return "accepted";
+    case AddStatus::kPending:
+      return "pending";
+    case AddStatus::kDuplicate:
+      return "duplicate";
+    case AddStatus::kRejected:
+      return "rejected";
   }
   return "unknown";
 }
 
 MultiRobotMapper::MultiRobotMapper(const MapperOptions& options)
-    : options_(options), loop_closer_(options.loop_closer), graph_(options.graph),
+    : options_(options),
+      loop_closer_(options.loop_closer),
+      graph_(options.graph),
       map_(options.grid, map_render_options(options)) {}
 
 void MultiRobotMapper::set_robot_start(RobotId robot, const SE2& T_global_local) {
@@ -121,15 +127,16 @@ AddResult MultiRobotMapper::add_keyframe(const Keyframe& kf) {
     starts_[kf.id.robot] = SE2();
   }
   if (!linked(kf.id.robot)) {
-    return {AddStatus::kPending, to_string(kf.id.robot) +
-                                     " not linked to the others yet (waiting for verified inter-robot loop closures): kept, not placed"};
+    return {AddStatus::kPending,
+            to_string(kf.id.robot) +
+                " not linked to the others yet (waiting for verified inter-robot loop closures): kept, not placed"};
   }
   map_moved_.push_back(kf.id);
   note_poses_changed();
   AddResult result{AddStatus::kAccepted, {}};
   if (kf.id.seq > 0 && !keyframes_.count(KeyframeId{kf.id.robot, kf.id.seq - 1})) {
-    result.reason = "predecessor seq " + std::to_string(kf.id.seq - 1) +
-                    " missing: linked by local pose until it arrives";
+    result.reason =
+        "predecessor seq " + std::to_string(kf.id.seq - 1) + " missing: linked by local pose until it arrives";
   } else if (kf.id.seq > 0 && !information_of(kf.edge_covariance)) {
     result.reason = "edge covariance not positive definite: gap uncertainty used";
   }
@@ -138,14 +145,17 @@ AddResult MultiRobotMapper::add_keyframe(const Keyframe& kf) {
 
 AddResult MultiRobotMapper::add_keyframe_poses(const KeyframePoses& update) {
   const std::string who = to_string(update.robot) + " keyframe poses";
-  if (!update.robot.valid()) return {AddStatus::kRejected, "keyframe poses: invalid robot id " + std::to_string(update.robot.value)};
+  if (!update.robot.valid())
+    return {AddStatus::kRejected, "keyframe poses: invalid robot id " + std::to_string(update.robot.value)};
   for (size_t i = 0; i < update.poses.size(); ++i) {
     const KeyframePose& p = update.poses[i];
     if (p.seq < 0) return {AddStatus::kRejected, who + ": negative seq at index " + std::to_string(i)};
     if (i > 0 && p.seq <= update.poses[i - 1].seq) {
-      return {AddStatus::kRejected, who + ": seq " + std::to_string(p.seq) + " not ascending at index " + std::to_string(i)};
+      return {AddStatus::kRejected,
+              who + ": seq " + std::to_string(p.seq) + " not ascending at index " + std::to_string(i)};
     }
-    if (!finite(p.T_local_base)) return {AddStatus::kRejected, who + ": non-finite pose of seq " + std::to_string(p.seq)};
+    if (!finite(p.T_local_base))
+      return {AddStatus::kRejected, who + ": non-finite pose of seq " + std::to_string(p.seq)};
   }
   agent_poses_.erase(agent_poses_.lower_bound(KeyframeId{update.robot, 0}),
                      agent_poses_.upper_bound(KeyframeId{update.robot, INT32_MAX}));
@@ -215,7 +225,8 @@ void MultiRobotMapper::add_robot_chain(RobotId robot, OptimizeResult* result) {
       continue;
     }
     bool gap = false;
-    const PoseGraphEdge edge = prev ? chain_edge(*prev, kf, &gap) : PoseGraphEdge{kf.id, kf.id, {}, {}, EdgeKind::kOdometry};
+    const PoseGraphEdge edge =
+        prev ? chain_edge(*prev, kf, &gap) : PoseGraphEdge{kf.id, kf.id, {}, {}, EdgeKind::kOdometry};
     result->gap_edges += gap;
     auto opt = optimized_.find(kf.id);
     const SE2 initial = opt != optimized_.end() ? opt->second
@@ -225,9 +236,9 @@ void MultiRobotMapper::add_robot_chain(RobotId robot, OptimizeResult* result) {
     if (prev) {
       graph_.add_edge(edge);
     } else if (hints_.count(robot) || robot == anchor_) {
-      graph_.set_prior(PosePrior{kf.id, start_of(robot) * kf.T_local_base,
-                                 diag_information(options_.start_prior_sigma_xy_m,
-                                                  options_.start_prior_sigma_yaw_rad)});
+      graph_.set_prior(
+          PosePrior{kf.id, start_of(robot) * kf.T_local_base,
+                    diag_information(options_.start_prior_sigma_xy_m, options_.start_prior_sigma_yaw_rad)});
     }
     prev = &kf;
     prev_initial = initial;
@@ -247,8 +258,8 @@ std::optional<SE2> MultiRobotMapper::global_pose(KeyframeId id) const {
 Trajectory MultiRobotMapper::global_trajectory(RobotId robot) const {
   Trajectory trajectory;
   if (!linked(robot)) return trajectory;
-  for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0});
-       it != keyframes_.end() && it->first.robot == robot; ++it) {
+  for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0}); it != keyframes_.end() && it->first.robot == robot;
+       ++it) {
     trajectory.push_back(StampedPose{it->second.stamp_ns, *global_pose(it->first)});
   }
   return trajectory;
@@ -287,7 +298,7 @@ std::vector<RobotSummary> MultiRobotMapper::robots() const {
 
 void MultiRobotMapper::update_graph(OptimizeResult* result) {
   if (!options_.incremental_graph) rebuild_graph_ = true;  // mapper_options.h: why
-  refresh_object_constraints();  // multi_robot_mapper_objects.cpp; may set rebuild_graph_
+  refresh_object_constraints();                            // multi_robot_mapper_objects.cpp; may set rebuild_graph_
   if (rebuild_graph_) {
     graph_ = PoseGraph2d(options_.graph);
     loop_in_graph_.assign(loops_.size(), false);
@@ -311,7 +322,8 @@ void MultiRobotMapper::update_graph(OptimizeResult* result) {
   // New keyframes of each linked robot (O(robots + new keyframes), not O(keyframes)).
   const int window = std::max(0, options_.incremental_window_keyframes);
   std::vector<KeyframeId> active;
-  for (auto it = keyframes_.begin(); it != keyframes_.end(); it = keyframes_.upper_bound(KeyframeId{it->first.robot, INT32_MAX})) {
+  for (auto it = keyframes_.begin(); it != keyframes_.end();
+       it = keyframes_.upper_bound(KeyframeId{it->first.robot, INT32_MAX})) {
     const RobotId robot = it->first.robot;
     if (!linked(robot)) {
       ++result->unlinked_robots;
@@ -349,10 +361,10 @@ void MultiRobotMapper::update_graph(OptimizeResult* result) {
   active.erase(std::unique(active.begin(), active.end()), active.end());
   // Full refinement now: when idle, or at most every refine_interval updates (mapper_options.h).
   const int per_update = options_.refine_keyframes_per_update;
-  const int refine_interval = std::max({1, options_.refine_every_updates,
-                                        per_update > 0 ? int(graph_.num_nodes()) / per_update : 0});
-  const bool refine_now = refine_pending_ && (active.empty() || !options_.windowed_updates ||
-                                              updates_since_refine_ >= refine_interval);
+  const int refine_interval =
+      std::max({1, options_.refine_every_updates, per_update > 0 ? int(graph_.num_nodes()) / per_update : 0});
+  const bool refine_now =
+      refine_pending_ && (active.empty() || !options_.windowed_updates || updates_since_refine_ >= refine_interval);
   if (!active.empty() && !refine_now) {  // the new keyframes' window (exact for odometry alone)
     PoseGraphSolveOptions local = solve;
     local.active_nodes = active;

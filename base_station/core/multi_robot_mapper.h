@@ -47,13 +47,13 @@ struct AddResult {
 /// One decision on a link hypothesis (a PCM clique between two robots, or a closure that would move
 /// a linked pair), for the app's log: "robot 1 linked to robot 0 via 4 closures" or the reason.
 struct LinkEvent {
-  RobotId robot;            ///< the robot being linked (or whose closure was judged)
+  RobotId robot;  ///< the robot being linked (or whose closure was judged)
   RobotId other;
-  int closures = 0;         ///< closures of the hypothesis
+  int closures = 0;  ///< closures of the hypothesis
   bool accepted = false;
-  bool inconclusive = false;  ///< too little overlap to judge: candidates kept, judged again later
+  bool inconclusive = false;         ///< too little overlap to judge: candidates kept, judged again later
   double contradiction_ratio = 0.0;  ///< map check (0 when not run)
-  std::string reason;       ///< why rejected / deferred, or "linked"
+  std::string reason;                ///< why rejected / deferred, or "linked"
   std::vector<LoopClosure> members;  ///< the judged closures (a link hypothesis' clique)
   /// Closures found around the hypothesis by the guided search (MapperOptions::guided_link), a on
   /// the placed side, when the link was accepted as they place the robot (empty otherwise).
@@ -69,18 +69,18 @@ LoopClosure reversed(const LoopClosure& c);
 
 /// Counters of link decisions since construction.
 struct LinkStats {
-  int hypotheses = 0;              ///< cliques of at least min_link_clique judged
+  int hypotheses = 0;  ///< cliques of at least min_link_clique judged
   int linked = 0;
   int rejected_map_contradiction = 0;  ///< cliques refuted by the map check (closures dropped)
-  int deferred_spread = 0;         ///< cliques whose closures cover too little of a trajectory
-  int deferred_inconclusive = 0;   ///< cliques whose maps overlap too little to be checked
-  int link_members_held = 0;       ///< members of accepted cliques off their common fit: held for the map check
-  int linked_pair_closures = 0;    ///< inter-robot closures into already linked pairs
-  int linked_pair_implausible = 0; ///< of those, disagreeing beyond any drift: dropped unchecked
-  int linked_pair_checked = 0;     ///< of those, disagreeing with the estimate: map-checked
-  int linked_pair_rejected = 0;    ///< of those, refuted and dropped
-  int intra_closures = 0;          ///< verified closures within one robot's trajectory
-  int intra_rejected = 0;          ///< of those, contradicting the robot's own map beyond its drift
+  int deferred_spread = 0;             ///< cliques whose closures cover too little of a trajectory
+  int deferred_inconclusive = 0;       ///< cliques whose maps overlap too little to be checked
+  int link_members_held = 0;           ///< members of accepted cliques off their common fit: held for the map check
+  int linked_pair_closures = 0;        ///< inter-robot closures into already linked pairs
+  int linked_pair_implausible = 0;     ///< of those, disagreeing beyond any drift: dropped unchecked
+  int linked_pair_checked = 0;         ///< of those, disagreeing with the estimate: map-checked
+  int linked_pair_rejected = 0;        ///< of those, refuted and dropped
+  int intra_closures = 0;              ///< verified closures within one robot's trajectory
+  int intra_rejected = 0;              ///< of those, contradicting the robot's own map beyond its drift
 };
 
 struct OptimizeResult {
@@ -88,33 +88,33 @@ struct OptimizeResult {
   int nodes = 0;
   int edges = 0;
   int priors = 0;
-  int gap_edges = 0;          ///< chains bridged by local poses because a keyframe is missing
+  int gap_edges = 0;  ///< chains bridged by local poses because a keyframe is missing
   int unlinked_robots = 0;
-  int loop_closures = 0;        ///< accepted loop edges in the graph (intra + inter-robot)
+  int loop_closures = 0;  ///< accepted loop edges in the graph (intra + inter-robot)
   int inter_robot_closures = 0;
-  int pending_candidates = 0;   ///< verified inter-robot closures waiting for PCM
+  int pending_candidates = 0;         ///< verified inter-robot closures waiting for PCM
   std::vector<RobotId> newly_linked;  ///< robots linked by this call
-  bool full_resolve = false;    ///< LAGO initialisation + full solve happened
+  bool full_resolve = false;          ///< LAGO initialisation + full solve happened
   /// The whole graph was solved (link, or refinement after loop closures); otherwise only the
   /// window of new keyframes / new loop edges (solve.variable_blocks nodes) moved.
   bool full_solve = false;
   std::vector<LinkEvent> link_events;  ///< link decisions of this call (deduplicated per pair)
-  int object_edges = 0;         ///< object observations in the graph (object_constraints.h)
-  int constrained_objects = 0;  ///< merged objects with observations in the graph
+  int object_edges = 0;                ///< object observations in the graph (object_constraints.h)
+  int constrained_objects = 0;         ///< merged objects with observations in the graph
 };
 
 struct RobotSummary {
   RobotId id;
   bool linked = false;
   int keyframes = 0;
-  int objects = 0;                 ///< reports from this robot (placed or pending)
+  int objects = 0;  ///< reports from this robot (placed or pending)
   StampNs last_stamp_ns = 0;
   int32_t last_seq = -1;
-  int missing_keyframes = 0;       ///< gaps in seq 0..last_seq
+  int missing_keyframes = 0;  ///< gaps in seq 0..last_seq
   /// Correction global <- robot local frame (identity when not linked); the "correction" topic.
   SE2 T_global_local;
-  bool anchor = false;             ///< this robot's frame is the global frame's reference
-  int inter_robot_closures = 0;    ///< accepted closures touching this robot and another
+  bool anchor = false;           ///< this robot's frame is the global frame's reference
+  int inter_robot_closures = 0;  ///< accepted closures touching this robot and another
 };
 
 class MultiRobotMapper {
@@ -237,7 +237,9 @@ class MultiRobotMapper {
   LinkEvent judge_link(RobotId ra, RobotId rb, const std::vector<LoopClosure>& closures) const;
   /// A keyframe's pose in frame A of a link judged from ra: global when ra is placed, else ra's
   /// refined local pose.
-  SE2 pose_in_frame_a(RobotId ra, KeyframeId id) const { return linked(ra) ? *global_pose(id) : refined_local_pose(id); }
+  SE2 pose_in_frame_a(RobotId ra, KeyframeId id) const {
+    return linked(ra) ? *global_pose(id) : refined_local_pose(id);
+  }
   // Guided search around a link hypothesis (multi_robot_mapper_guided.cpp).
   /// Frame A's keyframes with their poses there: every linked robot's (global) when ra is linked,
   /// else ra's own (refined local poses).
@@ -247,8 +249,9 @@ class MultiRobotMapper {
   std::vector<LoopClosure> guided_closures(RobotId ra, RobotId rb, const SE2& T_A_blocal) const;
   /// rb's keyframes in frame A solved against the clique and the guided closures (a in frame A,
   /// held fixed; they fix the gauge), starting from T_A_blocal and keeping rb's own map as stiff as
-  /// its front end's uncertainty says (best effort: the solve's convergence is not checked). Guided closures the solution leaves off by more than
-  /// GuidedLinkOptions::max_residual_* are dropped from *guided, and the rest solved again.
+  /// its front end's uncertainty says (best effort: the solve's convergence is not checked). Guided closures the
+  /// solution leaves off by more than GuidedLinkOptions::max_residual_* are dropped from *guided, and the rest solved
+  /// again.
   PlacedScans tentative_placement(RobotId ra, RobotId rb, const SE2& T_A_blocal, const std::vector<LoopClosure>& clique,
                                   std::vector<LoopClosure>* guided) const;
   /// How far closure c (a = ra) is off the link T_A_blocal, in units of the linked-pair gate
@@ -289,7 +292,7 @@ class MultiRobotMapper {
   int updates_since_refine_ = 0;
   std::map<KeyframeId, Keyframe> keyframes_;
   std::map<ObjectId, ObjectReport> reports_;
-  std::map<KeyframeId, SE2> optimized_;  ///< global poses from the last optimize()
+  std::map<KeyframeId, SE2> optimized_;    ///< global poses from the last optimize()
   std::map<KeyframeId, SE2> agent_poses_;  ///< add_keyframe_poses: the agents' loop-closed local poses
   std::set<RobotId> chains_changed_;       ///< robots whose chain edges in graph_ need re-measuring
   /// Unlinked robots with intra-robot loop closures: own-frame poses and the loops they solved.

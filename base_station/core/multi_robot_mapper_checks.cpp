@@ -51,7 +51,8 @@ PlacedScans MultiRobotMapper::linked_scans(const SE2& T_frame_global, RobotId ex
 
 PlacedScans MultiRobotMapper::robot_scans(RobotId robot, const SE2& T_frame_local) const {
   PlacedScans out;
-  for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0}); it != keyframes_.end() && it->first.robot == robot; ++it) {
+  for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0}); it != keyframes_.end() && it->first.robot == robot;
+       ++it) {
     out.keyframes.push_back(&it->second);
     out.T_frame_base.push_back(T_frame_local * refined_local_pose(it->first));
   }
@@ -87,7 +88,8 @@ SE2 MultiRobotMapper::link_hypothesis(RobotId ra, const std::vector<LoopClosure>
   // spread out (a few degrees of error in each closure's own yaw, 2-7 deg on the MIT CSAIL split,
   // swing a 30 m map by metres; the lever arm between closures pins the rotation far better),
   // else the mean of the closures' transforms.
-  if (std::max(extent_m(a_in_blocal), extent_m(b_in_blocal)) < options_.min_link_spread_m) return mean_transform(T_A_blocal);
+  if (std::max(extent_m(a_in_blocal), extent_m(b_in_blocal)) < options_.min_link_spread_m)
+    return mean_transform(T_A_blocal);
   b_in_blocal.insert(b_in_blocal.end(), a_in_blocal.begin(), a_in_blocal.end());
   b_in_A.insert(b_in_A.end(), a_in_A.begin(), a_in_A.end());
   return align_points_2d(b_in_blocal, b_in_A);
@@ -120,8 +122,8 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
     ev.rigid_contradiction_ratio = guided_first ? -1.0 : m.contradiction_ratio;
     std::vector<LoopClosure> found = guided_closures(ra, rb, T_hypothesis);
     if (!found.empty()) {
-      const MapConsistencyResult g =
-          check_map_consistency(side_a, tentative_placement(ra, rb, T_hypothesis, closures, &found), options_.map_check);
+      const MapConsistencyResult g = check_map_consistency(
+          side_a, tentative_placement(ra, rb, T_hypothesis, closures, &found), options_.map_check);
       // A second chance only ever accepts; its refusal leaves the rigid verdict standing.
       if (guided_first || (g.consistent && g.conclusive)) {
         m = g;
@@ -141,7 +143,8 @@ LinkEvent MultiRobotMapper::judge_link(RobotId ra, RobotId rb, const std::vector
 double MultiRobotMapper::link_misfit(RobotId ra, const SE2& T_A_blocal, const LoopClosure& c) const {
   const SE2 T_A_a = pose_in_frame_a(ra, c.a);
   const SE2 E = (T_A_blocal * refined_local_pose(c.b)).between(T_A_a * c.T_a_b);
-  return std::max(E.translation().norm() / options_.linked_closure_gate_m, std::abs(E.yaw()) / options_.linked_closure_gate_rad);
+  return std::max(E.translation().norm() / options_.linked_closure_gate_m,
+                  std::abs(E.yaw()) / options_.linked_closure_gate_rad);
 }
 
 bool MultiRobotMapper::accept_intra_robot_closure(const LoopClosure& c) {
@@ -149,7 +152,8 @@ bool MultiRobotMapper::accept_intra_robot_closure(const LoopClosure& c) {
   // Path length between the two keyframes, over the stored ones (a gap counts its straight line).
   double path_m = 0.0;
   const Keyframe* prev = nullptr;
-  for (auto it = keyframes_.lower_bound(std::min(c.a, c.b)); it != keyframes_.end() && !(std::max(c.a, c.b) < it->first); ++it) {
+  for (auto it = keyframes_.lower_bound(std::min(c.a, c.b));
+       it != keyframes_.end() && !(std::max(c.a, c.b) < it->first); ++it) {
     if (prev) path_m += prev->T_local_base.between(it->second.T_local_base).translation().norm();
     prev = &it->second;
   }
@@ -171,7 +175,8 @@ bool MultiRobotMapper::accept_linked_pair_closure(const LoopClosure& c, Optimize
   ++link_stats_.linked_pair_closures;
   const SE2 Ga = *global_pose(c.a), Gb = *global_pose(c.b);
   const SE2 E = Ga.between(Gb).between(c.T_a_b);
-  if (E.translation().norm() <= options_.linked_closure_gate_m && std::abs(E.yaw()) <= options_.linked_closure_gate_rad) {
+  if (E.translation().norm() <= options_.linked_closure_gate_m &&
+      std::abs(E.yaw()) <= options_.linked_closure_gate_rad) {
     return true;
   }
   if (E.translation().norm() > options_.linked_closure_max_correction_m ||
@@ -180,8 +185,9 @@ bool MultiRobotMapper::accept_linked_pair_closure(const LoopClosure& c, Optimize
     char why[160];
     std::snprintf(why, sizeof(why), "disagrees with the linked estimate by %.1f m / %.0f deg, more than any drift",
                   E.translation().norm(), std::abs(E.yaw()) * 180.0 / M_PI);
-    result->link_events.push_back(LinkEvent{c.b.robot, c.a.robot, 1, false, false, 0.0,
-                                            "closure " + to_string(c.a) + " - " + to_string(c.b) + " rejected: " + why});
+    result->link_events.push_back(
+        LinkEvent{c.b.robot, c.a.robot, 1, false, false, 0.0,
+                  "closure " + to_string(c.a) + " - " + to_string(c.b) + " rejected: " + why});
     return false;
   }
   if (!options_.check_map_consistency) return true;
@@ -211,8 +217,9 @@ bool MultiRobotMapper::accept_linked_pair_closure(const LoopClosure& c, Optimize
   // A closure that would move a linked robot needs positive evidence: inconclusive is not enough.
   if (m.consistent && m.conclusive) return true;
   ++link_stats_.linked_pair_rejected;
-  result->link_events.push_back(LinkEvent{c.b.robot, c.a.robot, 1, false, !m.conclusive, m.contradiction_ratio,
-                                          "closure " + to_string(c.a) + " - " + to_string(c.b) + " rejected: " + m.reason});
+  result->link_events.push_back(
+      LinkEvent{c.b.robot, c.a.robot, 1, false, !m.conclusive, m.contradiction_ratio,
+                "closure " + to_string(c.a) + " - " + to_string(c.b) + " rejected: " + m.reason});
   return false;
 }
 

@@ -110,7 +110,8 @@ PlacedScans MultiRobotMapper::tentative_placement(RobotId ra, RobotId rb, const 
   guided->erase(std::remove_if(guided->begin(), guided->end(),
                                [&](const LoopClosure& c) {
                                  const SE2 E = pose_in_frame_a(ra, c.a).between(solved.at(c.b)).between(c.T_a_b);
-                                 return E.translation().norm() > o.max_residual_m || std::abs(E.yaw()) > o.max_residual_rad;
+                                 return E.translation().norm() > o.max_residual_m ||
+                                        std::abs(E.yaw()) > o.max_residual_rad;
                                }),
                 guided->end());
   if (guided->size() != before) {

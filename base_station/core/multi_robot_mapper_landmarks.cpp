@@ -81,8 +81,8 @@ bool MultiRobotMapper::try_link_by_landmarks(RobotId ra, RobotId rb) {
   }
   if (map.inconclusive && n < o.min_link_landmarks) {
     ev.inconclusive = true;
-    ev.reason = "markers: " + what + ", map check inconclusive (" + map.reason + "): " +
-                std::to_string(o.min_link_landmarks) + " markers needed without map evidence";
+    ev.reason = "markers: " + what + ", map check inconclusive (" + map.reason +
+                "): " + std::to_string(o.min_link_landmarks) + " markers needed without map evidence";
     record(ev);
     return false;
   }
@@ -108,7 +108,8 @@ bool MultiRobotMapper::try_link_by_landmarks(RobotId ra, RobotId rb) {
 void MultiRobotMapper::add_landmark_edges(RobotId robot) {
   const LandmarkOptions& o = options_.landmarks;
   if (!o.enabled) return;
-  for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0}); it != keyframes_.end() && it->first.robot == robot; ++it) {
+  for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0}); it != keyframes_.end() && it->first.robot == robot;
+       ++it) {
     const Keyframe& kf = it->second;
     if (kf.landmarks.empty() || !graph_.has_node(kf.id) || graph_.has_landmark_edges_from(kf.id)) continue;
     for (const LandmarkObservation& l : kf.landmarks) {

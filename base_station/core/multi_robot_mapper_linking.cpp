@@ -18,8 +18,9 @@ LoopClosure reversed(const LoopClosure& c) {
 
 PoseGraphEdge loop_edge(const LoopClosure& c) {
   Eigen::LLT<Eigen::Matrix3d> llt(0.5 * (c.covariance + c.covariance.transpose()));
-  const Eigen::Matrix3d information =
-      llt.info() == Eigen::Success ? Eigen::Matrix3d(llt.solve(Eigen::Matrix3d::Identity())) : Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d information = llt.info() == Eigen::Success
+                                          ? Eigen::Matrix3d(llt.solve(Eigen::Matrix3d::Identity()))
+                                          : Eigen::Matrix3d::Identity();
   return PoseGraphEdge{c.a, c.b, c.T_a_b, information, EdgeKind::kLoop};
 }
 
@@ -95,7 +96,8 @@ void MultiRobotMapper::refresh_own_frames() {
     PoseGraph2d graph(options_.graph);
     const Keyframe* prev = nullptr;
     SE2 prev_initial;
-    for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0}); it != keyframes_.end() && it->first.robot == robot; ++it) {
+    for (auto it = keyframes_.lower_bound(KeyframeId{robot, 0}); it != keyframes_.end() && it->first.robot == robot;
+         ++it) {
       const Keyframe& kf = it->second;
       bool gap = false;
       const PoseGraphEdge edge = prev ? chain_edge(*prev, kf, &gap) : PoseGraphEdge{};
@@ -216,7 +218,8 @@ void MultiRobotMapper::place_new_robots() {
     changed = false;
     for (const LoopClosure& c : loops_) {
       if (c.a.robot == c.b.robot || linked(c.a.robot) == linked(c.b.robot)) continue;
-      if (component_of(c.a.robot) != component_of(*anchor_) || component_of(c.b.robot) != component_of(*anchor_)) continue;
+      if (component_of(c.a.robot) != component_of(*anchor_) || component_of(c.b.robot) != component_of(*anchor_))
+        continue;
       const Keyframe& ka = keyframes_.at(c.a);
       const Keyframe& kb = keyframes_.at(c.b);
       if (linked(c.a.robot)) {

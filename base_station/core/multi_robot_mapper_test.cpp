@@ -53,8 +53,10 @@ MultiRobotMapper make_two_robot_mapper() {
   MultiRobotMapper mapper(hint_only_options());
   mapper.set_robot_start(kR0, left_path()[0]);
   mapper.set_robot_start(kR1, right_path()[0]);
-  for (const Keyframe& kf : make_keyframes(kR0, left_path(), room_walls())) EXPECT_TRUE(mapper.add_keyframe(kf).stored());
-  for (const Keyframe& kf : make_keyframes(kR1, right_path(), room_walls())) EXPECT_TRUE(mapper.add_keyframe(kf).stored());
+  for (const Keyframe& kf : make_keyframes(kR0, left_path(), room_walls()))
+    EXPECT_TRUE(mapper.add_keyframe(kf).stored());
+  for (const Keyframe& kf : make_keyframes(kR1, right_path(), room_walls()))
+    EXPECT_TRUE(mapper.add_keyframe(kf).stored());
   mapper.add_object(make_object({kR0, 0}, "victim", {4.3, 3.5, 0.2}, 3, left_path()[3], 5));
   mapper.add_object(make_object({kR1, 0}, "victim", {4.1, 3.4, 0.2}, 4, right_path()[4], 15));
   mapper.add_object(make_object({kR1, 1}, "hazard", {8.0, 2.0, 0.1}, 1, right_path()[1]));
@@ -232,7 +234,8 @@ std::vector<SE2> two_laps(int per_lap) {
   std::vector<SE2> p;
   for (int i = 0; i < 2 * per_lap; ++i) {
     const double a = 2.0 * M_PI * i / per_lap;
-    p.push_back(SE2(5.0 + 3.2 * std::cos(a), 4.0 + 1.2 * std::sin(a), std::atan2(1.2 * std::cos(a), -3.2 * std::sin(a))));
+    p.push_back(
+        SE2(5.0 + 3.2 * std::cos(a), 4.0 + 1.2 * std::sin(a), std::atan2(1.2 * std::cos(a), -3.2 * std::sin(a))));
   }
   return p;
 }
@@ -261,7 +264,8 @@ double gap_to_batch_optimum_m(const MultiRobotMapper& mapper) {
   batch.set_estimates(odometry);
   EXPECT_TRUE(batch.solve().converged);
   double worst = 0;
-  for (const auto& [id, T] : batch.estimates()) worst = std::max(worst, (T.translation() - mapper.global_pose(id)->translation()).norm());
+  for (const auto& [id, T] : batch.estimates())
+    worst = std::max(worst, (T.translation() - mapper.global_pose(id)->translation()).norm());
   return worst;
 }
 

@@ -61,7 +61,8 @@ std::vector<ObjectConstraint> object_constraints(const std::vector<GlobalObject>
       out.push_back(ObjectConstraint{id, e});
     }
   }
-  std::sort(out.begin(), out.end(), [](const ObjectConstraint& a, const ObjectConstraint& b) { return a.report < b.report; });
+  std::sort(out.begin(), out.end(),
+            [](const ObjectConstraint& a, const ObjectConstraint& b) { return a.report < b.report; });
   return out;
 }
 

@@ -91,7 +91,8 @@ OptimizeResult run(MultiRobotMapper* mapper, const Scene& s, const SE2& hint1, E
   OptimizeResult r = mapper->optimize();
   std::vector<ObjectReport> r1 = reports(RobotId(1), s.path1, s);
   edit(&r1);
-  for (const ObjectReport& o : reports(RobotId(0), s.path0, s)) EXPECT_EQ(mapper->add_object(o).status, AddStatus::kAccepted);
+  for (const ObjectReport& o : reports(RobotId(0), s.path0, s))
+    EXPECT_EQ(mapper->add_object(o).status, AddStatus::kAccepted);
   for (const ObjectReport& o : r1) EXPECT_EQ(mapper->add_object(o).status, AddStatus::kAccepted);
   for (int i = 0; i < 3 || (mapper->refinement_pending() && i < 30); ++i) r = mapper->optimize();
   return r;

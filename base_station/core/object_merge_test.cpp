@@ -189,7 +189,8 @@ TEST(ObjectMerge, ExportsReadBackAfterMerging) {
   mapper.optimize();
   const std::vector<GlobalObject> objects = mapper.objects();
   ASSERT_EQ(objects.size(), 2u);
-  const std::string dir = (std::filesystem::temp_directory_path() / ("cairn_merge_" + std::to_string(::getpid()))).string();
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("cairn_merge_" + std::to_string(::getpid()))).string();
   ASSERT_TRUE(export_all(mapper, dir).ok());
   std::ifstream in(dir + "/objects.geojson");
   const nlohmann::json geo = nlohmann::json::parse(in);

@@ -34,15 +34,20 @@ void bron_kerbosch(std::vector<size_t>& r, std::vector<size_t> p, std::vector<si
     for (size_t u : *set) {
       size_t deg = 0;
       for (size_t v : p) deg += adj[u][v];
-      if (deg >= pivot_degree) { pivot_degree = deg; pivot = u; }
+      if (deg >= pivot_degree) {
+        pivot_degree = deg;
+        pivot = u;
+      }
     }
   }
   const std::vector<size_t> candidates = p;
   for (size_t v : candidates) {
     if (adj[pivot][v]) continue;
     std::vector<size_t> p2, x2;
-    for (size_t u : p) if (adj[v][u]) p2.push_back(u);
-    for (size_t u : x) if (adj[v][u]) x2.push_back(u);
+    for (size_t u : p)
+      if (adj[v][u]) p2.push_back(u);
+    for (size_t u : x)
+      if (adj[v][u]) x2.push_back(u);
     r.push_back(v);
     bron_kerbosch(r, p2, x2, adj, best);
     r.pop_back();

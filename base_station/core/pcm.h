@@ -36,7 +36,8 @@ struct PcmOptions {
 using LocalPoseFn = std::function<SE2(KeyframeId)>;
 
 /// Whether closures i and j (same robot pair, same orientation a -> b) are consistent.
-bool pcm_consistent(const LoopClosure& i, const LoopClosure& j, const LocalPoseFn& local_pose, const PcmOptions& options = {});
+bool pcm_consistent(const LoopClosure& i, const LoopClosure& j, const LocalPoseFn& local_pose,
+                    const PcmOptions& options = {});
 
 /// Indices of a maximum set of pairwise-consistent closures (sorted).
 std::vector<size_t> pcm_max_clique(const std::vector<LoopClosure>& closures, const LocalPoseFn& local_pose,

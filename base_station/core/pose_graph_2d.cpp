@@ -66,7 +66,8 @@ struct RelativePoseResidual {
 /// (||R_b - R_a R_ab||_F^2 = 4 (1 - cos e) = 8 sin^2(e / 2); the translation norm is rotation-invariant).
 struct SeSyncResidual {
   SeSyncResidual(const SE2& T_a_b, const Eigen::Matrix3d& information)
-      : p_ab_(T_a_b.translation()), yaw_ab_rad_(T_a_b.yaw()),
+      : p_ab_(T_a_b.translation()),
+        yaw_ab_rad_(T_a_b.yaw()),
         sqrt_tau_(std::sqrt(2.0 / information.topLeftCorner<2, 2>().inverse().trace())),
         sqrt_8kappa_(std::sqrt(8.0 * information(2, 2))) {}
 
@@ -138,9 +139,12 @@ bool finite(const SE2& T) { return T.vector().allFinite(); }
 
 ceres::LossFunction* make_loss(const RobustLossOptions& o) {
   switch (o.type) {
-    case RobustLossType::kHuber: return new ceres::HuberLoss(o.scale);
-    case RobustLossType::kCauchy: return new ceres::CauchyLoss(o.scale);
-    case RobustLossType::kNone: break;
+    case RobustLossType::kHuber:
+      return new ceres::HuberLoss(o.scale);
+    case RobustLossType::kCauchy:
+      return new ceres::CauchyLoss(o.scale);
+    case RobustLossType::kNone:
+      break;
   }
   return nullptr;
 }
@@ -149,13 +153,15 @@ ceres::LossFunction* make_loss(const RobustLossOptions& o) {
 
 const char* to_string(EdgeKind kind) {
   switch (kind) {
-    case EdgeKind::kOdometry: return "odometry";
-    case EdgeKind::kLoop: return "loop";
-    case EdgeKind::kPrior: return "prior";
+    case EdgeKind::kOdometry:
+      return "odometry";
+    case EdgeKind::kLoop:
+      return "loop";
+    case EdgeKind::kPrior:
+      return "prior";
   }
   return "unknown";
 }
-
 
 /// The live Ceres problem and what of the graph it already holds.
 struct PoseGraph2d::Problem {
@@ -186,8 +192,13 @@ PoseGraph2d::~PoseGraph2d() = default;
 PoseGraph2d::PoseGraph2d(PoseGraph2d&&) noexcept = default;
 PoseGraph2d& PoseGraph2d::operator=(PoseGraph2d&&) noexcept = default;
 PoseGraph2d::PoseGraph2d(const PoseGraph2d& o)
-    : options_(o.options_), nodes_(o.nodes_), edges_(o.edges_), priors_(o.priors_), landmarks_(o.landmarks_),
-      landmark_edges_(o.landmark_edges_), landmark_sources_(o.landmark_sources_),
+    : options_(o.options_),
+      nodes_(o.nodes_),
+      edges_(o.edges_),
+      priors_(o.priors_),
+      landmarks_(o.landmarks_),
+      landmark_edges_(o.landmark_edges_),
+      landmark_sources_(o.landmark_sources_),
       landmarks_need_init_(o.landmarks_need_init_) {}
 PoseGraph2d& PoseGraph2d::operator=(const PoseGraph2d& o) {
   if (this != &o) {
@@ -285,7 +296,8 @@ void PoseGraph2d::sync_problem() {
     SeSyncResidual* sesync = nullptr;
     RelativePoseResidual* relative = nullptr;
     if (options_.residual == EdgeResidualType::kSeSync) {
-      cost = new ceres::AutoDiffCostFunction<SeSyncResidual, 3, 3, 3>(sesync = new SeSyncResidual(e.T_from_to, e.information));
+      cost = new ceres::AutoDiffCostFunction<SeSyncResidual, 3, 3, 3>(
+          sesync = new SeSyncResidual(e.T_from_to, e.information));
     } else {
       cost = new ceres::AutoDiffCostFunction<RelativePoseResidual, 3, 3, 3>(
           relative = new RelativePoseResidual(e.T_from_to, *sqrt_information(e.information)));

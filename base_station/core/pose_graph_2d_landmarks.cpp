@@ -50,7 +50,8 @@ std::optional<Eigen::Vector2d> PoseGraph2d::point_estimate(const PointNodeId& id
 std::map<LandmarkId, Eigen::Vector2d> PoseGraph2d::landmark_estimates() const {
   std::map<LandmarkId, Eigen::Vector2d> out;
   for (const auto& [id, l] : landmarks_) {
-    if (const auto* marker = std::get_if<LandmarkId>(&id)) out.emplace_hint(out.end(), *marker, Eigen::Vector2d(l.p[0], l.p[1]));
+    if (const auto* marker = std::get_if<LandmarkId>(&id))
+      out.emplace_hint(out.end(), *marker, Eigen::Vector2d(l.p[0], l.p[1]));
   }
   return out;
 }
@@ -58,7 +59,8 @@ std::map<LandmarkId, Eigen::Vector2d> PoseGraph2d::landmark_estimates() const {
 std::map<ObjectId, Eigen::Vector2d> PoseGraph2d::object_estimates() const {
   std::map<ObjectId, Eigen::Vector2d> out;
   for (const auto& [id, l] : landmarks_) {
-    if (const auto* object = std::get_if<ObjectId>(&id)) out.emplace_hint(out.end(), *object, Eigen::Vector2d(l.p[0], l.p[1]));
+    if (const auto* object = std::get_if<ObjectId>(&id))
+      out.emplace_hint(out.end(), *object, Eigen::Vector2d(l.p[0], l.p[1]));
   }
   return out;
 }

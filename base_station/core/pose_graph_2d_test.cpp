@@ -43,7 +43,8 @@ TEST(PoseGraph2d, AnEdgeReMeasuredInTheLiveProblemSolvesLikeAFreshGraph) {
   for (int i = 0; i < 4; ++i) {
     EXPECT_LT((live.estimate(kf(0, i))->vector() - fresh.estimate(kf(0, i))->vector()).norm(), 1e-6) << i;
   }
-  EXPECT_GT((live.estimate(kf(0, 3))->translation() - before.translation()).norm(), 0.05) << "the re-measured edge moved nothing";
+  EXPECT_GT((live.estimate(kf(0, 3))->translation() - before.translation()).norm(), 0.05)
+      << "the re-measured edge moved nothing";
 }
 
 TEST(PoseGraph2d, SquareWithLoopIsExact) {
@@ -119,8 +120,8 @@ TEST(PoseGraph2d, NoisyTwoRobotGraphGetsCloserToTruth) {
     graph.add_edge({kf(r, n - 1), kf(r, 0), truth[kf(r, n - 1)].between(truth[kf(r, 0)]), info, EdgeKind::kLoop});
   }
   for (int i = 0; i < n; i += 5) {
-    graph.add_edge({kf(0, i), kf(1, (i + 15) % n), noisy(truth[kf(0, i)].between(truth[kf(1, (i + 15) % n)])),
-                    info, EdgeKind::kLoop});
+    graph.add_edge({kf(0, i), kf(1, (i + 15) % n), noisy(truth[kf(0, i)].between(truth[kf(1, (i + 15) % n)])), info,
+                    EdgeKind::kLoop});
   }
   const PoseGraphSolveResult r = graph.solve();
   EXPECT_TRUE(r.converged) << r.reason;
@@ -161,8 +162,8 @@ TEST(PoseGraph2d, LocalSolveMovesOnlyTheActiveNodes) {
   ASSERT_TRUE(graph.set_prior({kf(0, 0), w.truth[0], Eigen::Matrix3d::Identity() * 1e6}));
   for (int i = 1; i < 20; ++i) {
     ASSERT_TRUE(graph.add_node(kf(0, i), *graph.estimate(kf(0, i - 1)) * w.odometry[i - 1]));
-    ASSERT_TRUE(graph.add_edge({kf(0, i - 1), kf(0, i), w.odometry[i - 1], Eigen::Matrix3d::Identity() * 1e3,
-                                EdgeKind::kOdometry}));
+    ASSERT_TRUE(graph.add_edge(
+        {kf(0, i - 1), kf(0, i), w.odometry[i - 1], Eigen::Matrix3d::Identity() * 1e3, EdgeKind::kOdometry}));
   }
   ASSERT_TRUE(graph.add_edge(
       {kf(0, 2), kf(0, 17), w.truth[2].between(w.truth[17]), Eigen::Matrix3d::Identity() * 100.0, EdgeKind::kLoop}));
@@ -171,7 +172,8 @@ TEST(PoseGraph2d, LocalSolveMovesOnlyTheActiveNodes) {
   // A new leaf far off its odometry: a local solve of {new, its predecessor} puts it at the
   // composition and leaves every node outside the window bit-for-bit where it was.
   ASSERT_TRUE(graph.add_node(kf(0, 20), SE2(50, 50, 1)));
-  ASSERT_TRUE(graph.add_edge({kf(0, 19), kf(0, 20), w.odometry[19], Eigen::Matrix3d::Identity() * 1e3, EdgeKind::kOdometry}));
+  ASSERT_TRUE(
+      graph.add_edge({kf(0, 19), kf(0, 20), w.odometry[19], Eigen::Matrix3d::Identity() * 1e3, EdgeKind::kOdometry}));
   PoseGraphSolveOptions local;
   local.active_nodes = {kf(0, 19), kf(0, 20)};
   const PoseGraphSolveResult r = graph.solve(local);
@@ -203,8 +205,8 @@ TEST(PoseGraph2d, WindowedUpdatesThenFullSolveReachTheBatchOptimum) {
   int full_solves = 0;
   for (int i = 1; i < n; ++i) {
     ASSERT_TRUE(graph.add_node(kf(0, i), *graph.estimate(kf(0, i - 1)) * w.odometry[i - 1]));
-    ASSERT_TRUE(graph.add_edge({kf(0, i - 1), kf(0, i), w.odometry[i - 1], Eigen::Matrix3d::Identity() * 1e3,
-                                EdgeKind::kOdometry}));
+    ASSERT_TRUE(graph.add_edge(
+        {kf(0, i - 1), kf(0, i), w.odometry[i - 1], Eigen::Matrix3d::Identity() * 1e3, EdgeKind::kOdometry}));
     PoseGraphSolveOptions local;
     local.max_iterations = 10;
     for (int j = std::max(0, i - 5); j <= i; ++j) local.active_nodes.push_back(kf(0, j));

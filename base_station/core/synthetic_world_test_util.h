@@ -29,7 +29,7 @@ inline double ray_cast_m(const Eigen::Vector2d& origin, const Eigen::Vector2d& d
     const double den = dir.x() * (-e.y()) + e.x() * dir.y();
     if (std::abs(den) < 1e-12) continue;
     const Eigen::Vector2d w = s.a - origin;
-    const double t = (w.x() * (-e.y()) + e.x() * w.y()) / den;  // along the ray
+    const double t = (w.x() * (-e.y()) + e.x() * w.y()) / den;   // along the ray
     const double u = (dir.x() * w.y() - dir.y() * w.x()) / den;  // along the segment
     if (t > 1e-9 && u >= 0.0 && u <= 1.0) best = std::min(best, t);
   }
@@ -131,21 +131,21 @@ inline std::vector<Segment> two_wing_building() {
   std::vector<Segment> w = {{{0, 0}, {24, 0}}, {{24, 0}, {24, 10}}, {{24, 10}, {0, 10}}, {{0, 10}, {0, 0}}};
   for (double ox : {0.0, 12.0}) {
     auto add = [&](double x0, double y0, double x1, double y1) { w.push_back({{ox + x0, y0}, {ox + x1, y1}}); };
-    add(0, 2, 2.5, 2);    // corridor wall with doors at x 2.5..3.5 and 8.5..9.5
+    add(0, 2, 2.5, 2);  // corridor wall with doors at x 2.5..3.5 and 8.5..9.5
     add(3.5, 2, 8.5, 2);
     add(9.5, 2, 12, 2);
-    if (ox > 0) add(0, 2, 0, 10);  // wing separator (x = 12)
-    add(6, 2, 6, 10);     // room divider
+    if (ox > 0) add(0, 2, 0, 10);                                        // wing separator (x = 12)
+    add(6, 2, 6, 10);                                                    // room divider
     add(1, 7, 2, 7), add(2, 7, 2, 8), add(2, 8, 1, 8), add(1, 8, 1, 7);  // a cabinet in room A
-    add(7, 8, 9, 9.5);    // a slanted wall in room B
+    add(7, 8, 9, 9.5);                                                   // a slanted wall in room B
   }
   return w;
 }
 
 /// A route through wing W's corridor and both rooms, shifted by ox along x (12: wing E).
 inline std::vector<Eigen::Vector2d> west_route(double ox) {
-  std::vector<Eigen::Vector2d> w = {{1.5, 1}, {3, 1}, {3, 5}, {1.5, 6}, {4.5, 6.5}, {3, 5}, {3, 1}, {9, 1},
-                                    {9, 5}, {10.5, 7}, {8, 6.5}, {9, 5}, {9, 1}, {10.5, 1}};
+  std::vector<Eigen::Vector2d> w = {{1.5, 1}, {3, 1}, {3, 5},    {1.5, 6}, {4.5, 6.5}, {3, 5}, {3, 1},
+                                    {9, 1},   {9, 5}, {10.5, 7}, {8, 6.5}, {9, 5},     {9, 1}, {10.5, 1}};
   for (auto& p : w) p.x() += ox;
   return w;
 }

@@ -24,10 +24,14 @@ bool known_kind(int64_t kind) { return kind >= 0 && kind <= int64_t(JournalKind:
 
 const char* to_string(JournalKind kind) {
   switch (kind) {
-    case JournalKind::kKeyframe: return "keyframe";
-    case JournalKind::kObject: return "object";
-    case JournalKind::kKeyframePoses: return "keyframe poses";
-    case JournalKind::kStatus: return "status";
+    case JournalKind::kKeyframe:
+      return "keyframe";
+    case JournalKind::kObject:
+      return "object";
+    case JournalKind::kKeyframePoses:
+      return "keyframe poses";
+    case JournalKind::kStatus:
+      return "status";
   }
   return "unknown";
 }
@@ -54,7 +58,8 @@ std::unique_ptr<Journal> Journal::open(const std::string& path, const JournalOpt
   // Another application's database is refused rather than given our tables.
   {
     Statement s;
-    sqlite3_prepare_v2(db, "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' "
+    sqlite3_prepare_v2(db,
+                       "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' "
                        "AND name NOT IN ('cairn_journal_meta', 'records')",
                        -1, &s.stmt, nullptr);
     if (!s.stmt || sqlite3_step(s.stmt) != SQLITE_ROW) {

@@ -51,8 +51,8 @@ TEST(Journal, KeepsRecordsAcrossReopeningInReplayOrder) {
                            record(JournalKind::kObject, 0, 0, {7})},
                           &error))
         << error;
-    ASSERT_TRUE(j->append({record(JournalKind::kKeyframe, 1, 0, {1, 0}), record(JournalKind::kKeyframe, 0, 0, {0})},
-                          &error))
+    ASSERT_TRUE(
+        j->append({record(JournalKind::kKeyframe, 1, 0, {1, 0}), record(JournalKind::kKeyframe, 0, 0, {0})}, &error))
         << error;
     EXPECT_EQ(j->size(), 5);
   }
@@ -64,10 +64,10 @@ TEST(Journal, KeepsRecordsAcrossReopeningInReplayOrder) {
   ASSERT_EQ(contents->records.size(), 5u);
   // Keyframes first (robot, seq), then objects, then statuses.
   const std::vector<std::tuple<JournalKind, int, int64_t>> order{{JournalKind::kKeyframe, 0, 0},
-                                                                  {JournalKind::kKeyframe, 1, 0},
-                                                                  {JournalKind::kKeyframe, 1, 1},
-                                                                  {JournalKind::kObject, 0, 0},
-                                                                  {JournalKind::kStatus, 1, 0}};
+                                                                 {JournalKind::kKeyframe, 1, 0},
+                                                                 {JournalKind::kKeyframe, 1, 1},
+                                                                 {JournalKind::kObject, 0, 0},
+                                                                 {JournalKind::kStatus, 1, 0}};
   for (size_t i = 0; i < order.size(); ++i) {
     const auto& r = contents->records[i];
     EXPECT_EQ(std::make_tuple(r.kind, r.robot.value, r.key), order[i]) << i;
@@ -120,7 +120,8 @@ TEST(Journal, ANewerFormatIsRefusedWithBothVersions) {
   ASSERT_TRUE(Journal::open(path, {}, &error)) << error;
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "UPDATE cairn_journal_meta SET format_version = 7;", nullptr, nullptr, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, "UPDATE cairn_journal_meta SET format_version = 7;", nullptr, nullptr, nullptr),
+            SQLITE_OK);
   sqlite3_close(db);
   EXPECT_EQ(Journal::open(path, {}, &error), nullptr);
   EXPECT_NE(error.find("format version 7, this base station reads 1"), std::string::npos) << error;
@@ -136,9 +137,10 @@ TEST(Journal, RowsThatAreNotRecordsAreSkippedAndNamed) {
   }
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "INSERT INTO records VALUES (42, 0, 0, x'00'); INSERT INTO records VALUES (0, 0, 1, 'text');",
-                         nullptr, nullptr, nullptr),
-            SQLITE_OK);
+  ASSERT_EQ(
+      sqlite3_exec(db, "INSERT INTO records VALUES (42, 0, 0, x'00'); INSERT INTO records VALUES (0, 0, 1, 'text');",
+                   nullptr, nullptr, nullptr),
+      SQLITE_OK);
   sqlite3_close(db);
   auto j = Journal::open(path, {}, &error);
   ASSERT_TRUE(j) << error;

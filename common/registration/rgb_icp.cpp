@@ -27,8 +27,8 @@ std::vector<float> joint_rows(const ColoredCloud& c, const Eigen::Isometry3d& T,
   rows.reserve(c.size() * 6);
   for (const ColoredPoint& p : c) {
     const Eigen::Vector3d q = T * xyz(p);
-    rows.insert(rows.end(), {float(q.x()), float(q.y()), float(q.z()), colour_scale * p.r, colour_scale * p.g,
-                             colour_scale * p.b});
+    rows.insert(rows.end(),
+                {float(q.x()), float(q.y()), float(q.z()), colour_scale * p.r, colour_scale * p.g, colour_scale * p.b});
   }
   return rows;
 }
@@ -219,7 +219,8 @@ ColoredCloud voxel_grid(const ColoredCloud& cloud, double voxel_m) {
       continue;
     }
     keyed.push_back({Key{int64_t(std::floor(p.x / voxel_m)), int64_t(std::floor(p.y / voxel_m)),
-                         int64_t(std::floor(p.z / voxel_m))}, i});
+                         int64_t(std::floor(p.z / voxel_m))},
+                     i});
   }
   std::sort(keyed.begin(), keyed.end());
   ColoredCloud out;
@@ -261,10 +262,13 @@ RgbIcpResult rgb_icp(const ColoredCloud& source, const ColoredCloud& target, con
   r.rmse_m = ov.rmse_m;
   r.degenerate = st.degenerate;
   r.converged = st.done && ov.fitness > 0.0 && !st.degenerate;
-  if (st.degenerate) r.reason = "degenerate registration: geometry constrains only some of the 6 DoF";
-  else if (!st.done) r.reason = st.iterations < o.max_iterations ? "too few correspondences within max_correspondence_m"
-                                                                 : "ICP did not converge within max_iterations";
-  else if (ov.fitness <= 0.0) r.reason = "no overlap after alignment";
+  if (st.degenerate)
+    r.reason = "degenerate registration: geometry constrains only some of the 6 DoF";
+  else if (!st.done)
+    r.reason = st.iterations < o.max_iterations ? "too few correspondences within max_correspondence_m"
+                                                : "ICP did not converge within max_iterations";
+  else if (ov.fitness <= 0.0)
+    r.reason = "no overlap after alignment";
   return r;
 }
 

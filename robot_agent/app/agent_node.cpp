@@ -47,8 +47,8 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
       p, dds::robot_topic(dds::kLaserTopic, robot), TopicKind::kSensor);
   n->rgbd_in_ = std::make_unique<R<cairn_msgs::RgbdFrame, cairn_msgs::RgbdFramePubSubType>>(
       p, dds::robot_topic(dds::kRgbdTopic, robot), TopicKind::kSensor);
-  n->clock_in_ = std::make_unique<R<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>>(
-      p, dds::kClockTopic, TopicKind::kClock);
+  n->clock_in_ = std::make_unique<R<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>>(p, dds::kClockTopic,
+                                                                                                   TopicKind::kClock);
   n->ack_in_ = std::make_unique<R<cairn_msgs::Ack, cairn_msgs::AckPubSubType>>(p, dds::kAckTopic, TopicKind::kAck);
   n->goal_in_ = std::make_unique<R<cairn_msgs::ExplorationGoal, cairn_msgs::ExplorationGoalPubSubType>>(
       p, dds::kGoalTopic, TopicKind::kGoal);
@@ -60,11 +60,11 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
       p, dds::kObjectTopic, TopicKind::kObject, large);
   n->keyframe_poses_out_ = std::make_unique<W<cairn_msgs::KeyframePoses, cairn_msgs::KeyframePosesPubSubType>>(
       p, dds::kKeyframePosesTopic, TopicKind::kKeyframePoses);
-  n->status_out_ = std::make_unique<W<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>>(
-      p, dds::kStatusTopic, TopicKind::kStatus);
-  if (!n->odometry_in_->ok() || !n->laser_in_->ok() || !n->rgbd_in_->ok() || !n->clock_in_->ok() ||
-      !n->ack_in_->ok() || !n->keyframe_out_->ok() || !n->object_out_->ok() || !n->keyframe_poses_out_->ok() ||
-      !n->status_out_->ok() || !n->goal_in_->ok()) {
+  n->status_out_ = std::make_unique<W<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>>(p, dds::kStatusTopic,
+                                                                                                   TopicKind::kStatus);
+  if (!n->odometry_in_->ok() || !n->laser_in_->ok() || !n->rgbd_in_->ok() || !n->clock_in_->ok() || !n->ack_in_->ok() ||
+      !n->keyframe_out_->ok() || !n->object_out_->ok() || !n->keyframe_poses_out_->ok() || !n->status_out_->ok() ||
+      !n->goal_in_->ok()) {
     *error = "cannot create the agent's DDS readers/writers";
     return nullptr;
   }
@@ -86,17 +86,26 @@ bool AgentNode::poll_inputs() {
   for (const auto& m : odometry_in_->take_all()) {
     any = true;
     auto o = dds::check_robot(m.robot_id(), robot_, &error) ? dds::from_msg(m, &error) : std::nullopt;
-    if (o) pipeline_.add_odometry(*o); else reject("odometry");
+    if (o)
+      pipeline_.add_odometry(*o);
+    else
+      reject("odometry");
   }
   for (const auto& m : laser_in_->take_all()) {
     any = true;
     auto s = dds::check_robot(m.robot_id(), robot_, &error) ? dds::from_msg(m, &error) : std::nullopt;
-    if (s) pipeline_.add_scan(*s); else reject("laser_scan");
+    if (s)
+      pipeline_.add_scan(*s);
+    else
+      reject("laser_scan");
   }
   for (const auto& m : rgbd_in_->take_all()) {
     any = true;
     auto f = dds::check_robot(m.robot_id(), robot_, &error) ? dds::from_msg(m, &error) : std::nullopt;
-    if (f) pipeline_.add_rgbd(*f); else reject("rgbd");
+    if (f)
+      pipeline_.add_rgbd(*f);
+    else
+      reject("rgbd");
   }
   for (const auto& c : clock_in_->take_all()) {
     if (!log_source_) input_finished_ = input_finished_ || c.finished();
@@ -126,9 +135,10 @@ void AgentNode::take_goal(const cairn_msgs::ExplorationGoal& g) {
   const Eigen::Vector2d goal(g.x_m(), g.y_m());
   if (goal_m_ && (goal - *goal_m_).norm() < 1.0) return;  // the same goal, re-planned
   goal_m_ = goal;
-  log_->info("exploration goal from the base: ({:.1f}, {:.1f}) m in this robot's frame, {:.1f} m away, {:.1f} m "
-             "of unexplored edge",
-             goal.x(), goal.y(), g.path_m(), g.frontier_m());
+  log_->info(
+      "exploration goal from the base: ({:.1f}, {:.1f}) m in this robot's frame, {:.1f} m away, {:.1f} m "
+      "of unexplored edge",
+      goal.x(), goal.y(), g.path_m(), g.frontier_m());
 }
 
 void AgentNode::publish(const AgentOutputs& outputs) {
@@ -194,8 +204,10 @@ bool AgentNode::base_has_everything() {
 
 int AgentNode::run() {
   start_ = Clock::now();
-  if (log_source_) log_->info("replaying {} laser records from the log", log_source_->size());
-  else log_->info("waiting for sensor data");
+  if (log_source_)
+    log_->info("replaying {} laser records from the log", log_source_->size());
+  else
+    log_->info("waiting for sensor data");
   auto next_status = Clock::now();
   bool flushed = false;
   Clock::time_point flush_time;
@@ -228,18 +240,19 @@ int AgentNode::run() {
   }
   // The final loop-closed keyframe poses are not acknowledged by the base's Ack: wait for them
   // (best effort, as for a lost link the base keeps the previous estimate).
-  if (!keyframe_poses_out_->wait_for_acknowledgments(2.0)) log_->warn("final keyframe poses not acknowledged within 2 s");
+  if (!keyframe_poses_out_->wait_for_acknowledgments(2.0))
+    log_->warn("final keyframe poses not acknowledged within 2 s");
   // Status is best effort: say "finished" a few times so the base hears it.
   for (int i = 0; i < 5; ++i) {
     publish_status(true);
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   const AgentStats s = pipeline_.stats();
-  log_->info("done: {} keyframes, {} objects, {} bytes sent; {} bad samples dropped; beams: {} valid, {} NaN/inf, "
-             "{} too close, {} max range",
-             last_keyframe_seq_ + 1, objects_published_.size(),
-             bytes_sent(), bad_samples_, s.beams.valid,
-             s.beams.nan_or_inf, s.beams.too_close, s.beams.max_range);
+  log_->info(
+      "done: {} keyframes, {} objects, {} bytes sent; {} bad samples dropped; beams: {} valid, {} NaN/inf, "
+      "{} too close, {} max range",
+      last_keyframe_seq_ + 1, objects_published_.size(), bytes_sent(), bad_samples_, s.beams.valid, s.beams.nan_or_inf,
+      s.beams.too_close, s.beams.max_range);
   return 0;
 }
 

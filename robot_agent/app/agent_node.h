@@ -22,14 +22,14 @@ struct AgentNodeOptions {
   std::vector<std::string> peers;  ///< unicast discovery peers (IPv4), e.g. the base station
   std::string security_dir;        ///< DDS Security identity (dds::ParticipantOptions); empty = off
   double status_period_s = 0.5;
-  double ack_timeout_s = 60.0;   ///< how long to wait for the base to store everything at the end
+  double ack_timeout_s = 60.0;            ///< how long to wait for the base to store everything at the end
   uint32_t large_data_bytes_per_sec = 0;  ///< flow controller for objects; 0 = unlimited
 };
 
 /// Where the sensor readings come from: the robot's DDS sensor topics (simulator or driver), or a
 /// recorded CARMEN log replayed in-process.
 struct SensorInput {
-  const CarmenLog* log = nullptr;  ///< nullptr = DDS sensor topics
+  const CarmenLog* log = nullptr;           ///< nullptr = DDS sensor topics
   const RobotLogData* robot_log = nullptr;  ///< or this robot's part of a multi-robot log
   LogSourceOptions log_options;
 };
@@ -45,7 +45,7 @@ class AgentNode {
 
  private:
   AgentNode(RobotId robot, const AgentOptions& core_options, const AgentNodeOptions& options);
-  bool poll_inputs();                 ///< true when anything arrived
+  bool poll_inputs();  ///< true when anything arrived
   void publish(const AgentOutputs& outputs);
   void publish_status(bool finished);
   bool base_has_everything();
@@ -85,7 +85,7 @@ class AgentNode {
   /// planner; the simulated robots follow their waypoints).
   std::optional<Eigen::Vector2d> goal_m_;
   void take_goal(const cairn_msgs::ExplorationGoal& g);
-  int last_rate_scans_ = 0;        ///< for the scan rate in the status message
+  int last_rate_scans_ = 0;     ///< for the scan rate in the status message
   int last_stalled_scans_ = 0;  ///< AgentStats::scans_odometry_stalled at the last warning
   double last_rate_time_s_ = 0.0;
 };

@@ -33,16 +33,22 @@ LogSource::LogSource(const RobotLogData& robot, const LogSourceOptions& options)
 int LogSource::feed(double elapsed_wall_s, AgentPipeline* pipeline) {
   if (finished()) return 0;
   const StampNs t0 = events_.front().stamp_ns;
-  const StampNs due_ns = options_.speed > 0 ? t0 + sec_to_ns(elapsed_wall_s * options_.speed)
-                                            : std::numeric_limits<StampNs>::max();
+  const StampNs due_ns =
+      options_.speed > 0 ? t0 + sec_to_ns(elapsed_wall_s * options_.speed) : std::numeric_limits<StampNs>::max();
   int fed = 0;
   // Bounded batches keep the node responsive (status, acks) while replaying at full speed.
   while (!finished() && events_[next_].stamp_ns <= due_ns && fed < 100) {
     const Event& e = events_[next_++];
     switch (e.kind) {
-      case Kind::kOdometry: pipeline->add_odometry(odometry_[e.index]); break;
-      case Kind::kScan: pipeline->add_scan(scans_[e.index]); break;
-      case Kind::kLandmark: pipeline->add_landmark(landmarks_[e.index]); break;
+      case Kind::kOdometry:
+        pipeline->add_odometry(odometry_[e.index]);
+        break;
+      case Kind::kScan:
+        pipeline->add_scan(scans_[e.index]);
+        break;
+      case Kind::kLandmark:
+        pipeline->add_landmark(landmarks_[e.index]);
+        break;
     }
     ++fed;
   }

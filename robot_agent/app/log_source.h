@@ -19,8 +19,8 @@ namespace cairn::agent {
 class AgentPipeline;
 
 struct LogSourceOptions {
-  double speed = 0.0;            ///< times real time; 0 = as fast as the pipeline takes it
-  bool odometry_from_log = true; ///< feed the log's odometry (CARMEN: the FLASER odom fields)
+  double speed = 0.0;             ///< times real time; 0 = as fast as the pipeline takes it
+  bool odometry_from_log = true;  ///< feed the log's odometry (CARMEN: the FLASER odom fields)
 };
 
 class LogSource {

@@ -89,11 +89,21 @@ void AgentPipeline::process_scan(AgentOutputs* out) {
   using S = LocalSlamResult::Status;
   switch (r.status) {
     case S::kFirstScan:
-    case S::kMatched: ++stats_.scans_matched; break;
-    case S::kMotionFiltered: ++stats_.scans_motion_filtered; break;
-    case S::kTooFewPoints: ++stats_.scans_too_few_points; break;
-    case S::kMatchFailed: ++stats_.scans_match_failed; break;
-    case S::kOdometryStalled: ++stats_.scans_odometry_stalled; break;
+    case S::kMatched:
+      ++stats_.scans_matched;
+      break;
+    case S::kMotionFiltered:
+      ++stats_.scans_motion_filtered;
+      break;
+    case S::kTooFewPoints:
+      ++stats_.scans_too_few_points;
+      break;
+    case S::kMatchFailed:
+      ++stats_.scans_match_failed;
+      break;
+    case S::kOdometryStalled:
+      ++stats_.scans_odometry_stalled;
+      break;
   }
   if (r.status != S::kTooFewPoints || !tracked_.empty()) tracked_.push_back({scan.stamp_ns, r.pose});
   if (!r.matched()) return;

@@ -33,7 +33,7 @@ struct AgentOutputs {
 
 struct AgentStats {
   int scans_received = 0;
-  int scans_matched = 0;           ///< includes the first scan
+  int scans_matched = 0;  ///< includes the first scan
   int scans_motion_filtered = 0;
   int scans_too_few_points = 0;
   int scans_match_failed = 0;
@@ -44,14 +44,14 @@ struct AgentStats {
   int odometry_received = 0;
   int rgbd_received = 0;
   int rgbd_processed = 0;
-  int rgbd_invalid = 0;            ///< size mismatch: skipped
+  int rgbd_invalid = 0;  ///< size mismatch: skipped
   int detections = 0;
   int keyframes = 0;
   int object_reports = 0;
   int object_tracks = 0;
   int object_tracks_confirmed = 0;
   int submaps_finished = 0;
-  int loop_closures = 0;           ///< intra-robot loop-closure constraints found by the local SLAM
+  int loop_closures = 0;  ///< intra-robot loop-closure constraints found by the local SLAM
   int pose_graph_optimizations = 0;
   float collision_risk = 0.f;      ///< latest optical-flow estimate (0..1), for the status message
   int collision_estimates = 0;     ///< RGB frames that gave a valid flow estimate
@@ -109,12 +109,12 @@ class AgentPipeline {
   std::deque<LandmarkObservation> landmarks_;  ///< waiting for a keyframe at or after their stamp
   bool any_scan_processed_ = false;
   StampNs last_scan_stamp_ns_ = 0;
-  Trajectory trajectory_;          ///< matched poses
-  Trajectory tracked_;             ///< every processed scan's pose (matched or predicted)
-  std::vector<Anchor> anchors_;    ///< emitted keyframes' poses, by seq
+  Trajectory trajectory_;                  ///< matched poses
+  Trajectory tracked_;                     ///< every processed scan's pose (matched or predicted)
+  std::vector<Anchor> anchors_;            ///< emitted keyframes' poses, by seq
   std::deque<Keyframe> recent_keyframes_;  ///< last emitted ones, for the place descriptor
   std::vector<StampNs> anchor_stamps_ns_;
-  int optimizations_sent_ = 0;          ///< loop-closing optimisations included in the last keyframe_poses
+  int optimizations_sent_ = 0;            ///< loop-closing optimisations included in the last keyframe_poses
   std::optional<StampNs> poses_sent_ns_;  ///< last scan stamp when keyframe_poses went out
   std::optional<StampNs> finished_ns_;    ///< last scan stamp of the final optimisation (flush)
   AgentStats stats_;

@@ -151,7 +151,8 @@ TEST(AgentPipeline, KeyframePosesCarryTheAgentsLoopClosuresOnARealLog) {
   const CarmenLog log = read_carmen_log(path);
   std::vector<SE2> reference;
   Trajectory reference_trajectory;
-  for (const CarmenScan& s : log.scans) reference.push_back(s.T_world_laser), reference_trajectory.push_back({s.stamp_ns, s.T_world_laser});
+  for (const CarmenScan& s : log.scans)
+    reference.push_back(s.T_world_laser), reference_trajectory.push_back({s.stamp_ns, s.T_world_laser});
   const std::vector<SE2> odometry = add_odometry_noise(reference, OdometryNoiseOptions{});
   AgentOptions options;
   options.enable_objects = false;
@@ -170,7 +171,8 @@ TEST(AgentPipeline, KeyframePosesCarryTheAgentsLoopClosuresOnARealLog) {
   collect(agent.process(true));
   ASSERT_GT(keyframes.size(), 100u);
   ASSERT_GE(updates.size(), 3u);
-  for (size_t u = 1; u + 1 < updates.size(); ++u) EXPECT_GE(updates[u].stamp_ns - updates[u - 1].stamp_ns, 5 * kNsPerSec);
+  for (size_t u = 1; u + 1 < updates.size(); ++u)
+    EXPECT_GE(updates[u].stamp_ns - updates[u - 1].stamp_ns, 5 * kNsPerSec);
   const KeyframePoses& last = updates.back();
   ASSERT_EQ(last.poses.size(), keyframes.size()) << "the final estimate covers every keyframe";
   Trajectory front_end, loop_closed;
@@ -187,7 +189,8 @@ TEST(AgentPipeline, KeyframePosesCarryTheAgentsLoopClosuresOnARealLog) {
   const auto loop_closed_error = trajectory_error(loop_closed, reference_trajectory, exact);
   ASSERT_TRUE(front_end_error && loop_closed_error);
   const double front_end_m = front_end_error->ate_rmse_m, loop_closed_m = loop_closed_error->ate_rmse_m;
-  std::printf("intel keyframes: front end ATE %.3f m, loop-closed %.3f m, %zu updates\n", front_end_m, loop_closed_m, updates.size());
+  std::printf("intel keyframes: front end ATE %.3f m, loop-closed %.3f m, %zu updates\n", front_end_m, loop_closed_m,
+              updates.size());
   EXPECT_LT(loop_closed_m, 0.1);
   EXPECT_LT(loop_closed_m, 0.7 * front_end_m);
   EXPECT_EQ(agent.stats().keyframe_pose_updates, int(updates.size()));
@@ -199,7 +202,8 @@ TEST(AgentPipeline, WorksWithoutOdometry) {
   o.use_odometry = false;
   AgentPipeline agent(RobotId(0), o);
   std::vector<Event> events;
-  for (const Event& e : chronological(s)) if (e.topic != 0) events.push_back(e);
+  for (const Event& e : chronological(s))
+    if (e.topic != 0) events.push_back(e);
   const AgentOutputs out = run(s, events, 1, &agent);
   EXPECT_GE(out.keyframes.size(), 8u);
   const SE2 end = s.truth.front() * agent.trajectory().back().pose;

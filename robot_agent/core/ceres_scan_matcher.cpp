@@ -50,11 +50,13 @@ const FieldCostTable kFieldCost;
 #if defined(__SSE2__)
 // hermite() on two lanes at once (the same operations in the same order per lane: bit-identical).
 inline void hermite2(__m128d p0, __m128d p1, __m128d p2, __m128d p3, __m128d x, __m128d* f, __m128d* dfdx) {
-  const __m128d half = _mm_set1_pd(0.5), two = _mm_set1_pd(2.0), three = _mm_set1_pd(3.0),
-                four = _mm_set1_pd(4.0), five = _mm_set1_pd(5.0);
+  const __m128d half = _mm_set1_pd(0.5), two = _mm_set1_pd(2.0), three = _mm_set1_pd(3.0), four = _mm_set1_pd(4.0),
+                five = _mm_set1_pd(5.0);
   const __m128d np0 = _mm_xor_pd(p0, _mm_set1_pd(-0.0));
-  const __m128d a = _mm_mul_pd(half, _mm_add_pd(_mm_sub_pd(_mm_add_pd(np0, _mm_mul_pd(three, p1)), _mm_mul_pd(three, p2)), p3));
-  const __m128d b = _mm_mul_pd(half, _mm_sub_pd(_mm_add_pd(_mm_sub_pd(_mm_mul_pd(two, p0), _mm_mul_pd(five, p1)), _mm_mul_pd(four, p2)), p3));
+  const __m128d a =
+      _mm_mul_pd(half, _mm_add_pd(_mm_sub_pd(_mm_add_pd(np0, _mm_mul_pd(three, p1)), _mm_mul_pd(three, p2)), p3));
+  const __m128d b = _mm_mul_pd(
+      half, _mm_sub_pd(_mm_add_pd(_mm_sub_pd(_mm_mul_pd(two, p0), _mm_mul_pd(five, p1)), _mm_mul_pd(four, p2)), p3));
   const __m128d c = _mm_mul_pd(half, _mm_add_pd(np0, p2));
   *f = _mm_add_pd(p1, _mm_mul_pd(x, _mm_add_pd(c, _mm_mul_pd(x, _mm_add_pd(b, _mm_mul_pd(x, a))))));
   if (dfdx) *dfdx = _mm_add_pd(c, _mm_mul_pd(x, _mm_add_pd(_mm_mul_pd(two, b), _mm_mul_pd(_mm_mul_pd(three, a), x))));
@@ -285,8 +287,8 @@ CeresMatch CeresScanMatcher::match(const SE2& initial, const std::vector<Eigen::
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
   out.pose = SE2(pose[0], pose[1], pose[2]);
-  out.converged = summary.IsSolutionUsable() && std::isfinite(pose[0]) && std::isfinite(pose[1]) &&
-                  std::isfinite(pose[2]);
+  out.converged =
+      summary.IsSolutionUsable() && std::isfinite(pose[0]) && std::isfinite(pose[1]) && std::isfinite(pose[2]);
   if (!out.converged) {
     out.reason = "ceres: " + summary.message;
     out.pose = initial;

@@ -32,10 +32,10 @@ struct CeresScanMatcherOptions {
 
 struct CeresMatch {
   SE2 pose;
-  double score = 0.0;          ///< mean interpolated probability at the points, 0..1
+  double score = 0.0;  ///< mean interpolated probability at the points, 0..1
   bool converged = false;
   Covariance3 covariance = Covariance3::Identity();
-  std::string reason;          ///< empty when converged
+  std::string reason;  ///< empty when converged
 };
 
 class CeresScanMatcher {

@@ -44,7 +44,7 @@ double max_range_m(const std::vector<Eigen::Vector2f>& points) {
 // Adds, for every translation offset (dx, dy) in [-n, n]^2, the field value at cell + offset of each
 // point to scores[(dy + n) * side + dx + n]. Rows are read contiguously; out-of-grid reads 0.
 [[maybe_unused]] void accumulate_u32(const Eigen::Vector2i* cells, size_t num_cells, int n, const ProbabilityGrid& grid,
-                    uint32_t* base) {
+                                     uint32_t* base) {
   const int side = 2 * n + 1;
   const uint8_t* values = grid.field().data();
   const int w = grid.width(), h = grid.height();
@@ -111,10 +111,18 @@ void accumulate_u16(const Eigen::Vector2i* cells, size_t num_cells, int n, const
     }
     const uint8_t* row = values + size_t(c.y() - n) * w + (c.x() - n);
     switch (stride) {  // the common widths unrolled
-      case 8: add_rows_u16<1>(row, w, side, scratch); break;
-      case 16: add_rows_u16<2>(row, w, side, scratch); break;
-      case 24: add_rows_u16<3>(row, w, side, scratch); break;
-      case 32: add_rows_u16<4>(row, w, side, scratch); break;
+      case 8:
+        add_rows_u16<1>(row, w, side, scratch);
+        break;
+      case 16:
+        add_rows_u16<2>(row, w, side, scratch);
+        break;
+      case 24:
+        add_rows_u16<3>(row, w, side, scratch);
+        break;
+      case 32:
+        add_rows_u16<4>(row, w, side, scratch);
+        break;
       default: {
         uint16_t* out = scratch;
         for (int dy = 0; dy < side; ++dy, row += w, out += stride) {
@@ -152,17 +160,18 @@ void accumulate(const std::vector<Eigen::Vector2i>& cells, int n, const Probabil
 
 }  // namespace
 
-CorrelativeScanMatcher::CorrelativeScanMatcher(const CorrelativeScanMatcherOptions& options)
-    : options_(options) {}
+CorrelativeScanMatcher::CorrelativeScanMatcher(const CorrelativeScanMatcherOptions& options) : options_(options) {}
 
-Eigen::Matrix2d score_surface_covariance(const ProbabilityGrid& grid, const SE2& T, const std::vector<Eigen::Vector2f>& points,
+Eigen::Matrix2d score_surface_covariance(const ProbabilityGrid& grid, const SE2& T,
+                                         const std::vector<Eigen::Vector2f>& points,
                                          const ScoreSurfaceOptions& options) {
   const double res = grid.resolution_m();
   const int step = std::max(1, int(std::lround(options.step_m / res)));
   const int k = std::max(1, int(std::lround(options.window_m / (step * res))));
   if (points.empty() || grid.width() == 0) return Eigen::Matrix2d::Identity() * (k * step * res) * (k * step * res);
   std::vector<Eigen::Vector2i> cells;
-  const size_t stride = options.max_points > 0 ? (points.size() + options.max_points - 1) / size_t(options.max_points) : 1;
+  const size_t stride =
+      options.max_points > 0 ? (points.size() + options.max_points - 1) / size_t(options.max_points) : 1;
   cells.reserve(points.size() / stride + 1);
   for (size_t i = 0; i < points.size(); i += stride) cells.push_back(grid.cell_of(T * points[i].cast<double>()));
   const int side = 2 * k + 1;

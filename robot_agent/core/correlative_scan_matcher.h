@@ -2,10 +2,9 @@
 // Real-time correlative scan matching (Olson, "Real-Time Correlative Scan Matching", ICRA 2009;
 // Cartographer's RealTimeCorrelativeScanMatcher2D): an exhaustive search over a window of
 // translations and rotations around a predicted pose, scoring each candidate by the mean of the
-// grid's likelihood field (probability_grid.h) at the transformed scan points. The scan is rotated and discretised once per angle
-// (precomputed rotated scans); each point then adds its row of grid values to a score array over the
-// whole translation window, reading only the cropped part of the grid. Its result seeds the Ceres
-// refinement.
+// grid's likelihood field (probability_grid.h) at the transformed scan points. The scan is rotated and discretised once
+// per angle (precomputed rotated scans); each point then adds its row of grid values to a score array over the whole
+// translation window, reading only the cropped part of the grid. Its result seeds the Ceres refinement.
 #include <Eigen/Core>
 #include <vector>
 
@@ -15,7 +14,7 @@
 namespace cairn::agent {
 
 struct CorrelativeScanMatcherOptions {
-  double linear_window_m = 0.1;               ///< search +- this in x and y
+  double linear_window_m = 0.1;                    ///< search +- this in x and y
   double angular_window_rad = 5.0 * M_PI / 180.0;  ///< search +- this in yaw
   /// The angular step keeps the farthest point (capped at this range) within one cell per step.
   double max_range_for_step_m = 8.0;
@@ -27,8 +26,8 @@ struct CorrelativeScanMatcherOptions {
 
 struct CorrelativeMatch {
   SE2 pose;
-  double score = 0.0;   ///< mean likelihood field at the points of the best candidate, 0..1
-  int candidates = 0;   ///< candidates evaluated
+  double score = 0.0;  ///< mean likelihood field at the points of the best candidate, 0..1
+  int candidates = 0;  ///< candidates evaluated
 };
 
 class CorrelativeScanMatcher {
@@ -64,8 +63,8 @@ struct ScoreSurfaceOptions {
   /// Lattice step, rounded to whole cells; more than the field's width (~1 cell) would miss a
   /// corridor at an angle to the grid (its along-axis shifts fall between lattice points).
   double step_m = 0.05;
-  double temperature = 0.05;   ///< score drop (0..1 scale) that lowers the weight by e
-  int max_points = 30;         ///< every k-th point so that at most this many are scored (cost)
+  double temperature = 0.05;  ///< score drop (0..1 scale) that lowers the weight by e
+  int max_points = 30;        ///< every k-th point so that at most this many are scored (cost)
 };
 Eigen::Matrix2d score_surface_covariance(const ProbabilityGrid& grid, const SE2& T_grid_base,
                                          const std::vector<Eigen::Vector2f>& points_base,

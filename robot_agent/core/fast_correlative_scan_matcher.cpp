@@ -43,14 +43,22 @@ PrecomputationGrid PrecomputationGrid::from_grid(const ProbabilityGrid& grid) {
     const uint8_t* row = field.data() + size_t(r) * grid.width();
     int first = -1, last = -1;
     for (int c = c0; c <= c1; ++c) {
-      if (row[c]) { first = c; break; }
+      if (row[c]) {
+        first = c;
+        break;
+      }
     }
     if (first < 0) continue;
     for (int c = c1; c >= first; --c) {
-      if (row[c]) { last = c; break; }
+      if (row[c]) {
+        last = c;
+        break;
+      }
     }
-    x0 = std::min(x0, first); x1 = std::max(x1, last);
-    y0 = std::min(y0, r); y1 = r;
+    x0 = std::min(x0, first);
+    x1 = std::max(x1, last);
+    y0 = std::min(y0, r);
+    y1 = r;
   }
   PrecomputationGrid g;
   if (x1 < 0) return g;
@@ -128,8 +136,8 @@ int FastCorrelativeScanMatcher::score(const DiscreteScan& scan, int level, int d
 }
 
 std::optional<FastCorrelativeScanMatcher::Candidate> FastCorrelativeScanMatcher::search(
-    const std::vector<DiscreteScan>& scans, Candidate* candidates, size_t num_candidates, int level,
-    int max_offset, int min_score, int* budget) const {
+    const std::vector<DiscreteScan>& scans, Candidate* candidates, size_t num_candidates, int level, int max_offset,
+    int min_score, int* budget) const {
   *budget -= int(num_candidates);
   if (*budget < 0) return std::nullopt;
   Candidate* const end = candidates + num_candidates;
@@ -162,13 +170,15 @@ std::optional<FastCorrelativeScanMatcher::Candidate> FastCorrelativeScanMatcher:
   return best;
 }
 
-std::optional<FastMatch> FastCorrelativeScanMatcher::match(const SE2& initial, const std::vector<Eigen::Vector2f>& points,
+std::optional<FastMatch> FastCorrelativeScanMatcher::match(const SE2& initial,
+                                                           const std::vector<Eigen::Vector2f>& points,
                                                            double linear_window_m, double angular_window_rad,
                                                            double min_score, int* scored_candidates) const {
   if (points.empty()) return std::nullopt;
   double range_m = 0.0;
   for (const auto& p : points) range_m = std::max(range_m, double(p.norm()));
-  const double step = CorrelativeScanMatcher::angular_step_rad(std::min(range_m, options_.max_range_for_step_m), resolution_m_);
+  const double step =
+      CorrelativeScanMatcher::angular_step_rad(std::min(range_m, options_.max_range_for_step_m), resolution_m_);
   const int num_angles = int(std::ceil(angular_window_rad / step));
   std::vector<DiscreteScan> scans(2 * num_angles + 1);
   for (int a = -num_angles; a <= num_angles; ++a) {

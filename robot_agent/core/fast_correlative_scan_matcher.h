@@ -75,7 +75,7 @@ class PrecomputationGrid {
 };
 
 struct FastMatch {
-  SE2 pose;        ///< T_grid_base
+  SE2 pose;            ///< T_grid_base
   double score = 0.0;  ///< mean likelihood field at the points, 0..1
 };
 
@@ -103,8 +103,8 @@ class FastCorrelativeScanMatcher {
   };
   int score(const DiscreteScan& scan, int level, int dx, int dy) const;
   /// Scores and sorts candidates[0, num_candidates) in place, then descends into the promising ones.
-  std::optional<Candidate> search(const std::vector<DiscreteScan>& scans, Candidate* candidates,
-                                  size_t num_candidates, int level, int max_offset, int min_score, int* budget) const;
+  std::optional<Candidate> search(const std::vector<DiscreteScan>& scans, Candidate* candidates, size_t num_candidates,
+                                  int level, int max_offset, int min_score, int* budget) const;
 
   FastCorrelativeScanMatcherOptions options_;
   Eigen::Vector2d origin_m_;

@@ -23,8 +23,7 @@ bool Keyframer::should_emit(StampNs stamp_ns, const SE2& pose) const {
          ns_to_sec(stamp_ns - last_->stamp_ns) > options_.max_interval_s;
 }
 
-std::optional<Keyframe> Keyframer::add(const LaserScan& scan, const SE2& T_local_base,
-                                       const Covariance3& covariance) {
+std::optional<Keyframe> Keyframer::add(const LaserScan& scan, const SE2& T_local_base, const Covariance3& covariance) {
   if (!should_emit(scan.stamp_ns, T_local_base)) return std::nullopt;
   Keyframe kf;
   kf.id = KeyframeId{robot_, next_seq_++};

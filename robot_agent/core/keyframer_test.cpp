@@ -26,11 +26,11 @@ TEST(Keyframer, DistanceAngleAndTimeThresholds) {
   EXPECT_EQ(k1->scan.ranges_m.size(), 2u);
   EXPECT_TRUE(k1->place_descriptor.empty());
   EXPECT_FALSE(kf.add(scan_at(3.0), SE2(0.6, 0, 0.3), cov));  // 17 deg
-  auto k2 = kf.add(scan_at(3.5), SE2(0.6, 0, 0.4), cov);        // 23 deg
+  auto k2 = kf.add(scan_at(3.5), SE2(0.6, 0, 0.4), cov);      // 23 deg
   ASSERT_TRUE(k2);
   EXPECT_NEAR(k2->T_prev_this.yaw(), 0.4, 1e-12);
-  EXPECT_FALSE(kf.add(scan_at(8.0), SE2(0.6, 0, 0.4), cov));   // 4.5 s
-  auto k3 = kf.add(scan_at(8.6), SE2(0.6, 0, 0.4), cov);        // 5.1 s
+  EXPECT_FALSE(kf.add(scan_at(8.0), SE2(0.6, 0, 0.4), cov));  // 4.5 s
+  auto k3 = kf.add(scan_at(8.6), SE2(0.6, 0, 0.4), cov);      // 5.1 s
   ASSERT_TRUE(k3);
   EXPECT_EQ(k3->id.seq, 3);
   // Covariances grow along the chain and stay symmetric positive definite.

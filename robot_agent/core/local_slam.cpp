@@ -28,12 +28,18 @@ double median_range_change_m(const LaserScan& a, const std::vector<float>& b) {
 
 const char* to_string(LocalSlamResult::Status status) {
   switch (status) {
-    case LocalSlamResult::Status::kFirstScan: return "first_scan";
-    case LocalSlamResult::Status::kMatched: return "matched";
-    case LocalSlamResult::Status::kMotionFiltered: return "motion_filtered";
-    case LocalSlamResult::Status::kTooFewPoints: return "too_few_points";
-    case LocalSlamResult::Status::kMatchFailed: return "match_failed";
-    case LocalSlamResult::Status::kOdometryStalled: return "odometry_stalled";
+    case LocalSlamResult::Status::kFirstScan:
+      return "first_scan";
+    case LocalSlamResult::Status::kMatched:
+      return "matched";
+    case LocalSlamResult::Status::kMotionFiltered:
+      return "motion_filtered";
+    case LocalSlamResult::Status::kTooFewPoints:
+      return "too_few_points";
+    case LocalSlamResult::Status::kMatchFailed:
+      return "match_failed";
+    case LocalSlamResult::Status::kOdometryStalled:
+      return "odometry_stalled";
   }
   return "unknown";
 }
@@ -148,8 +154,8 @@ LocalSlamResult LocalSlam::add_scan(const LaserScan& scan, const std::optional<S
         std::min(options_.window_max_extra_angular_rad,
                  options_.window_angular_per_m_rad * dist_m + options_.window_angular_per_rad * std::abs(motion.yaw()));
     matched_points = voxel_filter_2d(points, options_.match_voxel_m);
-    out.match = matcher_.match(predicted, matched_points, submaps_.matching_submap().grid, extra_linear_m,
-                               extra_angular_rad);
+    out.match =
+        matcher_.match(predicted, matched_points, submaps_.matching_submap().grid, extra_linear_m, extra_angular_rad);
     if (!out.match.converged) {
       out.status = LocalSlamResult::Status::kMatchFailed;
       record_tracked(scan.stamp_ns, predicted, T_odom_base);
@@ -167,9 +173,11 @@ LocalSlamResult LocalSlam::add_scan(const LaserScan& scan, const std::optional<S
     // Covariance weighting of the local constraints: the match's score surface in the submap it was
     // matched against (before insertion changed it little; computed only when enabled).
     Covariance3 shape = Covariance3::Identity();
-    const bool shaped = options_.loop_closure.local_covariance_weighting && out.status == LocalSlamResult::Status::kMatched;
-    if (shaped) shape.topLeftCorner<2, 2>() = score_surface_covariance(submaps_.matching_submap().grid, out.pose,
-                                                                        matched_points, options_.loop_closure.score_surface);
+    const bool shaped =
+        options_.loop_closure.local_covariance_weighting && out.status == LocalSlamResult::Status::kMatched;
+    if (shaped)
+      shape.topLeftCorner<2, 2>() = score_surface_covariance(submaps_.matching_submap().grid, out.pose, matched_points,
+                                                             options_.loop_closure.score_surface);
     loop_closure_.add_node(out.pose, points, insertion, submaps_, shaped ? &shape : nullptr);
     out.inserted = true;
     has_inserted_ = true;
@@ -177,8 +185,8 @@ LocalSlamResult LocalSlam::add_scan(const LaserScan& scan, const std::optional<S
     inserted_pose_ = out.pose;
   }
   record_scan(scan.stamp_ns, out.pose);
-  out.T_map_base = out.inserted ? loop_closure_.node_pose(loop_closure_.num_nodes() - 1)
-                                : loop_closure_.T_global_local() * out.pose;
+  out.T_map_base =
+      out.inserted ? loop_closure_.node_pose(loop_closure_.num_nodes() - 1) : loop_closure_.T_global_local() * out.pose;
   return out;
 }
 

@@ -30,7 +30,7 @@ struct LocalSlamOptions {
   ScanMatcherOptions matcher;
   MotionFilterOptions motion_filter;
   LoopClosureOptions loop_closure;
-  int min_valid_points = 20;     ///< fewer valid beams: the scan is skipped
+  int min_valid_points = 20;  ///< fewer valid beams: the scan is skipped
   /// The correlative window grows with the predicted motion since the last matched scan (odometry
   /// error grows with distance): + this many metres per metre and radians per metre / per radian.
   double window_linear_per_m = 0.3;
@@ -38,7 +38,7 @@ struct LocalSlamOptions {
   double window_angular_per_rad = 0.1;
   double window_max_extra_linear_m = 0.5;
   double window_max_extra_angular_rad = 20.0 * M_PI / 180.0;
-  double match_voxel_m = 0.08;   ///< points used for matching are thinned to one per cell (0 = all)
+  double match_voxel_m = 0.08;  ///< points used for matching are thinned to one per cell (0 = all)
   /// Held odometry: a reading that repeats the previous one exactly while the scan's ranges moved
   /// away from those of the scan where that reading was new by more than this (median over the
   /// beams valid in both) is a dead or late odometry stream, not a standstill. The scan is skipped
@@ -52,12 +52,12 @@ struct LocalSlamResult {
   enum class Status { kFirstScan, kMatched, kMotionFiltered, kTooFewPoints, kMatchFailed, kOdometryStalled };
   Status status = Status::kTooFewPoints;
   StampNs stamp_ns = 0;
-  SE2 pose;                       ///< T_local_base (matched, or predicted when not matched)
-  SE2 T_map_base;                 ///< the same pose after loop closure (optimised frame), at this time
+  SE2 pose;        ///< T_local_base (matched, or predicted when not matched)
+  SE2 T_map_base;  ///< the same pose after loop closure (optimised frame), at this time
   Covariance3 covariance = Covariance3::Identity();
-  ScanMatchResult match;          ///< valid for kMatched / kMatchFailed
-  bool inserted = false;          ///< went into the submaps
-  ScanFilterStats filter_stats;   ///< this scan's beam filtering
+  ScanMatchResult match;         ///< valid for kMatched / kMatchFailed
+  bool inserted = false;         ///< went into the submaps
+  ScanFilterStats filter_stats;  ///< this scan's beam filtering
   bool matched() const { return status == Status::kMatched || status == Status::kFirstScan; }
 };
 const char* to_string(LocalSlamResult::Status status);
@@ -92,17 +92,17 @@ class LocalSlam {
   LoopClosure loop_closure_;
   struct ScanRecord {
     StampNs stamp_ns;
-    int node;              ///< latest node at or before the scan (-1: before the first node)
-    SE2 T_node_scan;       ///< or T_local_scan when node < 0
+    int node;         ///< latest node at or before the scan (-1: before the first node)
+    SE2 T_node_scan;  ///< or T_local_scan when node < 0
   };
   std::vector<ScanRecord> scan_records_;
 
   bool initialized_ = false;
-  StampNs stamp_ns_ = 0;               ///< of the latest tracked pose
-  SE2 pose_;                           ///< latest tracked pose
-  std::optional<SE2> odom_;            ///< odometry at the latest tracked pose
+  StampNs stamp_ns_ = 0;                      ///< of the latest tracked pose
+  SE2 pose_;                                  ///< latest tracked pose
+  std::optional<SE2> odom_;                   ///< odometry at the latest tracked pose
   std::vector<float> fresh_odometry_ranges_;  ///< ranges of the scan where odom_'s reading was new
-  StampNs inserted_stamp_ns_ = 0;      ///< motion-filter reference
+  StampNs inserted_stamp_ns_ = 0;             ///< motion-filter reference
   SE2 inserted_pose_;
   bool has_inserted_ = false;
   /// Constant-velocity model: the last two matched poses.

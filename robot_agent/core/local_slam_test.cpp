@@ -85,7 +85,8 @@ TEST(LocalSlam, HeldOdometryIsNotTakenForAStandstill) {
     const bool dropout = i >= 20 && i < 50;  // 6 s at 5 Hz, 1.2 m driven meanwhile
     const SE2 odom = dropout ? held : truth.front().inverse() * truth[size_t(i)];
     held = odom;
-    const LaserScan scan = testing::ray_cast(room, truth[size_t(i)], StampNs(i) * kNsPerSec / 5, 360, 0.01, unsigned(i));
+    const LaserScan scan =
+        testing::ray_cast(room, truth[size_t(i)], StampNs(i) * kNsPerSec / 5, 360, 0.01, unsigned(i));
     const LocalSlamResult r = slam.add_scan(scan, odom);
     if (dropout && i > 20) {  // scan 20 moved 4 cm from scan 19, where the reading was new: borderline
       EXPECT_EQ(r.status, LocalSlamResult::Status::kOdometryStalled) << "scan " << i << " " << to_string(r.status);

@@ -38,21 +38,22 @@ int LoopClosure::add_node(const SE2& T_local_node, const std::vector<Eigen::Vect
   const bool shaped = o.local_covariance_weighting && covariance != nullptr;
   Eigen::Matrix3d successive;
   if (shaped && !local_nodes_.empty()) {
-    successive = anisotropic_sqrt_information(*covariance, -local_nodes_.back().yaw(),
-                                              o.graph.successive_translation_weight,
-                                              o.graph.successive_rotation_weight, o.local_covariance_min_weight_ratio);
+    successive =
+        anisotropic_sqrt_information(*covariance, -local_nodes_.back().yaw(), o.graph.successive_translation_weight,
+                                     o.graph.successive_rotation_weight, o.local_covariance_min_weight_ratio);
     if (weight_ratio(successive) < 0.5) ++stats_.anisotropic_local_nodes;
   }
-  const int node = graph_.add_node(correction * T_local_node, T_local_node,
-                                   shaped && !local_nodes_.empty() ? &successive : nullptr);
-  travel_m_.push_back(local_nodes_.empty() ? 0.0
-                                           : travel_m_.back() + (T_local_node.translation() -
-                                                                 local_nodes_.back().translation()).norm());
+  const int node =
+      graph_.add_node(correction * T_local_node, T_local_node, shaped && !local_nodes_.empty() ? &successive : nullptr);
+  travel_m_.push_back(local_nodes_.empty()
+                          ? 0.0
+                          : travel_m_.back() + (T_local_node.translation() - local_nodes_.back().translation()).norm());
   local_nodes_.push_back(T_local_node);
   for (int id : insertion.inserted_into) {
     SubmapEntry& e = submaps_[size_t(id)];
     e.last_node = node;
-    PoseGraphConstraint c{id, node, e.T_local_submap.between(T_local_node), PoseGraphConstraint::Kind::kIntraSubmap, 1.0};
+    PoseGraphConstraint c{id, node, e.T_local_submap.between(T_local_node), PoseGraphConstraint::Kind::kIntraSubmap,
+                          1.0};
     if (shaped) {
       c.has_sqrt_information = true;
       c.sqrt_information =
@@ -194,9 +195,8 @@ bool LoopClosure::try_submap(int node, SubmapEntry& e, int id, const std::vector
     c.has_sqrt_information = true;
     Covariance3 cov = Covariance3::Identity();
     cov.topLeftCorner<2, 2>() = score_surface_covariance(e.submap->grid, refined.pose, points, o.score_surface);
-    c.sqrt_information = anisotropic_sqrt_information(cov, -e.T_local_submap.yaw(),
-                                                      o.graph.loop_translation_weight, o.graph.loop_rotation_weight,
-                                                      o.covariance_min_weight_ratio);
+    c.sqrt_information = anisotropic_sqrt_information(cov, -e.T_local_submap.yaw(), o.graph.loop_translation_weight,
+                                                      o.graph.loop_rotation_weight, o.covariance_min_weight_ratio);
     if (weight_ratio(c.sqrt_information) < 0.5) ++stats_.anisotropic_loop_closures;
   }
   graph_.add_constraint(c);

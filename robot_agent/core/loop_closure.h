@@ -61,11 +61,11 @@ struct LoopClosureOptions {
   /// submap near the robot but out of its view keeps failing; 0 disables).
   int max_failure_backoff = 3;
   double max_constraint_distance_m = 10.0;  ///< node to submap origin, current estimate
-  double min_search_score = 0.5;           ///< of the branch-and-bound match (likelihood field, 0..1)
-  double min_refined_score = 0.35;        ///< of the Ceres refinement (mean probability)
-  int search_every_n_nodes = 4;            ///< sample nodes for the constraint search
-  int min_node_separation = 0;             ///< a submap's last node must be at least this much older
-  int optimize_every_n_nodes = 120;        ///< when new loop closures exist
+  double min_search_score = 0.5;            ///< of the branch-and-bound match (likelihood field, 0..1)
+  double min_refined_score = 0.35;          ///< of the Ceres refinement (mean probability)
+  int search_every_n_nodes = 4;             ///< sample nodes for the constraint search
+  int min_node_separation = 0;              ///< a submap's last node must be at least this much older
+  int optimize_every_n_nodes = 120;         ///< when new loop closures exist
   /// Periodic optimisations start from the previous solution and only need to be close (they seed
   /// the loop search); the final one (finish()) runs graph.max_num_iterations.
   int periodic_max_num_iterations = 10;
@@ -83,8 +83,8 @@ struct LoopClosureOptions {
   /// odometry only, so loop closures at the corridor's ends may correct it.
   bool local_covariance_weighting = true;
   double local_covariance_min_weight_ratio = 0.05;
-  double search_voxel_m = 0.15;            ///< points used for the branch-and-bound search
-  double refine_voxel_m = 0.08;            ///< points used for the Ceres refinement
+  double search_voxel_m = 0.15;  ///< points used for the branch-and-bound search
+  double refine_voxel_m = 0.08;  ///< points used for the Ceres refinement
 };
 
 struct LoopClosureStats {
@@ -92,7 +92,7 @@ struct LoopClosureStats {
   int loop_closures = 0;
   int rejected_after_refinement = 0;
   int optimizations = 0;
-  size_t matcher_bytes = 0;  ///< branch-and-bound grids built (only for submaps searched at least once)
+  size_t matcher_bytes = 0;              ///< branch-and-bound grids built (only for submaps searched at least once)
   int64_t scored_candidates = 0;         ///< branch-and-bound work, all searches
   int64_t scored_candidates_failed = 0;  ///< ... of searches that found no match
   /// Covariance weighting: constraints whose weakest translation direction got < 1/2 of the weight.
@@ -109,8 +109,7 @@ class LoopClosure {
   /// and local_covariance_weighting is on: score_surface_covariance in the upper-left block).
   /// Returns the node index.
   int add_node(const SE2& T_local_node, const std::vector<Eigen::Vector2f>& points_base,
-               const SubmapInsertion& insertion, const ActiveSubmaps& submaps,
-               const Covariance3* covariance = nullptr);
+               const SubmapInsertion& insertion, const ActiveSubmaps& submaps, const Covariance3* covariance = nullptr);
   /// Final optimisation (call at the end of a run).
   void finish();
 
@@ -126,7 +125,7 @@ class LoopClosure {
  private:
   struct SubmapEntry {
     SE2 T_local_submap;
-    std::shared_ptr<const Submap> submap;             ///< set when finished
+    std::shared_ptr<const Submap> submap;                 ///< set when finished
     std::unique_ptr<FastCorrelativeScanMatcher> matcher;  ///< built at the first search reaching the submap
     int last_node = -1;
     int loop_node = -1;    ///< newest node with an accepted loop closure to this submap
@@ -153,8 +152,8 @@ class LoopClosure {
   std::vector<double> travel_m_;  ///< per node: distance travelled since the first node (local frame)
   std::vector<std::pair<double, double>> observed_rates_;  ///< recent (linear, angular) drift per metre
   int loops_since_optimize_ = 0;
-  int last_loop_node_ = -1;      ///< newest node with an accepted loop closure
-  int anchored_node_ = -1;       ///< last_loop_node_ as of the latest optimisation
+  int last_loop_node_ = -1;  ///< newest node with an accepted loop closure
+  int anchored_node_ = -1;   ///< last_loop_node_ as of the latest optimisation
   int nodes_since_optimize_ = 0;
   LoopClosureStats stats_;
 };

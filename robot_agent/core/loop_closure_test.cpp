@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <ceres/cubic_interpolation.h>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <ceres/cubic_interpolation.h>
 #include <cmath>
 #include <iostream>
 #include <random>
@@ -45,8 +45,8 @@ TEST(RangeDataInserter, HitsRaiseAndMissesLowerProbability) {
 // or longer than the gap) does not.
 TEST(RangeDataInserter, FieldLinesJoinSparseWallHitsOnly) {
   // Hits 0.4 m apart along the wall y = 1; then a jump to a far wall at x = 6.
-  const std::vector<Eigen::Vector2f> points = {{1.0f, 1.0f}, {1.4f, 1.0f}, {1.8f, 1.0f}, {2.2f, 1.0f},
-                                               {6.0f, 0.5f}, {6.0f, 0.1f}};
+  const std::vector<Eigen::Vector2f> points = {{1.0f, 1.0f}, {1.4f, 1.0f}, {1.8f, 1.0f},
+                                               {2.2f, 1.0f}, {6.0f, 0.5f}, {6.0f, 0.1f}};
   RangeDataInserterOptions o, hits_only;
   o.field_line_max_gap_m = 0.6;
   hits_only.field_line_max_gap_m = 0.0;
@@ -59,10 +59,10 @@ TEST(RangeDataInserter, FieldLinesJoinSparseWallHitsOnly) {
   };
   EXPECT_GT(field(lines, 1.2, 1.0), 0.9f);  // between two wall hits
   EXPECT_GT(field(lines, 2.0, 1.0), 0.9f);
-  EXPECT_LT(field(dots, 1.2, 1.0), 0.1f);   // hits only: a gap in the wall
+  EXPECT_LT(field(dots, 1.2, 1.0), 0.1f);                            // hits only: a gap in the wall
   EXPECT_NEAR(field(lines, 1.4, 1.0), field(dots, 1.4, 1.0), 1e-6);  // hits unchanged
-  EXPECT_LT(field(lines, 4.0, 0.75), 0.1f);  // 3.8 m jump: not joined
-  EXPECT_LT(field(lines, 6.0, 0.3), 0.1f);   // the far pair has no third hit on its line
+  EXPECT_LT(field(lines, 4.0, 0.75), 0.1f);                          // 3.8 m jump: not joined
+  EXPECT_LT(field(lines, 6.0, 0.3), 0.1f);                           // the far pair has no third hit on its line
   // Probabilities are untouched: only the field (what the matchers read) changes.
   const Eigen::Vector2i between = lines.cell_of({1.2, 1.0});
   EXPECT_EQ(lines.known(between.x(), between.y()), dots.known(between.x(), between.y()));
@@ -81,7 +81,8 @@ TEST(ProbabilityGrid, GrowthAndCropKeepEveryWrittenCell) {
   for (double x = -1.9; x < 1.9; x += 0.1) {
     for (double y = -1.9; y < 1.9; y += 0.1) {
       const Eigen::Vector2i c = grid.cell_of({x, y});
-      probes.push_back({grid.cell_center_m(c.x(), c.y()), grid.known(c.x(), c.y()) ? grid.at(c.x(), c.y(), -1.f) : -1.f});
+      probes.push_back(
+          {grid.cell_center_m(c.x(), c.y()), grid.known(c.x(), c.y()) ? grid.at(c.x(), c.y(), -1.f) : -1.f});
     }
   }
   inserter.insert(SE2(0, 0, 0), {{20.0f, 0.0f}}, &grid);  // grows along +x only
@@ -142,7 +143,8 @@ Eigen::Matrix2d surface_covariance(const std::vector<testing::Segment>& world, c
 std::vector<testing::Segment> corridor(double yaw, double half_width_m) {
   const Eigen::Vector2d axis(std::cos(yaw), std::sin(yaw)), normal(-std::sin(yaw), std::cos(yaw));
   std::vector<testing::Segment> walls;
-  for (double side : {-half_width_m, half_width_m}) walls.push_back({-40.0 * axis + side * normal, 40.0 * axis + side * normal});
+  for (double side : {-half_width_m, half_width_m})
+    walls.push_back({-40.0 * axis + side * normal, 40.0 * axis + side * normal});
   return walls;
 }
 
@@ -207,7 +209,8 @@ TEST(ScoreSurfaceCovariance, RowAccumulationEqualsPointwiseSums) {
     }
     const Eigen::Matrix2d expected = covariance_of_score_lattice(score, k, 0.05, o.temperature);
     const Eigen::Matrix2d got = score_surface_covariance(grid, T, data.points, o);
-    for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(got(i), expected(i)) << "seed " << seed << "\n" << got << "\n" << expected;
+    for (int i = 0; i < 4; ++i)
+      EXPECT_DOUBLE_EQ(got(i), expected(i)) << "seed " << seed << "\n" << got << "\n" << expected;
   }
 }
 
@@ -215,9 +218,7 @@ TEST(ScoreSurfaceCovariance, RowAccumulationEqualsPointwiseSums) {
 struct ProbabilityCostGrid {
   enum { DATA_DIMENSION = 1 };
   const ProbabilityGrid& grid;
-  void GetValue(int row, int col, double* f) const {
-    *f = 1.0 - double(grid.at(col, row, grid.fill_probability()));
-  }
+  void GetValue(int row, int col, double* f) const { *f = 1.0 - double(grid.at(col, row, grid.fill_probability())); }
 };
 
 // interpolated_score reads interior cells directly; it must equal Ceres' bicubic interpolator
@@ -243,7 +244,8 @@ TEST(CeresScanMatcher, InterpolatedScoreEqualsCeresBicubic) {
 // The covariance is an output only: turning it off must not change the match.
 TEST(CeresScanMatcher, CovarianceIsOptionalAndDoesNotChangeTheMatch) {
   const ProbabilityGrid grid = room_grid(testing::make_room());
-  const std::vector<Eigen::Vector2f> points = scan_to_points(testing::ray_cast(testing::make_room(), SE2(0.2, 0.1, 0.1), 0));
+  const std::vector<Eigen::Vector2f> points =
+      scan_to_points(testing::ray_cast(testing::make_room(), SE2(0.2, 0.1, 0.1), 0));
   CeresScanMatcherOptions with, without;
   without.compute_covariance = false;
   const CeresMatch a = CeresScanMatcher(with).match(SE2(0.25, 0.05, 0.13), points, grid);
@@ -317,9 +319,9 @@ TEST(PoseGraph2D, AnisotropicLoopClosureOnlyCorrectsTheConstrainedDirection) {
     return graph.node_pose(9);
   };
   const SE2 fixed = solve(false), shaped = solve(true);
-  EXPECT_GT(fixed.x() - 4.5, 0.03);           // the fixed weight pulls along x too
+  EXPECT_GT(fixed.x() - 4.5, 0.03);             // the fixed weight pulls along x too
   EXPECT_LT(std::abs(shaped.x() - 4.5), 0.01);  // the shaped one does not
-  EXPECT_GT(shaped.y(), 0.03);                 // but still across
+  EXPECT_GT(shaped.y(), 0.03);                  // but still across
 }
 
 TEST(PoseGraph2D, LoopConstraintPullsADriftedChainBack) {

@@ -29,15 +29,27 @@ class RelativePoseCost : public ceres::SizedCostFunction<3, 3, 3> {
     if (J == nullptr) return true;
     if (J[0] != nullptr) {
       double* Ja = J[0];  // row-major 3x3, d r / d (x_i, y_i, yaw_i)
-      Ja[0] = -w_t_ * c; Ja[1] = -w_t_ * s; Ja[2] = w_t_ * (-s * dx + c * dy);
-      Ja[3] = w_t_ * s;  Ja[4] = -w_t_ * c; Ja[5] = w_t_ * (-c * dx - s * dy);
-      Ja[6] = 0.0;       Ja[7] = 0.0;       Ja[8] = -w_r_;
+      Ja[0] = -w_t_ * c;
+      Ja[1] = -w_t_ * s;
+      Ja[2] = w_t_ * (-s * dx + c * dy);
+      Ja[3] = w_t_ * s;
+      Ja[4] = -w_t_ * c;
+      Ja[5] = w_t_ * (-c * dx - s * dy);
+      Ja[6] = 0.0;
+      Ja[7] = 0.0;
+      Ja[8] = -w_r_;
     }
     if (J[1] != nullptr) {
       double* Jb = J[1];  // d r / d (x_j, y_j, yaw_j)
-      Jb[0] = w_t_ * c;  Jb[1] = w_t_ * s;  Jb[2] = 0.0;
-      Jb[3] = -w_t_ * s; Jb[4] = w_t_ * c;  Jb[5] = 0.0;
-      Jb[6] = 0.0;       Jb[7] = 0.0;       Jb[8] = w_r_;
+      Jb[0] = w_t_ * c;
+      Jb[1] = w_t_ * s;
+      Jb[2] = 0.0;
+      Jb[3] = -w_t_ * s;
+      Jb[4] = w_t_ * c;
+      Jb[5] = 0.0;
+      Jb[6] = 0.0;
+      Jb[7] = 0.0;
+      Jb[8] = w_r_;
     }
     return true;
   }

@@ -73,7 +73,7 @@ class PoseGraph2D {
   PoseGraphOptions options_;
   std::vector<SE2> submaps_;
   std::vector<SE2> nodes_;
-  std::vector<SE2> local_nodes_;  ///< local-SLAM poses, for successive-node constraints
+  std::vector<SE2> local_nodes_;                              ///< local-SLAM poses, for successive-node constraints
   std::vector<Eigen::Matrix3d> successive_sqrt_information_;  ///< per node (from the second)
   std::vector<bool> has_successive_sqrt_information_;
   std::vector<PoseGraphConstraint> constraints_;

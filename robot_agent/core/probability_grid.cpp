@@ -30,8 +30,8 @@ uint16_t probability_to_value(float p) {
   return uint16_t(1 + std::lround((p - kMinProbability) / (kMaxProbability - kMinProbability) * (kMaxValue - 1)));
 }
 
-ProbabilityGrid::ProbabilityGrid(const Eigen::Vector2d& origin_m, double resolution_m, int width,
-                                 int height, float fill_probability)
+ProbabilityGrid::ProbabilityGrid(const Eigen::Vector2d& origin_m, double resolution_m, int width, int height,
+                                 float fill_probability)
     : origin_m_(origin_m),
       resolution_m_(resolution_m),
       width_(std::max(0, width)),
@@ -57,14 +57,15 @@ void ProbabilityGrid::splat_hit(int col, int row, double sigma_cells) {
     kernel_rows8_.clear();
     for (int dy = -radius; dy <= radius; ++dy) {
       for (int dx = -radius; dx <= radius; ++dx) {
-        kernel_.push_back(uint8_t(std::lround(255.0 * std::exp(-0.5 * (dx * dx + dy * dy) / (sigma_cells * sigma_cells)))));
+        kernel_.push_back(
+            uint8_t(std::lround(255.0 * std::exp(-0.5 * (dx * dx + dy * dy) / (sigma_cells * sigma_cells)))));
       }
     }
   }
   const bool inside = col - radius >= 0 && row - radius >= 0 && col + radius < width_ && row + radius < height_;
   written_min_ = written_min_.cwiseMin(Eigen::Vector2i(std::max(0, col - radius), std::max(0, row - radius)));
-  written_max_ = written_max_.cwiseMax(
-      Eigen::Vector2i(std::min(width_ - 1, col + radius), std::min(height_ - 1, row + radius)));
+  written_max_ =
+      written_max_.cwiseMax(Eigen::Vector2i(std::min(width_ - 1, col + radius), std::min(height_ - 1, row + radius)));
 #if defined(__SSE2__)
   // Kernel rows up to 8 wide: one 8-byte max per row, the kernel padded with zeros (max(f, 0) = f
   // leaves the cells beyond the kernel as they were; they must lie inside the row).
@@ -117,7 +118,6 @@ ProbabilityGrid ProbabilityGrid::from_occupancy(const OccupancyGrid& grid, float
   return out;
 }
 
-
 void ProbabilityGrid::grow_to_include(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m) {
   const Eigen::Vector2i lo = cell_of(min_m), hi = cell_of(max_m);
   if (width_ > 0 && lo.x() >= 0 && lo.y() >= 0 && hi.x() < width_ && hi.y() < height_) return;
@@ -165,12 +165,17 @@ void ProbabilityGrid::crop_to_known(int margin_cells) {
   for (int r = std::max(0, written_min_.y()); r <= std::min(height_ - 1, written_max_.y()); ++r) {
     for (int c = std::max(0, written_min_.x()); c <= std::min(width_ - 1, written_max_.x()); ++c) {
       if (values_[size_t(r) * width_ + c] == kUnknownValue) continue;
-      x0 = std::min(x0, c); x1 = std::max(x1, c); y0 = std::min(y0, r); y1 = std::max(y1, r);
+      x0 = std::min(x0, c);
+      x1 = std::max(x1, c);
+      y0 = std::min(y0, r);
+      y1 = std::max(y1, r);
     }
   }
   if (x1 < 0) return;
-  x0 = std::max(0, x0 - margin_cells); y0 = std::max(0, y0 - margin_cells);
-  x1 = std::min(width_ - 1, x1 + margin_cells); y1 = std::min(height_ - 1, y1 + margin_cells);
+  x0 = std::max(0, x0 - margin_cells);
+  y0 = std::max(0, y0 - margin_cells);
+  x1 = std::min(width_ - 1, x1 + margin_cells);
+  y1 = std::min(height_ - 1, y1 + margin_cells);
   const int w = x1 - x0 + 1, h = y1 - y0 + 1;
   ZeroedVector<uint16_t> cells(size_t(w) * size_t(h));
   ZeroedVector<uint8_t> field(cells.size());

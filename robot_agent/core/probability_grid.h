@@ -51,11 +51,17 @@ struct ZeroedAllocator {
   template <typename U>
   void construct(U*) {}  // memory is already zero
   template <typename U, typename... Args>
-  void construct(U* p, Args&&... args) { ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...); }
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
   template <typename U>
-  bool operator==(const ZeroedAllocator<U>&) const { return true; }
+  bool operator==(const ZeroedAllocator<U>&) const {
+    return true;
+  }
   template <typename U>
-  bool operator!=(const ZeroedAllocator<U>&) const { return false; }
+  bool operator!=(const ZeroedAllocator<U>&) const {
+    return false;
+  }
 };
 template <typename T>
 using ZeroedVector = std::vector<T, ZeroedAllocator<T>>;
@@ -142,7 +148,7 @@ class ProbabilityGrid {
   ZeroedVector<uint8_t> field_;
   Eigen::Vector2i written_min_{INT32_MAX, INT32_MAX}, written_max_{-1, -1};
   double kernel_sigma_cells_ = -1.0;
-  std::vector<uint8_t> kernel_;  ///< splat_hit's Gaussian, row-major over [-radius, radius]^2
+  std::vector<uint8_t> kernel_;        ///< splat_hit's Gaussian, row-major over [-radius, radius]^2
   std::vector<uint8_t> kernel_rows8_;  ///< the same, each row zero-padded to 8 bytes (SSE2 path)
 };
 

@@ -61,8 +61,7 @@ void RangeDataInserter::splat_segments(const std::vector<Eigen::Vector2d>& ends,
   }
 }
 
-void RangeDataInserter::insert(const SE2& T, const std::vector<Eigen::Vector2f>& points,
-                               ProbabilityGrid* grid) const {
+void RangeDataInserter::insert(const SE2& T, const std::vector<Eigen::Vector2f>& points, ProbabilityGrid* grid) const {
   if (points.empty()) return;
   const Eigen::Vector2d origin = T.translation();
   std::vector<Eigen::Vector2d> ends;
@@ -72,8 +71,8 @@ void RangeDataInserter::insert(const SE2& T, const std::vector<Eigen::Vector2f>&
   for (const auto& p : points) {
     const double r = p.norm();
     const bool cut = r > options_.max_ray_length_m;
-    const Eigen::Vector2d q = cut ? Eigen::Vector2d(p.cast<double>() * (options_.max_ray_length_m / r))
-                                  : Eigen::Vector2d(p.cast<double>());
+    const Eigen::Vector2d q =
+        cut ? Eigen::Vector2d(p.cast<double>() * (options_.max_ray_length_m / r)) : Eigen::Vector2d(p.cast<double>());
     ends.push_back(T * q);
     hit.push_back(!cut);
     lo = lo.cwiseMin(ends.back());
@@ -101,7 +100,8 @@ void RangeDataInserter::insert(const SE2& T, const std::vector<Eigen::Vector2f>&
     for (const Eigen::Vector2d& end : ends) {
       // Bresenham from the sensor cell to (excluding) the endpoint cell.
       const double length_m = (end - origin).norm();
-      const Eigen::Vector2d e = free_m > 0.0 && length_m > free_m ? Eigen::Vector2d(origin + (end - origin) * (free_m / length_m)) : end;
+      const Eigen::Vector2d e =
+          free_m > 0.0 && length_m > free_m ? Eigen::Vector2d(origin + (end - origin) * (free_m / length_m)) : end;
       const Eigen::Vector2i c = grid->cell_of(e);
       const int x = o.x(), y = o.y();
       const int dx = std::abs(c.x() - x), dy = -std::abs(c.y() - y);
@@ -123,8 +123,14 @@ void RangeDataInserter::insert(const SE2& T, const std::vector<Eigen::Vector2f>&
         t[count] = index;
         count += fresh;
         const int e2 = 2 * err;
-        if (e2 >= dy) { err += dy; index += step_x; }
-        if (e2 <= dx) { err += dx; index += step_y; }
+        if (e2 >= dy) {
+          err += dy;
+          index += step_x;
+        }
+        if (e2 <= dx) {
+          err += dx;
+          index += step_y;
+        }
       }
       touched.resize(count);
     }

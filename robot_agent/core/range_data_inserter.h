@@ -43,8 +43,7 @@ class RangeDataInserter {
 
   /// `points_sensor`: beam endpoints in the sensor frame; `T_grid_sensor` places the sensor.
   /// The grid grows to fit. Not thread-safe (reuses a scratch buffer).
-  void insert(const SE2& T_grid_sensor, const std::vector<Eigen::Vector2f>& points_sensor,
-              ProbabilityGrid* grid) const;
+  void insert(const SE2& T_grid_sensor, const std::vector<Eigen::Vector2f>& points_sensor, ProbabilityGrid* grid) const;
 
  private:
   void apply(size_t index, const std::vector<uint16_t>& table, ZeroedVector<uint16_t>* cells,

@@ -30,8 +30,7 @@ ScanMatchResult ScanMatcher::match(const SE2& predicted, const std::vector<Eigen
 }
 
 ScanMatchResult ScanMatcher::match(const SE2& predicted, const std::vector<Eigen::Vector2f>& points,
-                                   const ProbabilityGrid& grid, double extra_linear_m,
-                                   double extra_angular_rad) const {
+                                   const ProbabilityGrid& grid, double extra_linear_m, double extra_angular_rad) const {
   ScanMatchResult out;
   out.pose = predicted;
   if (points.empty()) {

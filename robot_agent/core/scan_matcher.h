@@ -34,13 +34,13 @@ struct MatchingGrids {
 MatchingGrids build_matching_grids(const OccupancyGrid& grid, const ScanMatcherOptions& options);
 
 struct ScanMatchResult {
-  SE2 pose;                 ///< T_map_base
-  double score = 0.0;       ///< mean interpolated probability at the points, 0..1
+  SE2 pose;            ///< T_map_base
+  double score = 0.0;  ///< mean interpolated probability at the points, 0..1
   double correlative_score = 0.0;
   int correlative_candidates = 0;
   bool converged = false;
   Covariance3 covariance = Covariance3::Identity();
-  std::string reason;       ///< why not converged; empty otherwise
+  std::string reason;  ///< why not converged; empty otherwise
 };
 
 class ScanMatcher {

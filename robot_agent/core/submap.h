@@ -29,18 +29,18 @@ struct SubmapOptions {
 };
 
 struct Submap {
-  int id = 0;                   ///< 0, 1, 2, ... in creation order
-  ProbabilityGrid grid;         ///< in the local map frame
-  SE2 T_local_submap;           ///< pose of the first scan inserted
+  int id = 0;            ///< 0, 1, 2, ... in creation order
+  ProbabilityGrid grid;  ///< in the local map frame
+  SE2 T_local_submap;    ///< pose of the first scan inserted
   int num_scans = 0;
-  double travel_m = 0.0;        ///< distance between the inserted scans' poses
+  double travel_m = 0.0;  ///< distance between the inserted scans' poses
   bool finished = false;
 };
 
 /// What one insertion did.
 struct SubmapInsertion {
-  std::vector<int> inserted_into;  ///< submap ids
-  bool created = false;            ///< a new submap was started (the last id in inserted_into)
+  std::vector<int> inserted_into;          ///< submap ids
+  bool created = false;                    ///< a new submap was started (the last id in inserted_into)
   std::shared_ptr<const Submap> finished;  ///< the submap finished by this insertion, if any
 };
 

@@ -39,8 +39,8 @@ std::vector<Segment> make_room(double yaw_rad) {
   // Outer wall with a notch in the top-right corner.
   const std::vector<Eigen::Vector2d> outer = {{-6, -5}, {6, -5}, {6, 2}, {4, 2}, {4, 5}, {-6, 5}};
   for (size_t i = 0; i < outer.size(); ++i) w.push_back({outer[i], outer[(i + 1) % outer.size()]});
-  w.push_back({{-6, 1}, {-3.5, 1}});   // inner wall
-  add_box(&w, 3.0, -3.6, 3.6, -3.0);   // pillars
+  w.push_back({{-6, 1}, {-3.5, 1}});  // inner wall
+  add_box(&w, 3.0, -3.6, 3.6, -3.0);  // pillars
   add_box(&w, -0.4, 3.2, 0.4, 3.7);
   add_box(&w, -4.0, -3.5, -3.4, -2.6);
   const SE2 R(0.0, 0.0, yaw_rad);
@@ -78,17 +78,15 @@ Eigen::Isometry3d test_T_base_camera() {
   return T;
 }
 
-RgbdFrame render_rgbd(const SE2& T_world_base, const Eigen::Vector3d& object_world, double size_m,
-                      StampNs stamp_ns) {
+RgbdFrame render_rgbd(const SE2& T_world_base, const Eigen::Vector3d& object_world, double size_m, StampNs stamp_ns) {
   RgbdFrame f;
   f.stamp_ns = stamp_ns;
   f.intrinsics = CameraIntrinsics{160, 120, 130.0, 130.0, 79.5, 59.5, 0.001};
   f.T_base_camera = test_T_base_camera();
   const size_t n = 160 * 120;
-  f.rgb.assign(3 * n, 128);      // grey background
-  f.depth.assign(n, 4000);       // at 4 m
-  const Eigen::Vector3d p_cam =
-      (T_world_base.to_isometry3() * f.T_base_camera).inverse() * object_world;
+  f.rgb.assign(3 * n, 128);  // grey background
+  f.depth.assign(n, 4000);   // at 4 m
+  const Eigen::Vector3d p_cam = (T_world_base.to_isometry3() * f.T_base_camera).inverse() * object_world;
   if (p_cam.z() < 0.3) return f;
   const double u = f.intrinsics.fx * p_cam.x() / p_cam.z() + f.intrinsics.cx;
   const double v = f.intrinsics.fy * p_cam.y() / p_cam.z() + f.intrinsics.cy;

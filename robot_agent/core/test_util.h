@@ -20,19 +20,18 @@ struct Segment {
 std::vector<Segment> make_room(double yaw_rad = 0.3);
 
 /// Ray-casts `num_beams` over 360 deg from `T_world_base`; `noise_sigma_m` with a seeded generator.
-LaserScan ray_cast(const std::vector<Segment>& world, const SE2& T_world_base, StampNs stamp_ns,
-                   int num_beams = 360, double noise_sigma_m = 0.0, unsigned seed = 1);
+LaserScan ray_cast(const std::vector<Segment>& world, const SE2& T_world_base, StampNs stamp_ns, int num_beams = 360,
+                   double noise_sigma_m = 0.0, unsigned seed = 1);
 
 /// A 160x120 RGB-D frame; draws a red square object of `size_m` at world point `object_world`
 /// when visible (constant depth = its distance along the optical axis). Camera looks along base x.
-RgbdFrame render_rgbd(const SE2& T_world_base, const Eigen::Vector3d& object_world, double size_m,
-                      StampNs stamp_ns);
+RgbdFrame render_rgbd(const SE2& T_world_base, const Eigen::Vector3d& object_world, double size_m, StampNs stamp_ns);
 /// The camera mounting used by render_rgbd: optical frame at (0.1, 0, 0.4) in the base, looking along x.
 Eigen::Isometry3d test_T_base_camera();
 
 struct CarmenScan {
   LaserScan scan;
-  SE2 pose;       ///< corrected pose from the log
+  SE2 pose;  ///< corrected pose from the log
 };
 /// The first `max_scans` laser records of a CARMEN log; nullopt when the file cannot be opened.
 std::optional<std::vector<CarmenScan>> read_carmen_flaser(const std::string& path, int max_scans);

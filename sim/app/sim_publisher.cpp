@@ -29,8 +29,8 @@ std::unique_ptr<SimPublisher> SimPublisher::create(dds::ParticipantOptions parti
     }
     p->robots_.push_back(std::move(w));
   }
-  p->clock_ = std::make_unique<W<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>>(
-      part, dds::kClockTopic, dds::TopicKind::kClock);
+  p->clock_ = std::make_unique<W<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>>(part, dds::kClockTopic,
+                                                                                                dds::TopicKind::kClock);
   if (!p->clock_->ok()) {
     *error = "cannot create the mission clock writer";
     return nullptr;
@@ -43,8 +43,7 @@ bool SimPublisher::wait_for_agents(double timeout_s) {
   while (std::chrono::steady_clock::now() < end) {
     bool all = true;
     for (auto& w : robots_) {
-      all = all && w.laser->matched_readers() > 0 && w.odometry->matched_readers() > 0 &&
-            w.rgbd->matched_readers() > 0;
+      all = all && w.laser->matched_readers() > 0 && w.odometry->matched_readers() > 0 && w.rgbd->matched_readers() > 0;
     }
     if (all) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));

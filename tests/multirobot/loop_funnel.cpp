@@ -24,7 +24,8 @@ std::vector<FunnelRow> loop_funnel(const std::vector<RobotRun>& runs, const base
       const SE2 Rq = ref(q);
       std::map<int, bool> has_true;  // other robot -> a true neighbour is in the database
       for (KeyframeId d : done) {
-        if (d.robot != q.robot && (ref(d).translation() - Rq.translation()).norm() < true_radius_m) has_true[d.robot.value] = true;
+        if (d.robot != q.robot && (ref(d).translation() - Rq.translation()).norm() < true_radius_m)
+          has_true[d.robot.value] = true;
       }
       std::map<int, int> stage;  // other robot -> furthest stage reached by a true candidate
       for (const base::LoopCandidate& c : closer.last_candidates()) {
@@ -32,7 +33,8 @@ std::vector<FunnelRow> loop_funnel(const std::vector<RobotRun>& runs, const base
         const SE2 truth = ref(c.candidate).between(Rq);
         if (c.verified) {
           const SE2 e = truth.between(c.T_candidate_query);
-          if (e.translation().norm() > 0.3 || std::abs(e.yaw()) > 5 * M_PI / 180) ++row(q.robot, c.candidate.robot).verified_wrong;
+          if (e.translation().norm() > 0.3 || std::abs(e.yaw()) > 5 * M_PI / 180)
+            ++row(q.robot, c.candidate.robot).verified_wrong;
         }
         if (truth.translation().norm() >= true_radius_m) continue;
         int s = 1 + int(c.descriptor_passed) + int(c.verification_tried);

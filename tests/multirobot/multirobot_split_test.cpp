@@ -45,12 +45,14 @@ void print_true_link(const std::vector<RobotRun>& runs, size_t k, const char* na
   const SE2 T = reference_from_local(runs[0], &ate0).between(reference_from_local(runs[k], &atek));
   base::PlacedScans a, b;
   for (const Keyframe& kf : runs[0].keyframes) a.keyframes.push_back(&kf), a.T_frame_base.push_back(kf.T_local_base);
-  for (const Keyframe& kf : runs[k].keyframes) b.keyframes.push_back(&kf), b.T_frame_base.push_back(T * kf.T_local_base);
+  for (const Keyframe& kf : runs[k].keyframes)
+    b.keyframes.push_back(&kf), b.T_frame_base.push_back(T * kf.T_local_base);
   const base::MapConsistencyResult m = base::check_map_consistency(a, b, base::MapperOptions().map_check);
   const base::MapConsistencyImage img = base::draw_map_consistency(a, b, base::MapperOptions().map_check);
   const std::string png = ::testing::TempDir() + "mapcheck_" + name + "_0-" + std::to_string(k) + ".png";
   std::string error;
-  if (base::write_rgb_png(img.width, img.height, img.rgb, png, &error)) std::printf("[%s] drawn: %s\n", name, png.c_str());
+  if (base::write_rgb_png(img.width, img.height, img.rgb, png, &error))
+    std::printf("[%s] drawn: %s\n", name, png.c_str());
   std::printf("[%s] true link 0-%zu: (%.2f %.2f %.2f), own ATE %.3f / %.3f m, map check: %s (%.3f, piece %d)\n", name,
               k, T.x(), T.y(), T.yaw(), ate0, atek, m.consistent ? "consistent" : "refuted", m.contradiction_ratio,
               m.largest_contradiction_cells);
@@ -103,17 +105,21 @@ void check_split(const ReplayLog& log, int robots, const char* name, const base:
       guided_off += err.translation_m > kMaxClosureErrorM || err.rotation_rad > kMaxClosureErrorRad;
       guided_worst_m = std::max(guided_worst_m, err.translation_m);
     }
-    std::printf("[%s] link event: robot %d - robot %d, %d closures (%d true:%s), %zu guided (%d off, worst %.2f m), %s\n",
-                name, e.robot.value, e.other.value, e.closures, true_members, errors.c_str(), e.guided.size(),
-                guided_off, guided_worst_m, e.reason.c_str());
+    std::printf(
+        "[%s] link event: robot %d - robot %d, %d closures (%d true:%s), %zu guided (%d off, worst %.2f m), %s\n", name,
+        e.robot.value, e.other.value, e.closures, true_members, errors.c_str(), e.guided.size(), guided_off,
+        guided_worst_m, e.reason.c_str());
     if (e.accepted) std::printf("[%s]   map contradiction %.1f %%\n", name, 100.0 * e.contradiction_ratio);
-    if (e.rigid_contradiction_ratio >= 0) std::printf("[%s]   rigid placement %.1f %%\n", name, 100.0 * e.rigid_contradiction_ratio);
+    if (e.rigid_contradiction_ratio >= 0)
+      std::printf("[%s]   rigid placement %.1f %%\n", name, 100.0 * e.rigid_contradiction_ratio);
   }
   int linked = 0;
   std::string unlinked;
   for (int k = 0; k < robots; ++k) {
-    if (mapper.linked(RobotId(k))) ++linked;
-    else unlinked += " " + std::to_string(k);
+    if (mapper.linked(RobotId(k)))
+      ++linked;
+    else
+      unlinked += " " + std::to_string(k);
   }
   EXPECT_EQ(linked, robots) << name << ": robots not linked:" << unlinked;
   if (std::getenv("CAIRN_MULTIROBOT_FUNNEL")) {  // each robot's map as the base refined it, against the reference
@@ -140,8 +146,10 @@ void check_split(const ReplayLog& log, int robots, const char* name, const base:
         own_off += off_m > kMaxClosureErrorM;
         own_worst_m = std::max(own_worst_m, off_m);
       }
-      std::printf("[%s] robot %d refined own-frame ATE %.3f m (max %.3f); own closures %d, %d more than %.1f m off "
-                  "(worst %.2f m)\n", name, k, std::sqrt(se / est.size()), worst, own, own_off, kMaxClosureErrorM, own_worst_m);
+      std::printf(
+          "[%s] robot %d refined own-frame ATE %.3f m (max %.3f); own closures %d, %d more than %.1f m off "
+          "(worst %.2f m)\n",
+          name, k, std::sqrt(se / est.size()), worst, own, own_off, kMaxClosureErrorM, own_worst_m);
     }
   }
 
@@ -159,12 +167,13 @@ void check_split(const ReplayLog& log, int robots, const char* name, const base:
   int matched = 0;
   const double ate = merged_ate_m(runs, mapper, &matched);
   const base::LinkStats& ls = mapper.link_stats();
-  std::printf("[%s] %d robots: single-robot ATE %.3f m (%d kf), merged ATE %.3f m (%d kf), %d inter-robot "
-              "closures (worst %.3f m / %.2f deg), links %d, refuted %d, deferred %d, linked-pair closures "
-              "%d checked %d rejected %d, slowest optimize %.2f s\n",
-              name, robots, single_ate, single_matched, ate, matched, inter, worst_m, worst_rad * 180 / M_PI,
-              ls.linked, ls.rejected_map_contradiction, ls.deferred_spread, ls.linked_pair_closures,
-              ls.linked_pair_checked, ls.linked_pair_rejected, stats.max_optimize_s);
+  std::printf(
+      "[%s] %d robots: single-robot ATE %.3f m (%d kf), merged ATE %.3f m (%d kf), %d inter-robot "
+      "closures (worst %.3f m / %.2f deg), links %d, refuted %d, deferred %d, linked-pair closures "
+      "%d checked %d rejected %d, slowest optimize %.2f s\n",
+      name, robots, single_ate, single_matched, ate, matched, inter, worst_m, worst_rad * 180 / M_PI, ls.linked,
+      ls.rejected_map_contradiction, ls.deferred_spread, ls.linked_pair_closures, ls.linked_pair_checked,
+      ls.linked_pair_rejected, stats.max_optimize_s);
   std::printf("[%s] deferred (inconclusive map check) %d\n", name, ls.deferred_inconclusive);
   ::testing::Test::RecordProperty("single_ate_m", std::to_string(single_ate));
   ::testing::Test::RecordProperty("merged_ate_m", std::to_string(ate));

@@ -75,8 +75,8 @@ ReplayLog replay_from_raw(const CarmenLog& raw, const CarmenLog& corrected, int*
     // reference position (f_yaw of it at i), then a shift (f_xy of it at i).
     const double dyaw = normalize_angle(ref[size_t(n)].yaw() - carried_n.yaw());
     const Eigen::Vector2d pivot = ref[size_t(p)].translation();
-    const Eigen::Vector2d dxy =
-        ref[size_t(n)].translation() - (pivot + Eigen::Rotation2Dd(dyaw).toRotationMatrix() * (carried_n.translation() - pivot));
+    const Eigen::Vector2d dxy = ref[size_t(n)].translation() - (pivot + Eigen::Rotation2Dd(dyaw).toRotationMatrix() *
+                                                                            (carried_n.translation() - pivot));
     const Eigen::Vector2d t =
         pivot + Eigen::Rotation2Dd(f_yaw * dyaw).toRotationMatrix() * (carried.translation() - pivot) + f_xy * dxy;
     out.reference.emplace_back(t.x(), t.y(), carried.yaw() + f_yaw * dyaw);
@@ -119,7 +119,8 @@ RobotRun run_agent(const ReplayLog& log, size_t begin, size_t end, RobotId robot
   for (const Keyframe& kf : run.keyframes) {
     auto it = scan_of.find(kf.stamp_ns);
     run.reference.push_back(it != scan_of.end() ? log.reference[it->second] : SE2(NAN, NAN, NAN));
-    const int m = it != scan_of.end() && it->second < log.measured_reference.size() ? log.measured_reference[it->second] : -1;
+    const int m =
+        it != scan_of.end() && it->second < log.measured_reference.size() ? log.measured_reference[it->second] : -1;
     if (m < int(begin) || m >= int(end)) {
       run.closure_reference.push_back(run.reference.back());
       continue;
@@ -147,7 +148,8 @@ MergeStats merge(const std::vector<RobotRun>& runs, base::MultiRobotMapper* mapp
     base::OptimizeResult result = mapper->optimize();
     for (base::LinkEvent& e : result.link_events) stats.link_events.push_back(std::move(e));
     ++stats.optimizations;
-    stats.max_optimize_s = std::max(stats.max_optimize_s, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    stats.max_optimize_s =
+        std::max(stats.max_optimize_s, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   };
   int added = 0;
   std::vector<size_t> next_poses(runs.size(), 0);

@@ -32,7 +32,10 @@ std::vector<std::map<std::string, std::string>> read_csv(const std::string& path
     std::stringstream ss(line);
     std::string cell;
     while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (header.empty()) { header = cells; continue; }
+    if (header.empty()) {
+      header = cells;
+      continue;
+    }
     if (cells.size() != header.size()) {
       throw InputError(path + ":" + std::to_string(line_no) + ": expected " + std::to_string(header.size()) +
                        " columns, found " + std::to_string(cells.size()));
@@ -72,11 +75,16 @@ ObjectScore score_class(const std::string& cls, const std::vector<PointObject>& 
   ObjectScore s;
   s.class_name = cls;
   std::vector<const PointObject*> t, f;
-  for (const auto& o : truth) if (cls == "all" || o.class_name == cls) t.push_back(&o);
-  for (const auto& o : found) if (cls == "all" || o.class_name == cls) f.push_back(&o);
+  for (const auto& o : truth)
+    if (cls == "all" || o.class_name == cls) t.push_back(&o);
+  for (const auto& o : found)
+    if (cls == "all" || o.class_name == cls) f.push_back(&o);
   s.ground_truth = int(t.size());
   s.detected = int(f.size());
-  struct Pair { double d; size_t i, j; };
+  struct Pair {
+    double d;
+    size_t i, j;
+  };
   std::vector<Pair> pairs;
   for (size_t i = 0; i < t.size(); ++i) {
     for (size_t j = 0; j < f.size(); ++j) {
@@ -136,8 +144,8 @@ ObjectScore score_reports(const std::string& cls, const std::vector<PointObject>
 /// Places objects_robot_frame.csv through each robot's true start and through the true pose of
 /// each report's anchor keyframe.
 std::vector<RobotFrameScore> score_robot_frame(const std::string& gt_dir, const std::string& results_dir,
-                                               const std::vector<PointObject>& truth, const std::vector<std::string>& classes,
-                                               double max_dist_m) {
+                                               const std::vector<PointObject>& truth,
+                                               const std::vector<std::string>& classes, double max_dist_m) {
   namespace fs = std::filesystem;
   const fs::path file = fs::path(results_dir) / "objects_robot_frame.csv";
   const fs::path starts_file = fs::path(gt_dir) / "gt_robots.csv";
@@ -155,7 +163,8 @@ std::vector<RobotFrameScore> score_robot_frame(const std::string& gt_dir, const 
     if (cls == row.end()) throw InputError(path + ": column 'class' is missing");
     const int robot = int(number(row, "robot", path));
     const auto start = starts.find(robot);
-    if (start == starts.end()) throw InputError(path + ": robot " + std::to_string(robot) + " is not in " + starts_file.string());
+    if (start == starts.end())
+      throw InputError(path + ": robot " + std::to_string(robot) + " is not in " + starts_file.string());
     const Eigen::Vector3d p_local(number(row, "x_m", path), number(row, "y_m", path), number(row, "z_m", path));
     by_start.push_back({cls->second, start->second.to_isometry3() * p_local});
     if (!gt.count(robot)) {
@@ -252,17 +261,24 @@ nlohmann::json to_json(const MissionScore& score) {
   for (const auto& r : score.robots) {
     nlohmann::json rj{{"id", r.robot.value}, {"keyframes", r.keyframes}};
     if (r.global) rj["ate_global_rmse_m"] = r.global->ate_rmse_m, rj["ate_global_max_m"] = r.global->ate_max_m;
-    if (r.aligned) rj["ate_aligned_rmse_m"] = r.aligned->ate_rmse_m, rj["rpe_trans_mean_m"] = r.aligned->rpe_trans_mean_m;
+    if (r.aligned)
+      rj["ate_aligned_rmse_m"] = r.aligned->ate_rmse_m, rj["rpe_trans_mean_m"] = r.aligned->rpe_trans_mean_m;
     j["robots"].push_back(rj);
   }
   if (const auto& c = score.map_consistency) {
-    j["map_consistency"] = {{"robots", c->robots}, {"keyframes", c->keyframes}, {"ate_rmse_m", c->ate_rmse_m},
-                            {"ate_max_m", c->ate_max_m}, {"rotation_deg", c->rotation_deg}, {"shift_m", c->shift_m}};
+    j["map_consistency"] = {
+        {"robots", c->robots},       {"keyframes", c->keyframes},       {"ate_rmse_m", c->ate_rmse_m},
+        {"ate_max_m", c->ate_max_m}, {"rotation_deg", c->rotation_deg}, {"shift_m", c->shift_m}};
   }
   auto obj = [](const ObjectScore& s) {
-    return nlohmann::json{{"class", s.class_name}, {"ground_truth", s.ground_truth}, {"detected", s.detected},
-                          {"matched", s.matched}, {"recall", s.recall()}, {"precision", s.precision()},
-                          {"mean_error_xy_m", s.mean_error_xy_m}, {"max_error_xy_m", s.max_error_xy_m},
+    return nlohmann::json{{"class", s.class_name},
+                          {"ground_truth", s.ground_truth},
+                          {"detected", s.detected},
+                          {"matched", s.matched},
+                          {"recall", s.recall()},
+                          {"precision", s.precision()},
+                          {"mean_error_xy_m", s.mean_error_xy_m},
+                          {"max_error_xy_m", s.max_error_xy_m},
                           {"mean_error_xyz_m", s.mean_error_xyz_m}};
   };
   j["objects"] = obj(score.objects);
@@ -292,8 +308,10 @@ std::string format_score(const MissionScore& score) {
   s.precision(3);
   for (const auto& r : score.robots) {
     s << "  robot " << r.robot.value << ": " << r.keyframes << " keyframes";
-    if (r.global) s << ", trajectory error " << r.global->ate_rmse_m << " m RMSE (max " << r.global->ate_max_m << " m)";
-    else s << ", no trajectory";
+    if (r.global)
+      s << ", trajectory error " << r.global->ate_rmse_m << " m RMSE (max " << r.global->ate_max_m << " m)";
+    else
+      s << ", no trajectory";
     s << "\n";
   }
   if (const auto& c = score.map_consistency) {

@@ -38,9 +38,10 @@ Dirs make_dirs(const std::string& name) {
 TEST(MissionEval, ScoresTrajectoryAndObjects) {
   const Dirs d = make_dirs("eval_ok");
   // One victim 0.1 m off, one exit labelled hazard (a false positive), one victim missed.
-  std::ofstream(d.res / "objects.csv") << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n"
-                                          "0-0,victim,0.9,1.1,1,0.2,0,5,1,1,1\n"
-                                          "0-1,hazard,0.9,3,3,1.0,0,5,1,1,1\n";
+  std::ofstream(d.res / "objects.csv")
+      << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n"
+         "0-0,victim,0.9,1.1,1,0.2,0,5,1,1,1\n"
+         "0-1,hazard,0.9,3,3,1.0,0,5,1,1,1\n";
   const MissionScore s = evaluate_mission(d.gt.string(), d.res.string());
   ASSERT_EQ(s.robots.size(), 1u);
   ASSERT_TRUE(s.robots[0].global);
@@ -60,7 +61,8 @@ TEST(MissionEval, ScoresTrajectoryAndObjects) {
 
 TEST(MissionEval, ScoresObjectsInEachRobotsOwnFrame) {
   const Dirs d = make_dirs("eval_robot_frame");
-  std::ofstream(d.res / "objects.csv") << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n";
+  std::ofstream(d.res / "objects.csv")
+      << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n";
   // Robot 0 started at the world origin (gt_robot0 starts there). Its local SLAM put the anchor
   // keyframe of the second report at local (1.3, 0) where it truly was at (1.0, 0) (t = 1 s).
   std::ofstream(d.gt / "gt_robots.csv") << "id,start_x,start_y,start_yaw\n0,0,0,0\n";
@@ -100,12 +102,12 @@ TEST(MissionEval, MalformedResultsNameTheFile) {
   EXPECT_THROW(evaluate_mission(d.gt.string(), d.res.string()), InputError);
 }
 
-
 // The whole map turned 1 deg about the entry: every robot's global error grows with its distance
 // from there, yet the map is perfect in itself; a robot misplaced against the others is not.
 TEST(MissionEval, MapConsistencySeparatesTheAnchorFromTheMerge) {
   const Dirs d = make_dirs("eval_consistency");
-  std::ofstream(d.res / "objects.csv") << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n";
+  std::ofstream(d.res / "objects.csv")
+      << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n";
   const SE2 turn(0.0, 0.0, M_PI / 180.0);
   auto write_robot = [&](int id, const SE2& T_world_start, const SE2& misplacement) {
     Trajectory truth, est;

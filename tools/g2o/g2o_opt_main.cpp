@@ -8,12 +8,12 @@
 #include <chrono>
 #include <cstdio>
 
+#include <fstream>
 #include "base_station/core/lago_initializer.h"
 #include "base_station/core/pose_graph_2d.h"
 #include "common/errors.h"
 #include "common/g2o_io.h"
 #include "common/trajectory.h"
-#include <fstream>
 
 namespace {
 
@@ -56,8 +56,9 @@ void print_ate(const std::string& path, const std::map<G2oKey, SE2>& poses, cons
     est.push_back({(k + 1) * cairn::kNsPerSec, it->second});
   }
   const auto stats = cairn::trajectory_error(est, ref);
-  if (stats) std::printf("%-16s ATE rmse %.4f m  mean %.4f m  max %.4f m over %d poses\n", stage, stats->ate_rmse_m,
-                         stats->ate_mean_m, stats->ate_max_m, stats->matched);
+  if (stats)
+    std::printf("%-16s ATE rmse %.4f m  mean %.4f m  max %.4f m over %d poses\n", stage, stats->ate_rmse_m,
+                stats->ate_mean_m, stats->ate_max_m, stats->matched);
 }
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }

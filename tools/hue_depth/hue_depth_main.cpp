@@ -31,9 +31,12 @@ int main(int argc, char** argv) {
     std::vector<double> v;
     double x;
     while (s >> x) v.push_back(x);
-    if (v.size() == 2) samples.push_back({v[0], v[1]});
-    else if (v.size() == 4) samples.push_back({cairn::agent::jg_hue_deg(v[0], v[1], v[2]), v[3]});
-    else if (v.empty() && samples.empty()) continue;  // a header line
+    if (v.size() == 2)
+      samples.push_back({v[0], v[1]});
+    else if (v.size() == 4)
+      samples.push_back({cairn::agent::jg_hue_deg(v[0], v[1], v[2]), v[3]});
+    else if (v.empty() && samples.empty())
+      continue;  // a header line
     else {
       std::fprintf(stderr, "cairn_hue_depth: %s:%d: expected 2 or 4 numbers\n", path.c_str(), line_no);
       return 1;

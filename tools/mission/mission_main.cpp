@@ -3,8 +3,8 @@
 // console API, then scores the merged map against ground truth and prints a summary.
 //   out/<world>/ground_truth  (simulator)   out/<world>/map  (base station exports)
 //   out/<world>/logs          (one log per process)   out/<world>/results.json, summary.txt
-#include <CLI/CLI.hpp>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <csignal>
@@ -135,9 +135,9 @@ int main(int argc, char** argv) {
       agent_extra.push_back(std::to_string(opt.link.rate_kbit * 1000 / 8 / (2 * robots)));
     }
   }
-  base_cmd.insert(base_cmd.end(), {(bin / "cairn_base").string(), "--domain", std::to_string(opt.domain), "--out",
-                                    (out / "map").string(), "--robots", std::to_string(robots), "--port",
-                                    std::to_string(opt.port)});
+  base_cmd.insert(base_cmd.end(),
+                  {(bin / "cairn_base").string(), "--domain", std::to_string(opt.domain), "--out",
+                   (out / "map").string(), "--robots", std::to_string(robots), "--port", std::to_string(opt.port)});
   // The team knows where the first robot entered (it anchors the map in world coordinates); where
   // the others started is not told: the base links them by cross-robot loop closures.
   const auto& anchor = wf.world.robots.front();
@@ -189,8 +189,8 @@ int main(int argc, char** argv) {
     for (const auto& p : procs) {
       p->poll();
       if (p->exited() && p->exit_code() != 0) {
-        std::cerr << "cairn_mission: " << p->name() << " failed (exit " << p->exit_code() << "); see "
-                  << p->log_path() << "\n";
+        std::cerr << "cairn_mission: " << p->name() << " failed (exit " << p->exit_code() << "); see " << p->log_path()
+                  << "\n";
         failed = true;
       }
       if (p->name() != "base") workers_done = workers_done && p->exited();

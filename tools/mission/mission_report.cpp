@@ -118,13 +118,15 @@ int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr
     const int obj_msgs = link.value("object_messages", 0);
     const bool linked = r.value("linked", false);
     s << "robot " << r.value("id", -1) << (linked ? "" : " (NOT LINKED to the map)") << ": " << kf << " keyframes ("
-      << (kf ? kf_bytes / kf : 0)
-      << " B each), " << obj_msgs << " object messages (" << (obj_msgs ? obj_bytes / obj_msgs : 0)
-      << " B each), " << (kf_bytes + obj_bytes) / 1024.0 << " KiB sent\n";
-    results["robots"].push_back({{"id", r.value("id", -1)}, {"linked", linked}, {"keyframes", kf},
+      << (kf ? kf_bytes / kf : 0) << " B each), " << obj_msgs << " object messages ("
+      << (obj_msgs ? obj_bytes / obj_msgs : 0) << " B each), " << (kf_bytes + obj_bytes) / 1024.0 << " KiB sent\n";
+    results["robots"].push_back({{"id", r.value("id", -1)},
+                                 {"linked", linked},
+                                 {"keyframes", kf},
                                  {"inter_robot_closures", r.value("inter_robot_closures", 0)},
                                  {"keyframe_bytes", kf_bytes},
-                                 {"object_messages", obj_msgs}, {"object_bytes", obj_bytes}});
+                                 {"object_messages", obj_msgs},
+                                 {"object_bytes", obj_bytes}});
   }
   s << "accuracy against ground truth:\n" << eval::format_score(score);
   s << "peak memory:";

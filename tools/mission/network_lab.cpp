@@ -67,8 +67,8 @@ std::unique_ptr<NetworkLab> NetworkLab::create(const LinkOptions& options, std::
                   run("ip link set " + lab->veth_host_ + " up", error) &&
                   run(in_lab + "ip addr add " + lab->lab_address_ + "/24 dev " + lab->veth_lab_, error) &&
                   run(in_lab + "ip link set " + lab->veth_lab_ + " up", error) &&
-                  run(in_lab + "ip link set lo up", error) &&
-                  shape("", lab->veth_host_, options, error) && shape(in_lab, lab->veth_lab_, options, error);
+                  run(in_lab + "ip link set lo up", error) && shape("", lab->veth_host_, options, error) &&
+                  shape(in_lab, lab->veth_lab_, options, error);
   if (!ok) return nullptr;  // the destructor removes what was made
   return lab;
 }

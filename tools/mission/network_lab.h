@@ -10,9 +10,9 @@
 namespace cairn::mission {
 
 struct LinkOptions {
-  double loss_pct = 0.0;     ///< packets dropped in each direction, 0..90
-  int rate_kbit = 0;         ///< tbf rate per direction; 0 = unlimited
-  int latency_ms = 200;      ///< tbf queue bound
+  double loss_pct = 0.0;  ///< packets dropped in each direction, 0..90
+  int rate_kbit = 0;      ///< tbf rate per direction; 0 = unlimited
+  int latency_ms = 200;   ///< tbf queue bound
 };
 
 class NetworkLab {

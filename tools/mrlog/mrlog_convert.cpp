@@ -55,7 +55,8 @@ MultiRobotLog record_world(const sim::WorldFile& wf, const WorldRecordOptions& o
       if (!wanted.count(robot)) continue;
       RobotLogData& r = log.robot_data(robot);
       r.scans.push_back(scan);
-      if (options.featureless) r.scans.back().ranges_m.assign(scan.ranges_m.size(), std::numeric_limits<float>::infinity());
+      if (options.featureless)
+        r.scans.back().ranges_m.assign(scan.ranges_m.size(), std::numeric_limits<float>::infinity());
       r.truth.push_back({step.stamp_ns, sim.ground_truth(robot).back().pose});
     }
     if (landmark_period_ns <= 0 || step.stamp_ns < next_landmark_ns) continue;
@@ -70,8 +71,8 @@ MultiRobotLog record_world(const sim::WorldFile& wf, const WorldRecordOptions& o
         const double half_size = 0.5 * obj.size_m.head<2>().maxCoeff();
         const auto hit = wf.world.floor_plan.cast_ray(T.translation(), std::atan2(p.y() - T.y(), p.x() - T.x()), d);
         if (hit.hit && hit.range_m < d - half_size - 0.05) continue;  // behind a wall
-        log.robot_data(robot).landmarks.push_back(
-            LandmarkObservation{LandmarkId(obj.id), step.stamp_ns, range, bearing, lo.sigma_range_m, lo.sigma_bearing_rad});
+        log.robot_data(robot).landmarks.push_back(LandmarkObservation{LandmarkId(obj.id), step.stamp_ns, range, bearing,
+                                                                      lo.sigma_range_m, lo.sigma_bearing_rad});
       }
     }
   }
@@ -135,7 +136,8 @@ MultiRobotLog convert_carmen(const std::vector<CarmenLog>& logs, const std::vect
     const size_t n = logs[k].scans.size();
     for (int p = 0; p < parts; ++p) {
       const RobotId robot(logs.size() == 1 ? p : int(k));
-      add_segment(logs[k], corrected[k], n * size_t(p) / size_t(parts), n * size_t(p + 1) / size_t(parts), robot, noisy, &out);
+      add_segment(logs[k], corrected[k], n * size_t(p) / size_t(parts), n * size_t(p + 1) / size_t(parts), robot, noisy,
+                  &out);
     }
   }
   if (o.virtual_marker_spacing_m > 0) {
@@ -152,7 +154,8 @@ MultiRobotLog convert_carmen(const std::vector<CarmenLog>& logs, const std::vect
         for (const auto& [id, p] : out.markers) {
           double range = 0, bearing = 0;
           if (!observe(t.pose, p, o.landmarks, rng, &range, &bearing)) continue;
-          r.landmarks.push_back({id, t.stamp_ns, range, bearing, o.landmarks.sigma_range_m, o.landmarks.sigma_bearing_rad});
+          r.landmarks.push_back(
+              {id, t.stamp_ns, range, bearing, o.landmarks.sigma_range_m, o.landmarks.sigma_bearing_rad});
         }
       }
     }

@@ -23,26 +23,26 @@ namespace cairn::mrlog {
 struct LandmarkSensorOptions {
   double max_range_m = 5.0;
   double min_range_m = 0.3;
-  double fov_rad = 2.0 * M_PI;       ///< centred on the robot's heading
+  double fov_rad = 2.0 * M_PI;  ///< centred on the robot's heading
   double rate_hz = 2.0;
-  double sigma_range_m = 0.05;       ///< noise drawn and written as the observation's sigma
+  double sigma_range_m = 0.05;  ///< noise drawn and written as the observation's sigma
   double sigma_bearing_rad = 0.02;
   uint64_t seed = 11;
 };
 
 struct WorldRecordOptions {
   LandmarkSensorOptions landmarks;
-  double duration_s = 0.0;           ///< 0 = the world file's
-  bool featureless = false;          ///< every beam "no return": only the markers can link robots
-  std::vector<int> robots;           ///< empty = every robot of the world
+  double duration_s = 0.0;   ///< 0 = the world file's
+  bool featureless = false;  ///< every beam "no return": only the markers can link robots
+  std::vector<int> robots;   ///< empty = every robot of the world
 };
 
 /// Steps the simulator over `world` and records the log. Throws InputError for an unknown robot id.
 MultiRobotLog record_world(const sim::WorldFile& world, const WorldRecordOptions& options);
 
 struct CarmenConvertOptions {
-  int split = 1;                     ///< one log: this many contiguous robots
-  uint32_t odometry_noise_seed = 1;  ///< corrected logs: synthetic odometry
+  int split = 1;                          ///< one log: this many contiguous robots
+  uint32_t odometry_noise_seed = 1;       ///< corrected logs: synthetic odometry
   double virtual_marker_spacing_m = 0.0;  ///< > 0: markers every this far along the reference path
   double virtual_marker_offset_m = 1.0;   ///< to the left of the path
   LandmarkSensorOptions landmarks{4.0, 0.3, 2.0 * M_PI, 0.0, 0.05, 0.02, 11};  ///< rate 0 = every scan

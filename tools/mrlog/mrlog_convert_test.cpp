@@ -74,7 +74,12 @@ TEST(MrlogConvert, CarmenSplitRezeroesOdometryAndAddsVirtualMarkers) {
   EXPECT_NEAR(raw.robot(RobotId(1))->odometry.front().T_odom_base.x(), 0.0, 1e-12);
   EXPECT_NEAR(raw.robot(RobotId(1))->odometry.back().T_odom_base.x(), 0.2 * 19, 1e-9);
   EXPECT_TRUE(raw.robot(RobotId(0))->truth.empty());
-  EXPECT_THROW(convert_carmen({synthetic_carmen(40)}, {false}, [] { CarmenConvertOptions c; c.virtual_marker_spacing_m = 2; return c; }()),
+  EXPECT_THROW(convert_carmen({synthetic_carmen(40)}, {false},
+                              [] {
+                                CarmenConvertOptions c;
+                                c.virtual_marker_spacing_m = 2;
+                                return c;
+                              }()),
                InputError);  // no reference in a raw log
   o.virtual_marker_spacing_m = 2.0;
   const MultiRobotLog corrected = convert_carmen({synthetic_carmen(40)}, {true}, o);

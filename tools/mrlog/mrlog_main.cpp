@@ -69,7 +69,9 @@ int evaluate(const cairn::MultiRobotLog& log, const std::string& dir) {
     cairn::Trajectory reference;
     for (const auto& t : r.truth) reference.push_back({t.stamp_ns, T_global_world * t.pose});
     const auto e = cairn::trajectory_error(cairn::read_trajectory_csv(path), reference, no_align);
-    if (e) std::printf("robot %d: %d keyframes, global ATE rmse %.3f m, max %.3f m\n", id.value, e->matched, e->ate_rmse_m, e->ate_max_m);
+    if (e)
+      std::printf("robot %d: %d keyframes, global ATE rmse %.3f m, max %.3f m\n", id.value, e->matched, e->ate_rmse_m,
+                  e->ate_max_m);
   }
   if (!summary.is_object() || !summary.contains("landmarks")) return 0;
   double worst = 0, sum2 = 0;
@@ -77,7 +79,8 @@ int evaluate(const cairn::MultiRobotLog& log, const std::string& dir) {
   for (const auto& l : summary["landmarks"]) {
     auto it = log.markers.find(cairn::LandmarkId(l["id"].get<int>()));
     if (it == log.markers.end()) continue;
-    const double err = (Eigen::Vector2d(l["x_m"].get<double>(), l["y_m"].get<double>()) - T_global_world * it->second).norm();
+    const double err =
+        (Eigen::Vector2d(l["x_m"].get<double>(), l["y_m"].get<double>()) - T_global_world * it->second).norm();
     worst = std::max(worst, err);
     sum2 += err * err;
     ++n;

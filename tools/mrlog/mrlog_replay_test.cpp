@@ -64,7 +64,9 @@ Result replay(const MultiRobotLog& log, const base::MapperOptions& options) {
   for (const auto& [id, list] : keyframes) {
     for (const StampedPose& p : mapper.global_trajectory(id)) {
       const auto truth = interpolate_pose(log.robot(id)->truth, p.stamp_ns);
-      if (truth) res.ate_max_m = std::max(res.ate_max_m, (p.pose.translation() - (T_global_world * *truth).translation()).norm());
+      if (truth)
+        res.ate_max_m =
+            std::max(res.ate_max_m, (p.pose.translation() - (T_global_world * *truth).translation()).norm());
     }
   }
   return res;
@@ -78,10 +80,11 @@ TEST(MrlogReplay, CorridorRobotsLinkAndMarkersAreRecovered) {
   base::MapperOptions off;
   off.landmarks.enabled = false;
   const Result without = replay(log, off);
-  std::printf("[mrlog replay] with markers: linked %d, %d markers rms %.3f max %.3f m, trajectory max error %.3f m; "
-              "scans only: linked %d, trajectory max error %.3f m\n",
-              with.linked, with.markers, with.marker_rms_m, with.marker_max_m, with.ate_max_m, without.linked,
-              without.ate_max_m);
+  std::printf(
+      "[mrlog replay] with markers: linked %d, %d markers rms %.3f max %.3f m, trajectory max error %.3f m; "
+      "scans only: linked %d, trajectory max error %.3f m\n",
+      with.linked, with.markers, with.marker_rms_m, with.marker_max_m, with.ate_max_m, without.linked,
+      without.ate_max_m);
   ASSERT_TRUE(with.linked);
   EXPECT_EQ(with.markers, 6);
   EXPECT_LT(with.marker_max_m, 0.15);

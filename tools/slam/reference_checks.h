@@ -22,16 +22,16 @@
 namespace cairn::slam {
 
 struct RevisitConsistencyOptions {
-  int min_index_gap = 20;      ///< scans closer than this in sequence are the same pass
-  double radius_m = 0.3;       ///< endpoints with no other-pass endpoint this close are not revisits
-  double max_range_m = 20.0;   ///< longer beams are dropped (sparse, grazing)
-  double close_m = 0.05;       ///< "within" threshold reported as a fraction
+  int min_index_gap = 20;     ///< scans closer than this in sequence are the same pass
+  double radius_m = 0.3;      ///< endpoints with no other-pass endpoint this close are not revisits
+  double max_range_m = 20.0;  ///< longer beams are dropped (sparse, grazing)
+  double close_m = 0.05;      ///< "within" threshold reported as a fraction
 };
 
 struct RevisitConsistency {
-  int points = 0;                  ///< endpoints placed
-  double revisit_fraction = 0.0;   ///< ... with an other-pass endpoint within radius_m
-  double mean_nn_m = 0.0;          ///< over those: mean distance to the nearest other-pass endpoint
+  int points = 0;                 ///< endpoints placed
+  double revisit_fraction = 0.0;  ///< ... with an other-pass endpoint within radius_m
+  double mean_nn_m = 0.0;         ///< over those: mean distance to the nearest other-pass endpoint
   double median_nn_m = 0.0;
   double within_close_fraction = 0.0;
 };
@@ -41,20 +41,20 @@ RevisitConsistency revisit_consistency(const std::vector<LaserScan>& scans, cons
                                        const RevisitConsistencyOptions& options = {});
 
 struct ForwardRangeOptions {
-  int half_width_beams = 1;            ///< beams either side of straight ahead that must agree
-  double flatness_fraction = 0.02;     ///< their spread, fraction of the range
-  double max_range_m = 49.0;           ///< beyond: no return or too sparse
+  int half_width_beams = 1;         ///< beams either side of straight ahead that must agree
+  double flatness_fraction = 0.02;  ///< their spread, fraction of the range
+  double max_range_m = 49.0;        ///< beyond: no return or too sparse
   double min_range_m = 0.5;
   double max_turn_rad = 1.5 * M_PI / 180.0;  ///< the step must be straight in every trajectory
-  double min_motion_m = 0.2;           ///< laser-measured forward motion below this is skipped
-  double max_disagreement_m = 0.3;     ///< a pair where any trajectory disagrees more hit another surface
+  double min_motion_m = 0.2;                 ///< laser-measured forward motion below this is skipped
+  double max_disagreement_m = 0.3;           ///< a pair where any trajectory disagrees more hit another surface
 };
 
 struct ForwardRange {
-  int pairs = 0;                        ///< consecutive scan pairs used (the same for every trajectory)
-  double laser_forward_m = 0.0;         ///< sum of the range drops
+  int pairs = 0;                             ///< consecutive scan pairs used (the same for every trajectory)
+  double laser_forward_m = 0.0;              ///< sum of the range drops
   std::vector<double> trajectory_forward_m;  ///< per trajectory: sum of its forward motions
-  std::vector<double> ratio;            ///< trajectory_forward_m / laser_forward_m
+  std::vector<double> ratio;                 ///< trajectory_forward_m / laser_forward_m
   std::vector<double> median_difference_m;   ///< per trajectory: median of (its forward motion - range drop)
 };
 
@@ -63,9 +63,9 @@ ForwardRange forward_range(const std::vector<LaserScan>& scans, const std::vecto
                            const ForwardRangeOptions& options = {});
 
 struct AffineFit {
-  double rmse_m = 0.0;                  ///< of reference - (A * estimate + b)
+  double rmse_m = 0.0;                          ///< of reference - (A * estimate + b)
   double scale_major = 1.0, scale_minor = 1.0;  ///< singular values of A
-  double major_axis_deg = 0.0;          ///< reference-frame direction of scale_major
+  double major_axis_deg = 0.0;                  ///< reference-frame direction of scale_major
 };
 /// Least-squares affine map of `estimate` points onto `reference` points (same length, >= 3).
 AffineFit affine_fit(const std::vector<Eigen::Vector2d>& estimate, const std::vector<Eigen::Vector2d>& reference);

@@ -17,7 +17,7 @@ using Walls = std::vector<agent::testing::Segment>;
 // lap 0.25 m further on (so its scans are not copies of the first).
 struct Ring {
   Walls walls{{{0, 0}, {20, 0}}, {{20, 0}, {20, 10}}, {{20, 10}, {0, 10}}, {{0, 10}, {0, 0}},
-              {{2, 2}, {18, 2}}, {{18, 2}, {18, 8}}, {{18, 8}, {2, 8}},   {{2, 8}, {2, 2}}};
+              {{2, 2}, {18, 2}}, {{18, 2}, {18, 8}},  {{18, 8}, {2, 8}},   {{2, 8}, {2, 2}}};
   std::vector<SE2> poses;
   std::vector<LaserScan> scans;
   Ring() {

@@ -54,7 +54,10 @@ Trajectory reference_from_corrected(const CarmenLog& corrected, const CarmenLog*
       for (auto it = lo; it != hi; ++it) {
         if (it->second >= next_raw && (!best || it->second < *best)) best = it->second;
       }
-      if (!best) { ++missing; continue; }
+      if (!best) {
+        ++missing;
+        continue;
+      }
       next_raw = *best + 1;
       ref.push_back({raw->scans[*best].stamp_ns, s.T_world_laser});
       if (scan_index) scan_index->push_back(i);
@@ -107,7 +110,10 @@ double estimate_time_offset_s(const std::vector<Relation>& relations, const Traj
   for (size_t i = 0; i < top; ++i) {
     const double offset_s = double(ranked[i].second) / 1000.0;
     const int used = relations_error(relations, estimate, offset_s).used;
-    if (used > best_used) { best_used = used; best = offset_s; }
+    if (used > best_used) {
+      best_used = used;
+      best = offset_s;
+    }
   }
   return best;
 }
@@ -125,7 +131,10 @@ RelationsError relations_error(const std::vector<Relation>& relations, const Tra
     for (auto c : {it, it == estimate.begin() ? it : it - 1}) {
       if (c == estimate.end()) continue;
       const double dt = std::abs(ns_to_sec(c->stamp_ns - t));
-      if (dt <= best_dt) { best_dt = dt; best = c->pose; }
+      if (dt <= best_dt) {
+        best_dt = dt;
+        best = c->pose;
+      }
     }
     return best;
   };

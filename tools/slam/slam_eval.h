@@ -41,7 +41,7 @@ struct RelationsError {
   double rot_mean_deg = 0, rot_sd_deg = 0;
 };
 /// Uses the relations whose both stamps fall on estimate stamps (within tolerance_s after offset).
-RelationsError relations_error(const std::vector<Relation>& relations, const Trajectory& estimate,
-                               double offset_s, double tolerance_s = 0.002);
+RelationsError relations_error(const std::vector<Relation>& relations, const Trajectory& estimate, double offset_s,
+                               double tolerance_s = 0.002);
 
 }  // namespace cairn::slam

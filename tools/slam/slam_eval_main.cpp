@@ -28,31 +28,40 @@ void write_errors_csv(const std::string& path, const cairn::Trajectory& est, con
     const cairn::SE2 a = T_reference_estimate * e.pose;
     const cairn::SE2& r = ref[j].pose;
     out << e.stamp_ns << ',' << r.x() << ',' << r.y() << ',' << a.x() << ',' << a.y() << ','
-        << (a.translation() - r.translation()).norm() << ','
-        << cairn::normalize_angle(a.yaw() - r.yaw()) * 180.0 / M_PI << '\n';
+        << (a.translation() - r.translation()).norm() << ',' << cairn::normalize_angle(a.yaw() - r.yaw()) * 180.0 / M_PI
+        << '\n';
   }
 }
 
 nlohmann::json consistency_json(const cairn::slam::RevisitConsistency& c) {
-  return {{"points", c.points},           {"revisit_fraction", c.revisit_fraction},
-          {"mean_nn_m", c.mean_nn_m},     {"median_nn_m", c.median_nn_m},
+  return {{"points", c.points},
+          {"revisit_fraction", c.revisit_fraction},
+          {"mean_nn_m", c.mean_nn_m},
+          {"median_nn_m", c.median_nn_m},
           {"within_5cm_fraction", c.within_close_fraction}};
 }
 
 nlohmann::json scan_checks_json(const cairn::slam::ScanChecks& c) {
   const auto& f = c.forward;
   return {{"poses", c.poses},
-          {"revisit_consistency", {{"reference", consistency_json(c.reference)}, {"estimate", consistency_json(c.estimate)}}},
+          {"revisit_consistency",
+           {{"reference", consistency_json(c.reference)}, {"estimate", consistency_json(c.estimate)}}},
           {"forward_range",
            {{"pairs", f.pairs},
             {"laser_forward_m", f.laser_forward_m},
-            {"reference", {{"forward_m", f.trajectory_forward_m[0]}, {"ratio", f.ratio[0]},
-                           {"median_difference_m", f.median_difference_m[0]}}},
-            {"estimate", {{"forward_m", f.trajectory_forward_m[1]}, {"ratio", f.ratio[1]},
-                          {"median_difference_m", f.median_difference_m[1]}}}}},
+            {"reference",
+             {{"forward_m", f.trajectory_forward_m[0]},
+              {"ratio", f.ratio[0]},
+              {"median_difference_m", f.median_difference_m[0]}}},
+            {"estimate",
+             {{"forward_m", f.trajectory_forward_m[1]},
+              {"ratio", f.ratio[1]},
+              {"median_difference_m", f.median_difference_m[1]}}}}},
           {"affine_estimate_to_reference",
-           {{"rmse_m", c.affine.rmse_m}, {"scale_major", c.affine.scale_major},
-            {"scale_minor", c.affine.scale_minor}, {"major_axis_deg", c.affine.major_axis_deg}}}};
+           {{"rmse_m", c.affine.rmse_m},
+            {"scale_major", c.affine.scale_major},
+            {"scale_minor", c.affine.scale_minor},
+            {"major_axis_deg", c.affine.major_axis_deg}}}};
 }
 
 }  // namespace
@@ -63,7 +72,8 @@ int main(int argc, char** argv) {
   double offset_s = std::numeric_limits<double>::quiet_NaN();
   app.add_option("--estimate", estimate_path, "trajectory CSV (stamp_ns,x_m,y_m,yaw_rad)")->required();
   auto* reference_option = app.add_option("--reference", reference_path, "corrected CARMEN log (reference poses)");
-  app.add_option("--reference-csv", reference_csv_path, "reference trajectory CSV (e.g. cairn_slam --mrlog's truth.csv)")
+  app.add_option("--reference-csv", reference_csv_path,
+                 "reference trajectory CSV (e.g. cairn_slam --mrlog's truth.csv)")
       ->excludes(reference_option);
   app.add_option("--raw-log", raw_path, "raw log the estimate was computed from (match scans by ranges)");
   app.add_option("--relations", relations_path, "Kuemmerle .relations file");
@@ -115,9 +125,10 @@ int main(int argc, char** argv) {
       const auto relations = cairn::slam::read_relations(relations_path);
       if (std::isnan(offset_s)) offset_s = cairn::slam::estimate_time_offset_s(relations, estimate);
       const auto r = cairn::slam::relations_error(relations, estimate, offset_s);
-      j["relations"] = {{"offset_s", offset_s}, {"used", r.used}, {"total", r.total},
-                        {"trans_mean_m", r.trans_mean_m}, {"trans_sd_m", r.trans_sd_m},
-                        {"rot_mean_deg", r.rot_mean_deg}, {"rot_sd_deg", r.rot_sd_deg}};
+      j["relations"] = {{"offset_s", offset_s},       {"used", r.used},
+                        {"total", r.total},           {"trans_mean_m", r.trans_mean_m},
+                        {"trans_sd_m", r.trans_sd_m}, {"rot_mean_deg", r.rot_mean_deg},
+                        {"rot_sd_deg", r.rot_sd_deg}};
     }
   } catch (const cairn::InputError& e) {
     std::cerr << "cairn_slam_eval: " << e.what() << "\n";

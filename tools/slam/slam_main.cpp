@@ -18,23 +18,39 @@
 namespace {
 
 nlohmann::json stats_json(const cairn::slam::SlamRunStats& s, double total_wall_s, double total_cpu_s) {
-  return {{"scans", s.scans}, {"matched", s.matched}, {"motion_filtered", s.motion_filtered},
-          {"match_failed", s.match_failed}, {"too_few_points", s.too_few_points},
-          {"odometry_stalled", s.odometry_stalled}, {"nodes", s.nodes},
-          {"submaps", s.submaps}, {"loop_closures", s.loop_closures}, {"loop_searches", s.loop_searches},
+  return {{"scans", s.scans},
+          {"matched", s.matched},
+          {"motion_filtered", s.motion_filtered},
+          {"match_failed", s.match_failed},
+          {"too_few_points", s.too_few_points},
+          {"odometry_stalled", s.odometry_stalled},
+          {"nodes", s.nodes},
+          {"submaps", s.submaps},
+          {"loop_closures", s.loop_closures},
+          {"loop_searches", s.loop_searches},
           {"anisotropic_loop_closures", s.anisotropic_loop_closures},
           {"anisotropic_local_nodes", s.anisotropic_local_nodes},
-          {"optimizations", s.optimizations}, {"loop_scored_candidates", s.loop_scored_candidates},
-          {"loop_scored_candidates_failed", s.loop_scored_candidates_failed}, {"loop_matcher_mb", s.loop_matcher_mb},
-          {"beams", {{"valid", s.beams.valid}, {"nan_or_inf", s.beams.nan_or_inf},
-                     {"too_close", s.beams.too_close}, {"max_range", s.beams.max_range}}},
-          {"log_duration_s", s.log_duration_s}, {"slam_wall_s", s.slam_wall_s}, {"slam_cpu_s", s.slam_cpu_s},
-          {"slam_sys_cpu_s", s.slam_sys_cpu_s}, {"slam_minor_faults", s.slam_minor_faults},
+          {"optimizations", s.optimizations},
+          {"loop_scored_candidates", s.loop_scored_candidates},
+          {"loop_scored_candidates_failed", s.loop_scored_candidates_failed},
+          {"loop_matcher_mb", s.loop_matcher_mb},
+          {"beams",
+           {{"valid", s.beams.valid},
+            {"nan_or_inf", s.beams.nan_or_inf},
+            {"too_close", s.beams.too_close},
+            {"max_range", s.beams.max_range}}},
+          {"log_duration_s", s.log_duration_s},
+          {"slam_wall_s", s.slam_wall_s},
+          {"slam_cpu_s", s.slam_cpu_s},
+          {"slam_sys_cpu_s", s.slam_sys_cpu_s},
+          {"slam_minor_faults", s.slam_minor_faults},
           {"slam_major_faults", s.slam_major_faults},
-          {"scans_per_s", s.scans_per_s()}, {"real_time_factor", s.real_time_factor()},
+          {"scans_per_s", s.scans_per_s()},
+          {"real_time_factor", s.real_time_factor()},
           {"scans_per_cpu_s", s.slam_cpu_s > 0 ? s.scans / s.slam_cpu_s : 0.0},
           {"real_time_factor_cpu", s.slam_cpu_s > 0 ? s.log_duration_s / s.slam_cpu_s : 0.0},
-          {"total_wall_s", total_wall_s}, {"total_cpu_s", total_cpu_s},
+          {"total_wall_s", total_wall_s},
+          {"total_cpu_s", total_cpu_s},
           {"peak_rss_mb", cairn::slam::peak_rss_mb()}};
 }
 
@@ -85,12 +101,14 @@ int main(int argc, char** argv) {
                  "search near the submap's latest loop closure for nodes within this many nodes of it (0: off)");
   app.add_option("--loop-failure-backoff", lc.max_failure_backoff,
                  "a submap whose searches failed k times skips min(k, this) sampled nodes (0: off)");
-  app.add_option("--loop-covariance-weighting", lc.covariance_weighting,
-                 "loop closures weighted by their score-surface covariance (anisotropic along corridors; 0: fixed weights)");
+  app.add_option(
+      "--loop-covariance-weighting", lc.covariance_weighting,
+      "loop closures weighted by their score-surface covariance (anisotropic along corridors; 0: fixed weights)");
   app.add_option("--loop-covariance-min-ratio", lc.covariance_min_weight_ratio,
                  "covariance weighting: weakest direction's weight, fraction of the fixed loop weight");
   app.add_option("--local-covariance-weighting", lc.local_covariance_weighting,
-                 "local SLAM constraints (intra-submap, successive) weighted by the scan match's score-surface covariance (0: fixed)");
+                 "local SLAM constraints (intra-submap, successive) weighted by the scan match's score-surface "
+                 "covariance (0: fixed)");
   app.add_option("--local-covariance-min-ratio", lc.local_covariance_min_weight_ratio,
                  "local covariance weighting: weakest direction's weight, fraction of the fixed weight");
   app.add_option("--covariance-temperature", lc.score_surface.temperature,
@@ -173,7 +191,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   // A multi-robot log's odometry is raw odometry.
-  const bool corrected = !mrlog_path.empty() ? false
+  const bool corrected = !mrlog_path.empty()        ? false
                          : corrected_mode == "auto" ? cairn::is_corrected_log_name(log_path)
                                                     : corrected_mode == "yes";
   const cairn::slam::SlamRunResult r = cairn::slam::run_slam(log, corrected, options);

@@ -32,11 +32,10 @@ double ate_m(const Trajectory& estimate, const Trajectory& reference) {
 void expect_as_consistent_as_reference(const char* name, const CarmenLog& corrected, const Trajectory& reference,
                                        const std::vector<size_t>& scan_index, const Trajectory& estimate) {
   const ScanChecks c = scan_checks(corrected, reference, scan_index, sample_at(estimate, reference, kNsPerSec));
-  std::cout << name << ": revisit consistency (mean distance to the other pass) reference "
-            << c.reference.mean_nn_m << " m, estimate " << c.estimate.mean_nn_m << " m; forward motion / laser "
-            << c.forward.ratio[0] << " / " << c.forward.ratio[1] << " over " << c.forward.pairs
-            << " pairs; affine fit " << c.affine.rmse_m << " m, scales " << c.affine.scale_major << " / "
-            << c.affine.scale_minor << "\n";
+  std::cout << name << ": revisit consistency (mean distance to the other pass) reference " << c.reference.mean_nn_m
+            << " m, estimate " << c.estimate.mean_nn_m << " m; forward motion / laser " << c.forward.ratio[0] << " / "
+            << c.forward.ratio[1] << " over " << c.forward.pairs << " pairs; affine fit " << c.affine.rmse_m
+            << " m, scales " << c.affine.scale_major << " / " << c.affine.scale_minor << "\n";
   EXPECT_GE(c.poses, 0.99 * double(reference.size()));
   EXPECT_GT(c.estimate.revisit_fraction, 0.5);
   EXPECT_LT(c.estimate.mean_nn_m, 1.05 * c.reference.mean_nn_m);
@@ -91,8 +90,8 @@ TEST(SlamRegression, IntelCorrectedWithNoisyOdometryAndRelations) {
   const RelationsError rel = relations_error(relations, r.trajectory, estimate_time_offset_s(relations, r.trajectory));
   RecordProperty("ate_m", std::to_string(slam));
   RecordProperty("relations_trans_mean_m", std::to_string(rel.trans_mean_m));
-  std::cout << "Intel + noise: ATE " << slam << " m (odometry " << odometry << " m), relations "
-            << rel.trans_mean_m << " +- " << rel.trans_sd_m << " m over " << rel.used << "\n";
+  std::cout << "Intel + noise: ATE " << slam << " m (odometry " << odometry << " m), relations " << rel.trans_mean_m
+            << " +- " << rel.trans_sd_m << " m over " << rel.used << "\n";
   EXPECT_GT(odometry, 1.0);
   EXPECT_LT(slam, 0.09);  // 0.073
   EXPECT_GE(rel.used, 40);

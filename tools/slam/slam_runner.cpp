@@ -47,11 +47,21 @@ void count(const agent::LocalSlamResult& r, SlamRunStats* s) {
   using S = agent::LocalSlamResult::Status;
   switch (r.status) {
     case S::kFirstScan:
-    case S::kMatched: ++s->matched; break;
-    case S::kMotionFiltered: ++s->motion_filtered; break;
-    case S::kMatchFailed: ++s->match_failed; break;
-    case S::kOdometryStalled: ++s->odometry_stalled; break;
-    case S::kTooFewPoints: ++s->too_few_points; break;
+    case S::kMatched:
+      ++s->matched;
+      break;
+    case S::kMotionFiltered:
+      ++s->motion_filtered;
+      break;
+    case S::kMatchFailed:
+      ++s->match_failed;
+      break;
+    case S::kOdometryStalled:
+      ++s->odometry_stalled;
+      break;
+    case S::kTooFewPoints:
+      ++s->too_few_points;
+      break;
   }
   s->beams += r.filter_stats;
 }

@@ -36,15 +36,15 @@ struct SlamRunStats {
   ScanFilterStats beams;
   double log_duration_s = 0;
   double slam_wall_s = 0, slam_cpu_s = 0;
-  double slam_sys_cpu_s = 0;                           ///< kernel part of slam_cpu_s (mostly page faults)
+  double slam_sys_cpu_s = 0;                             ///< kernel part of slam_cpu_s (mostly page faults)
   int64_t slam_minor_faults = 0, slam_major_faults = 0;  ///< page faults during the SLAM loop
   double scans_per_s() const { return slam_wall_s > 0 ? scans / slam_wall_s : 0; }
   double real_time_factor() const { return slam_wall_s > 0 ? log_duration_s / slam_wall_s : 0; }
 };
 
 struct SlamRunResult {
-  Trajectory trajectory;       ///< every scan, optimised frame
-  Trajectory odometry;         ///< the odometry fed in (noisy for corrected logs)
+  Trajectory trajectory;  ///< every scan, optimised frame
+  Trajectory odometry;    ///< the odometry fed in (noisy for corrected logs)
   SlamRunStats stats;
 };
 

@@ -30,9 +30,9 @@ struct HueDepthSample {
 struct HueDepthFit {
   HueDepthModel model;
   bool converged = false;
-  double score = 0.0;    ///< RMS residual, cm
+  double score = 0.0;  ///< RMS residual, cm
   double max_abs_residual_cm = 0.0;
-  std::string reason;    ///< why not converged
+  std::string reason;  ///< why not converged
 };
 
 /// Least-squares quadratic (Eq. 10 form) through >= 3 samples with >= 3 distinct hues.

@@ -10,9 +10,9 @@ struct Row {
   double r, g, b, hue_deg, depth_cm;
 };
 const Row kTableI[] = {
-    {20, 36, 48, 200.0, 97.42},   {0, 60, 255, 225.88, 82.24},  {2, 162, 255, 202.06, 96.06},
+    {20, 36, 48, 200.0, 97.42},    {0, 60, 255, 225.88, 82.24},  {2, 162, 255, 202.06, 96.06},
     {0, 249, 255, 181.41, 110.97}, {0, 255, 31, 127.29, 163.00}, {20, 48, 36, 160.0, 129.31},
-    {48, 36, 20, 360.0, 72.27},   {36, 20, 48, 280.0, 64.36},   {36, 48, 20, 80.0, 223.80},
+    {48, 36, 20, 360.0, 72.27},    {36, 20, 48, 280.0, 64.36},   {36, 48, 20, 80.0, 223.80},
     {48, 20, 36, 320.0, 63.20},
 };
 
@@ -39,7 +39,8 @@ TEST(HueDepth, TableIRgbColumnsAgreeWithHueOnlyInRows2To5) {
     agree += ok;
   }
   EXPECT_EQ(agree, 4);
-  for (int i = 1; i <= 4; ++i) EXPECT_NEAR(jg_hue_deg(kTableI[i].r, kTableI[i].g, kTableI[i].b), kTableI[i].hue_deg, 0.01);
+  for (int i = 1; i <= 4; ++i)
+    EXPECT_NEAR(jg_hue_deg(kTableI[i].r, kTableI[i].g, kTableI[i].b), kTableI[i].hue_deg, 0.01);
 }
 
 TEST(HueDepth, FitRecoversThePaperCoefficientsFromTableI) {

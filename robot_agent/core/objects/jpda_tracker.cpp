@@ -159,21 +159,25 @@ JpdaUpdate JpdaTracker::update(const std::vector<Eigen::VectorXd>& z, const std:
   // Clusters: tracks connected through shared gated measurements (union-find).
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
-  std::function<int(int)> root = [&](int i) { return parent[size_t(i)] == i ? i : parent[size_t(i)] = root(parent[size_t(i)]); };
+  std::function<int(int)> root = [&](int i) {
+    return parent[size_t(i)] == i ? i : parent[size_t(i)] = root(parent[size_t(i)]);
+  };
   for (size_t j = 0; j < m; ++j) {
     int first = -1;
     for (size_t t = 0; t < n; ++t) {
       if (!in_gate[t][j]) continue;
-      if (first < 0) first = int(t);
-      else parent[size_t(root(int(t)))] = root(first);
+      if (first < 0)
+        first = int(t);
+      else
+        parent[size_t(root(int(t)))] = root(first);
     }
   }
   std::vector<std::vector<int>> clusters(n);
   for (size_t t = 0; t < n; ++t) clusters[size_t(root(int(t)))].push_back(int(t));
   for (const std::vector<int>& c : clusters) {
     if (c.empty()) continue;
-    const bool nn = options_.association == Association::kNearestNeighbour ||
-                    !joint_probabilities(c, lik, in_gate, &out.beta);
+    const bool nn =
+        options_.association == Association::kNearestNeighbour || !joint_probabilities(c, lik, in_gate, &out.beta);
     if (nn) nearest_neighbour(c, d2, in_gate, &out.beta);
     if (nn && options_.association == Association::kJpda) out.fell_back_to_nn = true;
   }

@@ -17,12 +17,12 @@ enum class Association { kJpda, kNearestNeighbour };
 struct JpdaOptions {
   int dims = 3;
   bool constant_velocity = false;
-  double process_noise = 1e-4;      ///< q: m^2/s (position random walk) or m^2/s^3 (white acceleration)
-  double gate_chi2 = 16.0;          ///< Mahalanobis^2 gate on the innovation
+  double process_noise = 1e-4;  ///< q: m^2/s (position random walk) or m^2/s^3 (white acceleration)
+  double gate_chi2 = 16.0;      ///< Mahalanobis^2 gate on the innovation
   double p_detection = 0.9;
-  double clutter_density = 1e-2;    ///< false measurements per unit volume (m^dims)
+  double clutter_density = 1e-2;  ///< false measurements per unit volume (m^dims)
   Association association = Association::kJpda;
-  long max_joint_events = 200000;   ///< beyond this a cluster falls back to nearest neighbour
+  long max_joint_events = 200000;  ///< beyond this a cluster falls back to nearest neighbour
 };
 
 struct JpdaTarget {
@@ -34,7 +34,7 @@ struct JpdaTarget {
 struct JpdaUpdate {
   /// beta[t][j]: probability that measurement j came from track t; beta[t].back(): none.
   std::vector<std::vector<double>> beta;
-  std::vector<bool> gated;     ///< per measurement: inside some track's gate
+  std::vector<bool> gated;  ///< per measurement: inside some track's gate
   bool fell_back_to_nn = false;
 };
 

@@ -9,12 +9,12 @@ namespace {
 
 struct CrossingScenario {
   double speed_mps = 1.0;
-  double half_angle_rad = 0.12;    ///< each target's heading off the x axis
-  double sigma_m = 0.25;           ///< measurement noise
-  double clutter_per_scan = 4.0;   ///< Poisson mean, uniform over the area
+  double half_angle_rad = 0.12;   ///< each target's heading off the x axis
+  double sigma_m = 0.25;          ///< measurement noise
+  double clutter_per_scan = 4.0;  ///< Poisson mean, uniform over the area
   double p_detection = 0.9;
   double dt_s = 0.5;
-  int steps = 40;                  ///< they cross at the middle
+  int steps = 40;  ///< they cross at the middle
 };
 
 // Returns true when both tracks end on their own target (within 1.5 m, nearer than the other).
@@ -50,7 +50,8 @@ bool identities_kept(Association assoc, const CrossingScenario& s, unsigned seed
     std::vector<Eigen::VectorXd> z;
     for (int k = 0; k < 2; ++k)
       if (u01(rng) < s.p_detection) z.push_back(truth(k, t) + Eigen::Vector2d(noise(rng), noise(rng)));
-    for (int c = n_clutter(rng); c > 0; --c) z.push_back(Eigen::Vector2d(-2 + area_w * u01(rng), -y0 - 2 + area_h * u01(rng)));
+    for (int c = n_clutter(rng); c > 0; --c)
+      z.push_back(Eigen::Vector2d(-2 + area_w * u01(rng), -y0 - 2 + area_h * u01(rng)));
     std::shuffle(z.begin(), z.end(), rng);
     tracker.update(z, std::vector<Eigen::MatrixXd>(z.size(), R));
   }

@@ -130,7 +130,11 @@ double blob_saliency(const ImageD& sal, int sal_w, int sal_h, const cv::Mat& lab
 
 std::vector<ObjectClassOptions> default_object_classes() {
   return {
-      {"victim", {HsvRange{0, 120, 70, 16, 255, 255}, HsvRange{170, 120, 70, 180, 255, 255}}, 150, 0.3, 12.0,
+      {"victim",
+       {HsvRange{0, 120, 70, 16, 255, 255}, HsvRange{170, 120, 70, 180, 255, 255}},
+       150,
+       0.3,
+       12.0,
        Eigen::Vector2d(1.6, 0.5)},
       {"hazard", {HsvRange{20, 120, 70, 35, 255, 255}}, 150, 0.3, 12.0, Eigen::Vector2d::Zero()},
       {"exit", {HsvRange{45, 80, 50, 85, 255, 255}}, 150, 0.3, 12.0, Eigen::Vector2d(1.0, 0.12)},
@@ -188,7 +192,8 @@ DetectionFrame ObjectDetector::analyse(const RgbdFrame& frame) const {
     }
   }
   out.converged = true;
-  if (out.without_depth) out.reason = "no valid depth on " + std::to_string(out.without_depth) + " blob(s): placed by the ground homography";
+  if (out.without_depth)
+    out.reason = "no valid depth on " + std::to_string(out.without_depth) + " blob(s): placed by the ground homography";
   return out;
 }
 

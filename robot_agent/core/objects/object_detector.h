@@ -27,9 +27,9 @@ struct HsvRange {
 struct ObjectClassOptions {
   std::string class_name;
   std::vector<HsvRange> ranges;
-  int min_area_px = 150;          ///< at 320x240; scaled with the image area
-  double min_fill_ratio = 0.3;    ///< blob area / bounding-box area (shape cue)
-  double max_aspect = 12.0;       ///< long / short side of the bounding box
+  int min_area_px = 150;        ///< at 320x240; scaled with the image area
+  double min_fill_ratio = 0.3;  ///< blob area / bounding-box area (shape cue)
+  double max_aspect = 12.0;     ///< long / short side of the bounding box
   /// Footprint (long, short side) of a box-shaped object of this class; 0: unknown. Completes the
   /// sides a box hides from the camera (shape_fit.h: complete_box_footprint).
   Eigen::Vector2d box_footprint_m = Eigen::Vector2d::Zero();
@@ -40,19 +40,19 @@ std::vector<ObjectClassOptions> default_object_classes();
 
 struct ObjectDetectorOptions {
   std::vector<ObjectClassOptions> classes = default_object_classes();
-  bool sharpen = true;             ///< Eq. 13 before colour segmentation
-  int open_kernel_px = 5;          ///< morphological opening of each class mask (at 320x240)
+  bool sharpen = true;     ///< Eq. 13 before colour segmentation
+  int open_kernel_px = 5;  ///< morphological opening of each class mask (at 320x240)
   double min_depth_m = 0.15;
   double max_depth_m = 10.0;
-  double depth_inlier_m = 1.0;     ///< keep points within this of the blob's median depth
-  double voxel_m = 0.025;          ///< cloud downsampling
-  int outlier_neighbours = 10;     ///< statistical outlier removal (0: off)
+  double depth_inlier_m = 1.0;  ///< keep points within this of the blob's median depth
+  double voxel_m = 0.025;       ///< cloud downsampling
+  int outlier_neighbours = 10;  ///< statistical outlier removal (0: off)
   double outlier_stddev = 2.5;
-  bool fit_shape = true;           ///< centre from a primitive fit (else the visible centroid)
-  int min_points = 10;             ///< blobs with fewer valid depth points use the homography cue
+  bool fit_shape = true;  ///< centre from a primitive fit (else the visible centroid)
+  int min_points = 10;    ///< blobs with fewer valid depth points use the homography cue
   bool use_saliency = true;
   SaliencyOptions saliency;
-  int thumbnail_max_px = 96;       ///< long side of the JPEG thumbnail
+  int thumbnail_max_px = 96;  ///< long side of the JPEG thumbnail
   int thumbnail_jpeg_quality = 80;
 };
 
@@ -60,24 +60,24 @@ struct Detection {
   std::string class_name;
   int bbox_x = 0, bbox_y = 0, bbox_w = 0, bbox_h = 0;  ///< pixels
   int area_px = 0;
-  double fill_ratio = 0.0, circularity = 0.0;          ///< 2D shape cues
-  double saliency = 0.0;                               ///< mean fused saliency in the blob, 0..1
-  bool has_depth = true;          ///< false: position from the ground homography only
-  bool truncated_side = false;    ///< blob touches the left/right image border: centre unreliable
-  bool truncated_top_bottom = false;  ///< touches the top/bottom border: height unreliable
+  double fill_ratio = 0.0, circularity = 0.0;  ///< 2D shape cues
+  double saliency = 0.0;                       ///< mean fused saliency in the blob, 0..1
+  bool has_depth = true;                       ///< false: position from the ground homography only
+  bool truncated_side = false;                 ///< blob touches the left/right image border: centre unreliable
+  bool truncated_top_bottom = false;           ///< touches the top/bottom border: height unreliable
   double median_depth_m = 0.0;
-  Eigen::Vector3d centroid_base = Eigen::Vector3d::Zero();  ///< object centre estimate (base frame)
+  Eigen::Vector3d centroid_base = Eigen::Vector3d::Zero();          ///< object centre estimate (base frame)
   Eigen::Vector3d surface_centroid_base = Eigen::Vector3d::Zero();  ///< mean of the visible points
-  Eigen::Vector3d camera_base = Eigen::Vector3d::Zero();    ///< viewpoint, for the tracker's noise model
-  ShapeFit shape;                                           ///< base frame
-  ColoredCloud cloud_base;                                  ///< voxel-filtered, base frame
+  Eigen::Vector3d camera_base = Eigen::Vector3d::Zero();            ///< viewpoint, for the tracker's noise model
+  ShapeFit shape;                                                   ///< base frame
+  ColoredCloud cloud_base;                                          ///< voxel-filtered, base frame
   std::vector<uint8_t> thumbnail_jpeg;
 };
 
 struct DetectionFrame {
   std::vector<Detection> detections;
-  bool converged = false;     ///< the frame was usable
-  std::string reason;         ///< why not, or what was degraded ("no valid depth: ...")
+  bool converged = false;  ///< the frame was usable
+  std::string reason;      ///< why not, or what was degraded ("no valid depth: ...")
   int blobs = 0, rejected_shape = 0, without_depth = 0;
 };
 

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "robot_agent/core/objects/cloud_filter.h"
 #include "common/registration/rgb_icp.h"
+#include "robot_agent/core/objects/cloud_filter.h"
 
 namespace cairn::agent {
 namespace {
@@ -29,14 +29,15 @@ Eigen::Matrix3d detection_covariance(const Detection& d, const ObjectTrackerOpti
   const double sl = o.lateral_sigma_m + o.lateral_sigma_per_m * range;
   const double sh = d.truncated_side ? o.truncated_sigma_m : sl;  // a cut blob's centre slides sideways
   const double sv = d.truncated_top_bottom ? o.truncated_sigma_m : sl;
-  return U * Eigen::Vector3d(d.truncated_side ? std::max(sr, sh) * std::max(sr, sh) : sr * sr, sh * sh, sv * sv)
-                 .asDiagonal() * U.transpose();
+  return U *
+         Eigen::Vector3d(d.truncated_side ? std::max(sr, sh) * std::max(sr, sh) : sr * sr, sh * sh, sv * sv)
+             .asDiagonal() *
+         U.transpose();
 }
 
 }  // namespace
 
-ObjectTracker::ObjectTracker(RobotId robot, const ObjectTrackerOptions& options)
-    : robot_(robot), options_(options) {}
+ObjectTracker::ObjectTracker(RobotId robot, const ObjectTrackerOptions& options) : robot_(robot), options_(options) {}
 
 size_t ObjectTracker::num_confirmed() const {
   return size_t(std::count_if(tracks_.begin(), tracks_.end(), [](const Track& t) { return t.published; }));
@@ -86,10 +87,10 @@ bool ObjectTracker::separate(const Footprint& a, const Eigen::Vector3d& ca, cons
   if (a.kind == ShapeKind::kUnknown || b.kind == ShapeKind::kUnknown) return false;  // no extent: the gate decides
   const double margin =
       options_.separation_margin_m + options_.separation_margin_per_m * std::max(a.range_m, b.range_m);
-  const bool b_in_a = inside(ca.head<2>(), a.half_m.x(), a.half_m.y(), a.yaw_rad, a.kind == ShapeKind::kBox,
-                             cb.head<2>(), margin);
-  const bool a_in_b = inside(cb.head<2>(), b.half_m.x(), b.half_m.y(), b.yaw_rad, b.kind == ShapeKind::kBox,
-                             ca.head<2>(), margin);
+  const bool b_in_a =
+      inside(ca.head<2>(), a.half_m.x(), a.half_m.y(), a.yaw_rad, a.kind == ShapeKind::kBox, cb.head<2>(), margin);
+  const bool a_in_b =
+      inside(cb.head<2>(), b.half_m.x(), b.half_m.y(), b.yaw_rad, b.kind == ShapeKind::kBox, ca.head<2>(), margin);
   return !b_in_a && !a_in_b;
 }
 
@@ -209,7 +210,8 @@ bool ObjectTracker::due(const Track& t) const {
   if (t.observations <= t.observations_at_publish) return false;
   if (frame_ - t.last_publish_frame < options_.min_frames_between_publish) return false;
   const bool moved = (mean_of(t) - t.published_mean).norm() > options_.republish_moved_m;
-  const bool grew = double(t.cloud_local.size()) > (1.0 + options_.republish_cloud_growth) * double(t.published_cloud_size);
+  const bool grew =
+      double(t.cloud_local.size()) > (1.0 + options_.republish_cloud_growth) * double(t.published_cloud_size);
   const bool sharper = covariance_of(t).trace() < options_.republish_variance_ratio * t.published_variance;
   return moved || grew || sharper;
 }
@@ -219,7 +221,8 @@ ObjectReport ObjectTracker::make_report(const Track& t, const Anchor& anchor) co
   r.id = ObjectId{robot_, t.seq};
   r.class_name = t.class_name;
   const double mean_saliency = t.saliency_sum / std::max(1, t.observations);
-  r.confidence = float((1.0 - std::exp(-double(t.observations) / 3.0)) * (0.8 + 0.2 * std::min(1.0, 2.0 * mean_saliency)));
+  r.confidence =
+      float((1.0 - std::exp(-double(t.observations) / 3.0)) * (0.8 + 0.2 * std::min(1.0, 2.0 * mean_saliency)));
   r.stamp_ns = t.last_stamp_ns;
   r.anchor_seq = anchor.seq;
   r.observations = t.observations;

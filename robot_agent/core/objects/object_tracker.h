@@ -30,10 +30,10 @@ struct ObjectTrackerOptions {
   double min_assignment_probability = 0.5;
   double lateral_sigma_m = 0.03, lateral_sigma_per_m = 0.01;  ///< detection noise across the ray
   double range_sigma_m = 0.05, range_sigma_per_m = 0.02;      ///< along the ray
-  double no_depth_sigma_m = 0.4;          ///< homography-only detections, plus:
-  double no_depth_sigma_per_m2 = 0.015;   ///< the ground homography's range error grows as range^2
-  double truncated_sigma_m = 0.5;         ///< blobs cut by the image border (that axis only)
-  double merge_distance_m = 0.5;          ///< same-class tracks closer than this are one object...
+  double no_depth_sigma_m = 0.4;                              ///< homography-only detections, plus:
+  double no_depth_sigma_per_m2 = 0.015;                       ///< the ground homography's range error grows as range^2
+  double truncated_sigma_m = 0.5;                             ///< blobs cut by the image border (that axis only)
+  double merge_distance_m = 0.5;                              ///< same-class tracks closer than this are one object...
   /// ...unless their 3D extents say otherwise: a detection (or track) whose centre lies outside a
   /// track's fitted footprint (box, cylinder or sphere, grown by this margin + the per-metre part
   /// times the range), and whose own footprint excludes the track's centre, is another object: it is
@@ -47,12 +47,12 @@ struct ObjectTrackerOptions {
   int min_frames_between_publish = 5;     ///< rate limit per track, in processed RGB-D frames
   int max_cloud_points = 3000;
   double voxel_m = 0.025;
-  bool icp_fuse_views = true;             ///< align each view onto the track cloud with RGB-ICP
-  double icp_max_correction_m = 0.15;     ///< larger ICP corrections are not trusted
-  int icp_every_n_observations = 4;       ///< ICP cost bound: other views are fused by odometry only
+  bool icp_fuse_views = true;          ///< align each view onto the track cloud with RGB-ICP
+  double icp_max_correction_m = 0.15;  ///< larger ICP corrections are not trusted
+  int icp_every_n_observations = 4;    ///< ICP cost bound: other views are fused by odometry only
   double icp_voxel_m = 0.04;
-  double min_position_variance_m2 = 4e-4; ///< covariance floor (2 cm sigma)
-  double orientation_variance_rad2 = 1.0; ///< orientation is not estimated
+  double min_position_variance_m2 = 4e-4;  ///< covariance floor (2 cm sigma)
+  double orientation_variance_rad2 = 1.0;  ///< orientation is not estimated
 };
 
 /// The keyframe an object report is expressed against.
@@ -67,8 +67,8 @@ class ObjectTracker {
 
   /// Associates one frame's detections (base frame) given the robot pose at the frame's stamp;
   /// returns the reports due (new confirmations and re-publications).
-  std::vector<ObjectReport> update(StampNs stamp_ns, const std::vector<Detection>& detections,
-                                   const SE2& T_local_base, const Anchor& anchor);
+  std::vector<ObjectReport> update(StampNs stamp_ns, const std::vector<Detection>& detections, const SE2& T_local_base,
+                                   const Anchor& anchor);
 
   size_t num_tracks() const { return tracks_.size(); }
   size_t num_confirmed() const;
@@ -80,13 +80,13 @@ class ObjectTracker {
     ShapeKind kind = ShapeKind::kUnknown;
     Eigen::Vector2d half_m = Eigen::Vector2d::Zero();  ///< box half sides; radius in x otherwise
     double yaw_rad = 0.0;
-    double range_m = 0.0;                              ///< of the view it came from
+    double range_m = 0.0;  ///< of the view it came from
   };
   struct Track {
     int32_t seq = 0;
     Footprint footprint;
     std::string class_name;
-    int target_id = 0;                     ///< in jpda_[class_name]
+    int target_id = 0;  ///< in jpda_[class_name]
     ColoredCloud cloud_local;
     int observations = 0;
     StampNs last_stamp_ns = 0;

@@ -72,9 +72,7 @@ TEST(ObjectTracker, TwoVictimsFortyCentimetresApartStayTwoTracks) {
   EXPECT_EQ(run(truth, 0.15, false, no_extent).size(), 1u);
 }
 
-TEST(ObjectTracker, OneObjectSeenFromEverySideStaysOneTrack) {
-  EXPECT_EQ(run({{2.0, 1.0}}, 0.25, true).size(), 1u);
-}
+TEST(ObjectTracker, OneObjectSeenFromEverySideStaysOneTrack) { EXPECT_EQ(run({{2.0, 1.0}}, 0.25, true).size(), 1u); }
 
 }  // namespace
 }  // namespace cairn::agent

@@ -2,17 +2,17 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <sstream>
 
+#include "common/trajectory.h"
 #include "robot_agent/core/agent_pipeline.h"
 #include "robot_agent/core/objects/object_detector.h"
 #include "sim/simulator.h"
 #include "sim/world.h"
-#include "common/trajectory.h"
 
 namespace cairn::agent {
 namespace {
@@ -98,7 +98,8 @@ SimEvalResult evaluate_objects_in_world(const std::string& world_yaml, const Sim
   SimEvalResult result;
   double wall_ms = 0.0;
   auto consume = [&](int robot, AgentOutputs out) {
-    for (const Keyframe& k : out.keyframes) anchors[robot][k.id.seq] = k.T_local_base, anchor_stamps[robot][k.id.seq] = k.stamp_ns;
+    for (const Keyframe& k : out.keyframes)
+      anchors[robot][k.id.seq] = k.T_local_base, anchor_stamps[robot][k.id.seq] = k.stamp_ns;
     for (ObjectReport& r : out.objects) latest[r.id] = std::move(r);
   };
   while (!sim.done()) {
@@ -118,10 +119,13 @@ SimEvalResult evaluate_objects_in_world(const std::string& world_yaml, const Sim
   for (const auto& [id, r] : latest) {
     const auto a = anchors[id.robot.value].find(r.anchor_seq);
     if (a == anchors[id.robot.value].end()) continue;
-    const Eigen::Isometry3d T = sim.T_world_start(id.robot).to_isometry3() * a->second.to_isometry3() * r.T_anchor_object;
+    const Eigen::Isometry3d T =
+        sim.T_world_start(id.robot).to_isometry3() * a->second.to_isometry3() * r.T_anchor_object;
     placed.push_back({r.class_name, T.translation(), std::max(1, r.observations)});
     const auto truth = interpolate_pose(sim.ground_truth(id.robot), anchor_stamps[id.robot.value][r.anchor_seq]);
-    if (truth) placed_true.push_back({r.class_name, (truth->to_isometry3() * r.T_anchor_object).translation(), placed.back().weight});
+    if (truth)
+      placed_true.push_back(
+          {r.class_name, (truth->to_isometry3() * r.T_anchor_object).translation(), placed.back().weight});
     std::ostringstream line;
     line.precision(3);
     line << to_string(id) << " " << r.class_name << " at " << T.translation().transpose() << " obs " << r.observations
@@ -176,11 +180,11 @@ std::vector<DetectionBias> diagnose_detections_in_world(const std::string& world
         const Eigen::Vector2d ray = (c - cam).head<2>().normalized(), err = (p - c).head<2>();
         ++b.detections;
         char line[256];
-        std::snprintf(line, sizeof line, "robot %d t %.1f s range %.2f m: along %+.3f across %+.3f m%s%s, %s %.2f x %.2f x %.2f",
-                      f.robot.value, double(f.reading.stamp_ns) * 1e-9, (c - cam).head<2>().norm(), err.dot(ray),
-                      ray.x() * err.y() - ray.y() * err.x(), d.truncated_side ? " truncated" : "",
-                      d.has_depth ? "" : " no-depth", to_string(d.shape.kind), d.shape.size_m.x(), d.shape.size_m.y(),
-                      d.shape.size_m.z());
+        std::snprintf(
+            line, sizeof line, "robot %d t %.1f s range %.2f m: along %+.3f across %+.3f m%s%s, %s %.2f x %.2f x %.2f",
+            f.robot.value, double(f.reading.stamp_ns) * 1e-9, (c - cam).head<2>().norm(), err.dot(ray),
+            ray.x() * err.y() - ray.y() * err.x(), d.truncated_side ? " truncated" : "", d.has_depth ? "" : " no-depth",
+            to_string(d.shape.kind), d.shape.size_m.x(), d.shape.size_m.y(), d.shape.size_m.z());
         b.lines.push_back(line);
         b.truncated += d.truncated_side;
         b.without_depth += !d.has_depth;

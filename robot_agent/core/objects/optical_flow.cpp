@@ -128,8 +128,8 @@ CollisionEstimate OpticalFlowCollision::update(const RgbdFrame& frame, double sp
   cv::Mat grey;
   cv::cvtColor(rgb, grey, cv::COLOR_RGB2GRAY);
   State& s = *state_;
-  const bool have_previous = !s.previous_grey.empty() && s.previous_grey.size() == grey.size() &&
-                             frame.stamp_ns > s.previous_stamp_ns;
+  const bool have_previous =
+      !s.previous_grey.empty() && s.previous_grey.size() == grey.size() && frame.stamp_ns > s.previous_stamp_ns;
   const double dt_s = have_previous ? double(frame.stamp_ns - s.previous_stamp_ns) * 1e-9 : 0.0;
   const cv::Mat previous = s.previous_grey;
   s.previous_grey = grey;

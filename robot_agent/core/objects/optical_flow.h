@@ -47,21 +47,21 @@ struct OpticalFlowOptions {
   double min_feature_distance_px = 8.0;
   int pyramid_levels = 3;
   int window_px = 21;
-  double min_speed_mps = 0.05;          ///< below this the flow carries no depth
-  double max_yaw_rate_radps = 0.6;      ///< beyond this the frame is skipped (rotation dominates)
-  double robot_radius_m = 0.35;         ///< r of the collision test
-  double horizon_s = 3.0;               ///< only contacts sooner than this are a risk
-  int min_risky_features = 3;           ///< features with d_min < r and tau < horizon
-  double min_foe_distance_px = 15.0;    ///< features this close to the FOE carry no usable tau
-  double robust_percentile = 0.2;       ///< min_ttc_s / min_d_m are this percentile, not the minimum
+  double min_speed_mps = 0.05;        ///< below this the flow carries no depth
+  double max_yaw_rate_radps = 0.6;    ///< beyond this the frame is skipped (rotation dominates)
+  double robot_radius_m = 0.35;       ///< r of the collision test
+  double horizon_s = 3.0;             ///< only contacts sooner than this are a risk
+  int min_risky_features = 3;         ///< features with d_min < r and tau < horizon
+  double min_foe_distance_px = 15.0;  ///< features this close to the FOE carry no usable tau
+  double robust_percentile = 0.2;     ///< min_ttc_s / min_d_m are this percentile, not the minimum
 };
 
 struct CollisionEstimate {
-  bool converged = false;      ///< a valid estimate this frame
-  std::string reason;          ///< why not
+  bool converged = false;  ///< a valid estimate this frame
+  std::string reason;      ///< why not
   Eigen::Vector2d foe_px = Eigen::Vector2d::Zero();
-  double min_ttc_s = -1.0;     ///< low percentile of the features' time to contact
-  double min_d_m = -1.0;       ///< low percentile of d_min among features with tau < horizon
+  double min_ttc_s = -1.0;  ///< low percentile of the features' time to contact
+  double min_d_m = -1.0;    ///< low percentile of d_min among features with tau < horizon
   int tracked = 0;
   int risky = 0;
   float collision_risk = 0.f;  ///< 0..1, for the status message

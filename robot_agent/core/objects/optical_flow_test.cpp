@@ -16,7 +16,8 @@ Eigen::Vector2d project(const Eigen::Vector3d& p) {
 }
 
 // Static points seen by a camera translating with velocity c (camera frame) for dt (Eq. 1).
-std::vector<FlowVector> expanding_flow(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& c, double dt) {
+std::vector<FlowVector> expanding_flow(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& c,
+                                       double dt) {
   std::vector<FlowVector> flow;
   for (const Eigen::Vector3d& p0 : points) {
     const Eigen::Vector3d p1 = p0 - c * dt;

@@ -36,7 +36,8 @@ ColoredCloud open3d_frame(int i) {
       const double z = depth.at<uint16_t>(v, u) * 0.001;
       if (z <= 0.1 || z > 3.0) continue;
       const cv::Vec3b c = bgr.at<cv::Vec3b>(v, u);
-      cloud.push_back(ColoredPoint{float((u - 319.5) * z / 525.0), float((v - 239.5) * z / 525.0), float(z), c[2], c[1], c[0]});
+      cloud.push_back(
+          ColoredPoint{float((u - 319.5) * z / 525.0), float((v - 239.5) * z / 525.0), float(z), c[2], c[1], c[0]});
     }
   return cloud;
 }
@@ -162,7 +163,8 @@ TEST(RgbIcp, PclGrabberFramesRegisteredWithFitness) {
     const RgbIcpResult r = rgb_icp(load_pcd<pcl::PointXYZRGBA>(files[i + 1]), load_pcd<pcl::PointXYZRGBA>(files[i]),
                                    Eigen::Isometry3d::Identity(), o);
     std::printf("grabber %zu->%zu: converged %d fitness %.3f rmse %.4f m, motion %.4f m %.3f deg\n", i + 1, i,
-                r.converged, r.score, r.rmse_m, r.T_target_source.translation().norm(), rotation_deg(r.T_target_source));
+                r.converged, r.score, r.rmse_m, r.T_target_source.translation().norm(),
+                rotation_deg(r.T_target_source));
     RecordProperty("grabber_fitness_" + std::to_string(i), std::to_string(r.score));
     EXPECT_TRUE(r.converged) << r.reason;
     EXPECT_GT(r.score, 0.8);

@@ -18,7 +18,7 @@ namespace cairn::agent {
 std::vector<uint8_t> sharpen_eq13(const std::vector<uint8_t>& rgb, int width, int height);
 
 struct SaliencyOptions {
-  int downsample = 4;        ///< saliency is computed on a (w/downsample) x (h/downsample) grid
+  int downsample = 4;  ///< saliency is computed on a (w/downsample) x (h/downsample) grid
   int levels = 2;
   WaveletType wavelet = WaveletType::kHaar;
   double max_depth_m = 10.0;

@@ -8,10 +8,14 @@ namespace cairn::agent {
 
 const char* to_string(ShapeKind kind) {
   switch (kind) {
-    case ShapeKind::kBox: return "box";
-    case ShapeKind::kCylinder: return "cylinder";
-    case ShapeKind::kSphere: return "sphere";
-    default: return "unknown";
+    case ShapeKind::kBox:
+      return "box";
+    case ShapeKind::kCylinder:
+      return "cylinder";
+    case ShapeKind::kSphere:
+      return "sphere";
+    default:
+      return "unknown";
   }
 }
 
@@ -30,7 +34,11 @@ ShapeFit fit_sphere(const std::vector<Eigen::Vector3d>& pts, const ShapeFitOptio
   if (int(pts.size()) < o.min_points) return f.reason = "too few points", f;
   Eigen::MatrixXd A(pts.size(), 4);
   Eigen::VectorXd y(pts.size());
-  const Eigen::Vector3d mean = [&] { Eigen::Vector3d m = Eigen::Vector3d::Zero(); for (auto& p : pts) m += p; return Eigen::Vector3d(m / double(pts.size())); }();
+  const Eigen::Vector3d mean = [&] {
+    Eigen::Vector3d m = Eigen::Vector3d::Zero();
+    for (auto& p : pts) m += p;
+    return Eigen::Vector3d(m / double(pts.size()));
+  }();
   for (size_t i = 0; i < pts.size(); ++i) {
     const Eigen::Vector3d p = pts[i] - mean;
     A.row(Eigen::Index(i)) << 2 * p.x(), 2 * p.y(), 2 * p.z(), 1.0;

@@ -3,9 +3,9 @@
 // (by ~pi/4 r for a cylinder), so fit the primitive the class cue suggests and take its centre.
 // Sphere: algebraic least squares |p - c|^2 = r^2 (linear in c, r^2 - |c|^2). Vertical cylinder:
 // circle fit (Kasa) on the ground-plane projection, height from the z extent. Box: footprint
-// rectangle over yaw by the L-shape closeness criterion (the top face is usually visible from a 0.5 m camera for low boxes),
-// height from the z extent. best_shape_fit() keeps the primitive with the lowest RMS residual among
-// plausible ones. Pure Eigen; points in a z-up frame (the robot's local map frame).
+// rectangle over yaw by the L-shape closeness criterion (the top face is usually visible from a 0.5 m camera for low
+// boxes), height from the z extent. best_shape_fit() keeps the primitive with the lowest RMS residual among plausible
+// ones. Pure Eigen; points in a z-up frame (the robot's local map frame).
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -19,9 +19,9 @@ struct ShapeFit {
   ShapeKind kind = ShapeKind::kUnknown;
   Eigen::Vector3d center_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d size_m = Eigen::Vector3d::Zero();
-  double yaw_rad = 0.0;      ///< box only
+  double yaw_rad = 0.0;  ///< box only
   bool converged = false;
-  double score = 0.0;        ///< RMS residual, m
+  double score = 0.0;  ///< RMS residual, m
   std::string reason;
 };
 
@@ -58,8 +58,8 @@ ShapeFit fit_box(const std::vector<Eigen::Vector3d>& points, const ShapeFitOptio
 /// rectangle's faces (RMS <= max_completion_rms_m) and axes seen at an angle (min_completion_view_cos).
 void complete_box_footprint(ShapeFit* fit, const Eigen::Vector3d& viewpoint_m, const ShapeFitOptions& options);
 
-/// Best of the three (a box completed by complete_box_footprint when the class has a prior); `viewpoint_m` (the camera, same frame) rejects curved fits whose centre lies
-/// in front of the surface.
+/// Best of the three (a box completed by complete_box_footprint when the class has a prior); `viewpoint_m` (the camera,
+/// same frame) rejects curved fits whose centre lies in front of the surface.
 ShapeFit best_shape_fit(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& viewpoint_m,
                         const ShapeFitOptions& options = {});
 

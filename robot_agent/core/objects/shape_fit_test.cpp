@@ -64,7 +64,7 @@ TEST(ShapeFit, ThinLShapeGetsTheBoxYawNotTheHypotenuse) {
 
 TEST(ShapeFit, BroadsideFaceIsCompletedAwayFromTheCamera) {
   const Eigen::Vector2d c(3.0, -1.0);
-  const double yaw = 0.0;                     // long side along x, seen from -y
+  const double yaw = 0.0;  // long side along x, seen from -y
   const Eigen::Vector3d eye(3.1, -4.5, 0.5);
   const auto pts = visible_box(1.6, 0.5, 0.3, c, yaw, eye, false);
   const ShapeFit plain = best_shape_fit(pts, eye);

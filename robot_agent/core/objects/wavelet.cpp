@@ -35,13 +35,14 @@ bool divisible(const ImageD& im, int levels) {
 
 std::vector<double> wavelet_lowpass(WaveletType type) {
   switch (type) {
-    case WaveletType::kHaar: return {M_SQRT1_2, M_SQRT1_2};
+    case WaveletType::kHaar:
+      return {M_SQRT1_2, M_SQRT1_2};
     case WaveletType::kDaubechies4Tap: {
       const double s3 = std::sqrt(3.0), d = 4.0 * std::sqrt(2.0);
       return {(1 + s3) / d, (3 + s3) / d, (3 - s3) / d, (1 - s3) / d};
     }
     case WaveletType::kDaubechies8Tap:
-      return {0.23037781330885523, 0.7148465705525415, 0.6308807679295904, -0.02798376941698385,
+      return {0.23037781330885523,  0.7148465705525415,   0.6308807679295904,   -0.02798376941698385,
               -0.18703481171888114, 0.030841381835986965, 0.032883011666982945, -0.010597401784997278};
   }
   return {};

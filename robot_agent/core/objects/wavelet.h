@@ -30,7 +30,7 @@ std::vector<double> dwt_1d(const std::vector<double>& x, WaveletType type);
 std::vector<double> idwt_1d(const std::vector<double>& coeffs, WaveletType type);
 
 struct Dwt2dResult {
-  ImageD coeffs;     ///< Mallat layout, `levels` levels
+  ImageD coeffs;  ///< Mallat layout, `levels` levels
   int levels = 0;
   bool converged = false;
   std::string reason;
