@@ -3,7 +3,7 @@
 #include <fstream>
 #include <thread>
 
-#include "base_station/core/exporter.h"
+#include "base_station/export/exporter.h"
 #include "dds/cdr.h"
 #include "dds/conversions.h"
 
@@ -184,7 +184,7 @@ void BaseNode::publish_acks_and_corrections() {
 }
 
 void BaseNode::plan_and_publish_goals() {
-  plan_ = plan_exploration(mapper_);
+  plan_ = plan_exploration(mapper_.merged());
   planned_version_ = mapper_.version();
   for (const RobotSummary& r : mapper_.robots()) {
     if (!r.linked) continue;  // its goal would be in a frame the base cannot place yet
@@ -233,7 +233,9 @@ nlohmann::json BaseNode::link_stats() const {
   return links;
 }
 
-void BaseNode::refresh_snapshot() { latest_snapshot_.publish(make_snapshot(mapper_, link_stats(), {}, &plan_)); }
+void BaseNode::refresh_snapshot() {
+  latest_snapshot_.publish(make_snapshot(mapper_.merged(), link_stats(), {}, &plan_));
+}
 
 bool BaseNode::all_finished() const {
   if (options_.expected_robots <= 0) return false;
@@ -305,7 +307,7 @@ int BaseNode::finish() {
   for (int i = 0; i < 50 && mapper_.refinement_pending(); ++i) r = mapper_.optimize();
   plan_and_publish_goals();  // where to search next, on the final map
   refresh_snapshot();
-  const ExportSummary exported = export_all(mapper_, options_.out_dir, {}, &plan_);
+  const ExportSummary exported = export_all(mapper_.merged(), options_.out_dir, {}, &plan_);
   for (const auto& f : exported.files) {
     if (!f.ok) log_->error("export of {} failed: {}", f.path, f.error);
   }

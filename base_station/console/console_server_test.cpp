@@ -1,4 +1,5 @@
 #include "base_station/console/console_server.h"
+#include "base_station/core/multi_robot_mapper.h"
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -24,7 +25,7 @@ MultiRobotMapper make_mapper() {
 
 TEST(Snapshot, DescribesRobotsObjectsAndAlerts) {
   const MultiRobotMapper mapper = make_mapper();
-  const ConsoleSnapshot s = make_snapshot(mapper, {{"0", {{"state", "ok"}, {"bytes_rx", 1234}}}});
+  const ConsoleSnapshot s = make_snapshot(mapper.merged(), {{"0", {{"state", "ok"}, {"bytes_rx", 1234}}}});
   ASSERT_EQ(s.robots.size(), 2u);
   EXPECT_EQ(s.robots[0]["linked"], true);
   EXPECT_EQ(s.robots[0]["trajectory"].size(), 6u);
@@ -46,7 +47,7 @@ TEST(Snapshot, ShowsWhereEachRobotShouldSearchNext) {
   plan.frontiers.push_back({{6.0, 1.0}, 30, 1.5, 1.0});
   plan.goals.push_back({RobotId(0), 0, {6.0, 1.0}, 4.2, 0.3});
   plan.idle.push_back(RobotId(3));
-  const ConsoleSnapshot s = make_snapshot(mapper, nlohmann::json::object(), {}, &plan);
+  const ConsoleSnapshot s = make_snapshot(mapper.merged(), nlohmann::json::object(), {}, &plan);
   const nlohmann::json& e = s.status["exploration"];
   EXPECT_EQ(e["frontiers"], 1);
   ASSERT_EQ(e["goals"].size(), 1u);
@@ -56,14 +57,14 @@ TEST(Snapshot, ShowsWhereEachRobotShouldSearchNext) {
   EXPECT_DOUBLE_EQ(e["goals"][0]["frontier_m"].get<double>(), 1.5);
   EXPECT_EQ(e["idle"], nlohmann::json::array({3}));
   // The goal is drawn on the map; without a plan there is no "exploration" entry.
-  const ConsoleSnapshot without = make_snapshot(mapper, nlohmann::json::object());
+  const ConsoleSnapshot without = make_snapshot(mapper.merged(), nlohmann::json::object());
   EXPECT_FALSE(without.status.contains("exploration"));
   EXPECT_NE(s.map_png, without.map_png);
 }
 
 TEST(ConsoleServer, ServesPagesAndApi) {
   LatestSnapshot latest;
-  latest.publish(make_snapshot(make_mapper(), nlohmann::json::object()));
+  latest.publish(make_snapshot(make_mapper().merged(), nlohmann::json::object()));
   ConsoleServer server({"127.0.0.1", 0, ""}, [&latest] { return latest.get(); });
   ASSERT_TRUE(server.start()) << server.error();
   ASSERT_GT(server.port(), 0);

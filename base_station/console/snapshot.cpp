@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "base_station/core/exporter.h"
+#include "base_station/export/exporter.h"
 
 namespace cairn::base {
 namespace {
@@ -34,10 +34,10 @@ std::string robots_text(const std::vector<RobotId>& robots) {
   return (robots.size() > 1 ? "robots " : "robot ") + s;
 }
 
-nlohmann::json robot_json(const MultiRobotMapper& mapper, const RobotSummary& r, const nlohmann::json& link_stats,
+nlohmann::json robot_json(const MergedMap& merged, const RobotSummary& r, const nlohmann::json& link_stats,
                           const SnapshotOptions& options) {
   nlohmann::json trajectory = nlohmann::json::array();
-  const Trajectory t = mapper.global_trajectory(r.id);
+  const Trajectory& t = merged.trajectory(r.id);
   for (size_t i : decimate(t, options.max_trajectory_points)) {
     trajectory.push_back({t[i].pose.x(), t[i].pose.y()});
   }
@@ -122,15 +122,15 @@ nlohmann::json exploration_json(const ExplorationPlan& plan) {
   return {{"frontiers", plan.frontiers.size()}, {"goals", goals}, {"idle", idle}};
 }
 
-ConsoleSnapshot make_snapshot(const MultiRobotMapper& mapper, const nlohmann::json& link_stats,
-                              const SnapshotOptions& options, const ExplorationPlan* plan) {
+ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& link_stats, const SnapshotOptions& options,
+                              const ExplorationPlan* plan) {
   ConsoleSnapshot s;
-  const std::vector<RobotSummary> robots = mapper.robots();
-  const std::vector<GlobalObject> objects = mapper.objects();
+  const std::vector<RobotSummary>& robots = merged.robots;
+  const std::vector<GlobalObject>& objects = merged.objects;
   StampNs mission_ns = 0;
   int linked = 0;
   for (const RobotSummary& r : robots) {
-    s.robots.push_back(robot_json(mapper, r, link_stats, options));
+    s.robots.push_back(robot_json(merged, r, link_stats, options));
     mission_ns = std::max(mission_ns, r.last_stamp_ns);
     linked += r.linked;
   }
@@ -146,15 +146,15 @@ ConsoleSnapshot make_snapshot(const MultiRobotMapper& mapper, const nlohmann::js
     s.clouds[key] = std::move(cloud);
   }
   s.status = {{"mission_time_s", ns_to_sec(mission_ns)},
-              {"mapped_area_m2", mapper.mapped_area_m2()},
+              {"mapped_area_m2", merged.grid->known_area_m2()},
               {"robots", robots.size()},
               {"linked_robots", linked},
               {"objects", objects.size()},
-              {"pending_objects", mapper.pending_objects().size()},
-              {"version", mapper.version()},
+              {"pending_objects", merged.data->pending_objects().size()},
+              {"version", merged.version},
               {"alerts", alerts_json(robots, objects)}};
   if (plan) s.status["exploration"] = exploration_json(*plan);
-  s.map_png = render_map_png(mapper, {}, plan);
+  s.map_png = render_map_png(merged, {}, plan);
   return s;
 }
 

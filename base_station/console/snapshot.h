@@ -1,6 +1,6 @@
 #pragma once
-// What the web console serves: plain JSON and bytes prepared on the app thread from the mapper, so
-// the HTTP threads never touch the mapper. LatestSnapshot hands the newest one across threads.
+// What the web console serves: plain JSON and bytes prepared on the app thread from the merged map
+// (MergedMap), so the HTTP threads never touch the mapper. LatestSnapshot hands the newest one across threads.
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "base_station/core/exploration.h"
-#include "base_station/core/multi_robot_mapper.h"
+#include "base_station/core/merged_map.h"
 
 namespace cairn::base {
 
@@ -31,8 +31,8 @@ struct SnapshotOptions {
 /// Builds a snapshot. `link_stats` is an object keyed by robot id as a decimal string (e.g. "1"),
 /// each value free-form (the console shows "state", "bytes_rx" and "rtt_ms" when present); it is
 /// copied into the robot's "link" field. With a `plan`, status["exploration"] lists each robot's
-/// next goal and the map shows it. Must run on the thread that owns the mapper.
-ConsoleSnapshot make_snapshot(const MultiRobotMapper& mapper, const nlohmann::json& link_stats,
+/// next goal and the map shows it. Must run on the thread that owns the mapper (MergedMap points into it).
+ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& link_stats,
                               const SnapshotOptions& options = {}, const ExplorationPlan* plan = nullptr);
 
 /// {"frontiers": n, "goals": [{"robot", "x_m", "y_m", "path_m", "frontier_m"}], "idle": [robot ids]}

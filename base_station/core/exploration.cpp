@@ -5,7 +5,7 @@
 #include <limits>
 #include <queue>
 
-#include "base_station/core/multi_robot_mapper.h"
+#include "base_station/core/merged_map.h"
 
 namespace cairn::base {
 namespace {
@@ -261,17 +261,16 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
   return plan;
 }
 
-ExplorationPlan plan_exploration(const MultiRobotMapper& mapper, const ExplorationOptions& options) {
+ExplorationPlan plan_exploration(const MergedMap& merged, const ExplorationOptions& options) {
   std::map<RobotId, Eigen::Vector2d> robots_m;
-  for (const RobotSummary& r : mapper.robots()) {
-    const Trajectory t = mapper.global_trajectory(r.id);
-    if (!t.empty()) robots_m[r.id] = t.back().pose.translation();
+  for (const auto& [robot, trajectory] : merged.trajectories) {
+    if (!trajectory.empty()) robots_m[robot] = trajectory.back().pose.translation();
   }
   std::vector<Eigen::Vector2d> victims_m;
-  for (const GlobalObject& o : mapper.objects()) {
+  for (const GlobalObject& o : merged.objects) {
     if (o.class_name == "victim") victims_m.push_back(o.position_m.head<2>());
   }
-  return plan_exploration(mapper.global_map(), robots_m, victims_m, options);
+  return plan_exploration(*merged.grid, robots_m, victims_m, options);
 }
 
 }  // namespace cairn::base

@@ -49,9 +49,9 @@ struct ExplorationPlan {
 ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<RobotId, Eigen::Vector2d>& robots_m,
                                  const std::vector<Eigen::Vector2d>& victims_m, const ExplorationOptions& options = {});
 
-class MultiRobotMapper;
-/// The plan for the mapper's global map, its linked robots at their newest keyframes and the
+struct MergedMap;
+/// The plan for the merged global map, its linked robots at their newest keyframes and the
 /// victims found so far.
-ExplorationPlan plan_exploration(const MultiRobotMapper& mapper, const ExplorationOptions& options = {});
+ExplorationPlan plan_exploration(const MergedMap& merged, const ExplorationOptions& options = {});
 
 }  // namespace cairn::base

@@ -7,6 +7,7 @@
 #include <set>
 #include <unordered_set>
 
+#include "common/check.h"
 #include "common/laser_scan.h"
 #include "common/occupancy_grid.h"
 
@@ -199,7 +200,8 @@ int largest_unexplained(const std::vector<Piece>& all, const MapConsistencyOptio
 
 PlacedScans select_near_keyframes(const PlacedScans& side, const Eigen::Vector2d& center_m,
                                   const MapConsistencyOptions& o) {
-  const size_t n = std::min(side.keyframes.size(), side.T_frame_base.size());
+  CAIRN_CHECK(side.keyframes.size() == side.T_frame_base.size(), "PlacedScans with a pose per keyframe");
+  const size_t n = side.keyframes.size();
   const double r2 =
       o.local_radius_m > 0 ? o.local_radius_m * o.local_radius_m : std::numeric_limits<double>::infinity();
   std::vector<std::pair<double, size_t>> near;  // squared distance, index
@@ -226,6 +228,8 @@ PlacedScans select_near_keyframes(const PlacedScans& side, const Eigen::Vector2d
 }
 
 MapConsistencyResult check_map_consistency(const PlacedScans& a, const PlacedScans& b, const MapConsistencyOptions& o) {
+  CAIRN_CHECK(a.keyframes.size() == a.T_frame_base.size() && b.keyframes.size() == b.T_frame_base.size(),
+              "PlacedScans with a pose per keyframe");
   MapConsistencyResult r;
   if (a.keyframes.empty() || b.keyframes.empty()) {
     r.reason = "no keyframes on one side";

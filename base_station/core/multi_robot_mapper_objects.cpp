@@ -31,8 +31,8 @@ std::string validate(const ObjectReport& r) {
 AddResult MultiRobotMapper::add_object(const ObjectReport& report) {
   const std::string invalid = validate(report);
   if (!invalid.empty()) return {AddStatus::kRejected, to_string(report.id) + ": " + invalid};
-  auto existing = reports_.find(report.id);
-  if (existing != reports_.end() && existing->second.stamp_ns > report.stamp_ns) {
+  auto existing = data_.reports.find(report.id);
+  if (existing != data_.reports.end() && existing->second.stamp_ns > report.stamp_ns) {
     return {AddStatus::kDuplicate, to_string(report.id) + ": older than the stored report"};
   }
   ObjectReport stored = report;
@@ -47,24 +47,16 @@ AddResult MultiRobotMapper::add_object(const ObjectReport& report) {
     result.reason = "dropped " + std::to_string(before - stored.cloud.size()) + " non-finite cloud points; ";
   }
   const KeyframeId anchor{report.id.robot, report.anchor_seq};
-  if (!keyframes_.count(anchor)) {
+  if (!data_.keyframes.count(anchor)) {
     result.status = AddStatus::kPending;
     result.reason += "anchor " + to_string(anchor) + " not received yet";
   } else if (!linked(report.id.robot)) {
     result.status = AddStatus::kPending;
     result.reason += to_string(report.id.robot) + " not linked: kept, not placed";
   }
-  reports_[report.id] = std::move(stored);
+  data_.reports[report.id] = std::move(stored);
   ++version_;
   return result;
-}
-
-std::vector<ObjectId> MultiRobotMapper::pending_objects() const {
-  std::vector<ObjectId> out;
-  for (const auto& [id, r] : reports_) {
-    if (!keyframes_.count(KeyframeId{id.robot, r.anchor_seq})) out.push_back(id);
-  }
-  return out;
 }
 
 std::vector<GlobalObject> MultiRobotMapper::objects() const {
@@ -77,8 +69,8 @@ std::vector<GlobalObject> MultiRobotMapper::objects() const {
 
 void MultiRobotMapper::refresh_object_constraints() {
   std::vector<ObjectConstraint> now;
-  if (options_.object_constraints.enabled && !reports_.empty()) {
-    now = object_constraints(objects(), reports_, options_.object_constraints, options_.object_merge);
+  if (options_.object_constraints.enabled && !data_.reports.empty()) {
+    now = object_constraints(objects(), data_.reports, options_.object_constraints, options_.object_merge);
   }
   if (same_constraints(now, object_constraints_)) return;
   auto by_report = [](const std::vector<ObjectConstraint>& list, ObjectId report) {
@@ -108,8 +100,8 @@ void MultiRobotMapper::add_object_edges() {
 
 std::vector<GlobalObject> MultiRobotMapper::compute_objects() const {
   std::vector<PlacedObjectReport> placed;
-  for (const auto& [id, r] : reports_) {
-    const std::optional<SE2> anchor = global_pose(KeyframeId{id.robot, r.anchor_seq});
+  for (const auto& [id, r] : data_.reports) {
+    const std::optional<SE2> anchor = data_.global_pose(KeyframeId{id.robot, r.anchor_seq});
     if (!anchor) continue;  // pending anchor or unlinked robot
     placed.push_back(PlacedObjectReport{&r, anchor->to_isometry3() * r.T_anchor_object});
   }

@@ -11,9 +11,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "base_station/core/exporter.h"
 #include "base_station/core/global_object.h"
+#include "base_station/core/multi_robot_mapper.h"
 #include "base_station/core/synthetic_world_test_util.h"
+#include "base_station/export/exporter.h"
 
 namespace cairn::base {
 namespace {
@@ -191,7 +192,7 @@ TEST(ObjectMerge, ExportsReadBackAfterMerging) {
   ASSERT_EQ(objects.size(), 2u);
   const std::string dir =
       (std::filesystem::temp_directory_path() / ("cairn_merge_" + std::to_string(::getpid()))).string();
-  ASSERT_TRUE(export_all(mapper, dir).ok());
+  ASSERT_TRUE(export_all(mapper.merged(), dir).ok());
   std::ifstream in(dir + "/objects.geojson");
   const nlohmann::json geo = nlohmann::json::parse(in);
   ASSERT_EQ(geo["features"].size(), 2u);

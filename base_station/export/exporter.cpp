@@ -1,6 +1,6 @@
 // export_all and the text formats (GeoJSON, CSV, g2o). Images: exporter_image.cpp; clouds and
 // OctoMap: exporter_clouds.cpp.
-#include "base_station/core/exporter.h"
+#include "base_station/export/exporter.h"
 
 #include <cmath>
 #include <filesystem>
@@ -152,7 +152,7 @@ bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::str
   return write_text(path, s.str(), error);
 }
 
-ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_dir, const ExportOptions& options,
+ExportSummary export_all(const MergedMap& merged, const std::string& out_dir, const ExportOptions& options,
                          const ExplorationPlan* plan) {
   ExportSummary summary;
   std::error_code ec;
@@ -162,18 +162,18 @@ ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_
     return summary;
   }
   const std::string dir = out_dir + "/";
-  const std::vector<GlobalObject> objects = mapper.objects();
+  const std::vector<GlobalObject>& objects = merged.objects;
   run(&summary, dir + "map.pgm",
-      [&](const std::string&, std::string*) { return mapper.global_map().write_pgm_yaml(dir + "map"); });
+      [&](const std::string&, std::string*) { return merged.grid->write_pgm_yaml(dir + "map"); });
   summary.files.push_back({dir + "map.yaml", summary.files.back().ok, summary.files.back().error});
   run(&summary, dir + "map.png",
-      [&](const std::string& p, std::string* e) { return write_map_png(mapper, p, options, e, plan); });
+      [&](const std::string& p, std::string* e) { return write_map_png(merged, p, options, e, plan); });
   run(&summary, dir + "objects.geojson",
       [&](const std::string& p, std::string* e) { return write_objects_geojson(objects, p, e); });
   run(&summary, dir + "objects.csv",
       [&](const std::string& p, std::string* e) { return write_objects_csv(objects, p, e); });
   run(&summary, dir + "objects_robot_frame.csv", [&](const std::string& p, std::string* e) {
-    return write_text(p, robot_frame_objects_csv(mapper.keyframes(), mapper.object_reports()), e);
+    return write_text(p, robot_frame_objects_csv(merged.data->keyframes, merged.data->reports), e);
   });
   for (const GlobalObject& o : objects) {
     run(&summary, dir + "object_" + object_key(o.id) + ".ply",
@@ -183,11 +183,10 @@ ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_
     return write_objects_octomap(objects, options.octomap_resolution_m, p, e);
   });
   run(&summary, dir + "graph.g2o",
-      [&](const std::string& p, std::string* e) { return write_graph_g2o(mapper.graph(), p, e); });
-  for (const RobotSummary& r : mapper.robots()) {
-    if (!r.linked) continue;
-    run(&summary, dir + "trajectory_robot" + std::to_string(r.id.value) + ".csv",
-        [&](const std::string& p, std::string*) { return write_trajectory_csv(p, mapper.global_trajectory(r.id)); });
+      [&](const std::string& p, std::string* e) { return write_graph_g2o(*merged.graph, p, e); });
+  for (const auto& [robot, trajectory] : merged.trajectories) {
+    run(&summary, dir + "trajectory_robot" + std::to_string(robot.value) + ".csv",
+        [&](const std::string& p, std::string*) { return write_trajectory_csv(p, trajectory); });
   }
   return summary;
 }

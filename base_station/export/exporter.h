@@ -2,13 +2,14 @@
 // Exports of the base station's state for the rescue team and for offline tools (DESIGN.md
 // "Base station" 6): map.pgm + map.yaml, map.png, objects.geojson, objects.csv, object_<id>.ply,
 // objects.bt (OctoMap), graph.g2o, trajectory_robot<N>.csv. OpenCV, PCL and OctoMap are used
-// only inside exporter_*.cpp. Never throws: every failure is reported with its path.
+// only here (the algorithm core links none of them). Never throws: every failure is reported with
+// its path.
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "base_station/core/exploration.h"
-#include "base_station/core/multi_robot_mapper.h"
+#include "base_station/core/merged_map.h"
 
 namespace cairn::base {
 
@@ -40,12 +41,12 @@ struct ExportSummary {
 
 /// Writes every export into out_dir (created if needed). With a `plan`, map.png shows where each
 /// robot should search next.
-ExportSummary export_all(const MultiRobotMapper& mapper, const std::string& out_dir, const ExportOptions& options = {},
+ExportSummary export_all(const MergedMap& merged, const std::string& out_dir, const ExportOptions& options = {},
                          const ExplorationPlan* plan = nullptr);
 
 /// The map image (grid, trajectories, keyframes, objects, and the plan's goals when given) as PNG
 /// bytes; empty on failure.
-std::vector<uint8_t> render_map_png(const MultiRobotMapper& mapper, const ExportOptions& options = {},
+std::vector<uint8_t> render_map_png(const MergedMap& merged, const ExportOptions& options = {},
                                     const ExplorationPlan* plan = nullptr);
 
 /// Individual writers (used by export_all); each returns false and sets *error on failure.
@@ -56,8 +57,8 @@ bool write_objects_csv(const std::vector<GlobalObject>& objects, const std::stri
 /// Point nodes follow as VERTEX_XY ("# MARKER <vertex> <id>", "# OBJECT <vertex> <robot> <seq>") with
 /// their range-bearing observations as EDGE_SE2_XY (point in the pose frame, information I11 I12 I22).
 bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::string* error);
-bool write_map_png(const MultiRobotMapper& mapper, const std::string& path, const ExportOptions& options,
-                   std::string* error, const ExplorationPlan* plan = nullptr);
+bool write_map_png(const MergedMap& merged, const std::string& path, const ExportOptions& options, std::string* error,
+                   const ExplorationPlan* plan = nullptr);
 /// Any row-major RGB picture (top row first, 3 bytes per pixel) as PNG, e.g. draw_map_consistency's.
 bool write_rgb_png(int width, int height, const std::vector<uint8_t>& rgb, const std::string& path, std::string* error);
 bool write_object_ply(const GlobalObject& object, const std::string& path, std::string* error);

@@ -6,7 +6,7 @@
 
 #include <fstream>
 
-#include "base_station/core/exporter.h"
+#include "base_station/export/exporter.h"
 
 namespace cairn::base {
 namespace {

@@ -7,7 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "base_station/core/exporter.h"
+#include "base_station/export/exporter.h"
 
 namespace cairn::base {
 namespace {
@@ -70,17 +70,15 @@ cv::Mat grid_image(const OccupancyGrid& grid, const CellBox& box, int scale) {
   return scaled;
 }
 
-void draw_trajectories(const MultiRobotMapper& mapper, const PixelMapper& px, cv::Mat* img) {
-  for (const RobotSummary& r : mapper.robots()) {
-    if (!r.linked) continue;
-    const Trajectory trajectory = mapper.global_trajectory(r.id);
+void draw_trajectories(const MergedMap& merged, const PixelMapper& px, cv::Mat* img) {
+  for (const auto& [robot, trajectory] : merged.trajectories) {
     std::vector<cv::Point> points;
     for (const StampedPose& p : trajectory) points.push_back(px(p.pose.translation()));
-    const cv::Scalar colour = robot_colour(r.id);
+    const cv::Scalar colour = robot_colour(robot);
     if (points.size() >= 2) cv::polylines(*img, points, false, colour, 2, cv::LINE_AA);
     for (const cv::Point& p : points) cv::circle(*img, p, 3, colour, cv::FILLED, cv::LINE_AA);
     if (!points.empty()) {
-      cv::putText(*img, "R" + std::to_string(r.id.value), points.back() + cv::Point(6, -6), cv::FONT_HERSHEY_SIMPLEX,
+      cv::putText(*img, "R" + std::to_string(robot.value), points.back() + cv::Point(6, -6), cv::FONT_HERSHEY_SIMPLEX,
                   0.6, colour, 2, cv::LINE_AA);
     }
   }
@@ -100,9 +98,9 @@ void draw_objects(const std::vector<GlobalObject>& objects, const PixelMapper& p
   }
 }
 
-void draw_goals(const MultiRobotMapper& mapper, const ExplorationPlan& plan, const PixelMapper& px, cv::Mat* img) {
+void draw_goals(const MergedMap& merged, const ExplorationPlan& plan, const PixelMapper& px, cv::Mat* img) {
   for (const ExplorationGoal& g : plan.goals) {
-    const Trajectory t = mapper.global_trajectory(g.robot);
+    const Trajectory& t = merged.trajectory(g.robot);
     if (t.empty()) continue;
     const cv::Scalar colour = robot_colour(g.robot);
     const cv::Point from = px(t.back().pose.translation()), to = px(g.goal_m);
@@ -118,8 +116,8 @@ void draw_goals(const MultiRobotMapper& mapper, const ExplorationPlan& plan, con
   }
 }
 
-cv::Mat render(const MultiRobotMapper& mapper, const ExportOptions& options, const ExplorationPlan* plan) {
-  const OccupancyGrid& grid = mapper.global_map();
+cv::Mat render(const MergedMap& merged, const ExportOptions& options, const ExplorationPlan* plan) {
+  const OccupancyGrid& grid = *merged.grid;
   if (grid.width() == 0 || grid.height() == 0) {
     cv::Mat blank(240, 320, CV_8UC3, cv::Scalar(205, 205, 205));
     cv::putText(blank, "no map yet", {90, 125}, cv::FONT_HERSHEY_SIMPLEX, 0.8, {60, 60, 60}, 2, cv::LINE_AA);
@@ -132,29 +130,29 @@ cv::Mat render(const MultiRobotMapper& mapper, const ExportOptions& options, con
   cv::Mat img = grid_image(grid, box, scale);
   const Eigen::Vector2d origin_m = grid.origin_m() + grid.resolution_m() * Eigen::Vector2d(box.col0, box.row0);
   const PixelMapper px{origin_m, grid.resolution_m(), box.row1 - box.row0 + 1, scale};
-  draw_trajectories(mapper, px, &img);
-  draw_objects(mapper.objects(), px, &img);
-  if (plan) draw_goals(mapper, *plan, px, &img);
+  draw_trajectories(merged, px, &img);
+  draw_objects(merged.objects, px, &img);
+  if (plan) draw_goals(merged, *plan, px, &img);
   return img;
 }
 
 }  // namespace
 
-std::vector<uint8_t> render_map_png(const MultiRobotMapper& mapper, const ExportOptions& options,
+std::vector<uint8_t> render_map_png(const MergedMap& merged, const ExportOptions& options,
                                     const ExplorationPlan* plan) {
   std::vector<uint8_t> png;
   try {
-    if (!cv::imencode(".png", render(mapper, options, plan), png)) png.clear();
+    if (!cv::imencode(".png", render(merged, options, plan), png)) png.clear();
   } catch (const cv::Exception&) {
     png.clear();
   }
   return png;
 }
 
-bool write_map_png(const MultiRobotMapper& mapper, const std::string& path, const ExportOptions& options,
-                   std::string* error, const ExplorationPlan* plan) {
+bool write_map_png(const MergedMap& merged, const std::string& path, const ExportOptions& options, std::string* error,
+                   const ExplorationPlan* plan) {
   try {
-    if (cv::imwrite(path, render(mapper, options, plan))) return true;
+    if (cv::imwrite(path, render(merged, options, plan))) return true;
     *error = "cv::imwrite failed";
   } catch (const cv::Exception& e) {
     *error = std::string("OpenCV: ") + e.what();

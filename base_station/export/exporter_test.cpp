@@ -1,4 +1,5 @@
-#include "base_station/core/exporter.h"
+#include "base_station/export/exporter.h"
+#include "base_station/core/multi_robot_mapper.h"
 
 #include <gtest/gtest.h>
 #include <octomap/OcTree.h>
@@ -60,7 +61,7 @@ int count_prefix(const std::vector<std::string>& lines, const std::string& prefi
 TEST(Exporter, WritesEveryFileAndTheyParseBack) {
   const MultiRobotMapper mapper = make_mapper();
   const std::string dir = temp_dir("export");
-  const ExportSummary summary = export_all(mapper, dir);
+  const ExportSummary summary = export_all(mapper.merged(), dir);
   for (const ExportedFile& f : summary.files) EXPECT_TRUE(f.ok) << f.path << ": " << f.error;
   ASSERT_TRUE(summary.ok());
   // map.pgm + map.yaml
@@ -168,7 +169,7 @@ TEST(Exporter, G2oLandmarksAreCartesianPointsWithPropagatedInformation) {
 TEST(Exporter, UnwritableDirectoryIsReportedNotFatal) {
   const std::string file = temp_dir("not_a_dir");
   std::ofstream(file) << "x";
-  const ExportSummary summary = export_all(make_mapper(), file + "/sub");
+  const ExportSummary summary = export_all(make_mapper().merged(), file + "/sub");
   EXPECT_FALSE(summary.ok());
   ASSERT_GE(summary.failures(), 1);
   EXPECT_NE(summary.files[0].path.find(file), std::string::npos);
@@ -181,11 +182,11 @@ TEST(Exporter, UnwritableDirectoryIsReportedNotFatal) {
 }
 
 TEST(Exporter, RenderMapPngHasSignature) {
-  const std::vector<uint8_t> png = render_map_png(make_mapper());
+  const std::vector<uint8_t> png = render_map_png(make_mapper().merged());
   ASSERT_GT(png.size(), 8u);
   EXPECT_EQ(png[0], 0x89);
   EXPECT_EQ(png[1], 'P');
-  const std::vector<uint8_t> empty = render_map_png(MultiRobotMapper());
+  const std::vector<uint8_t> empty = render_map_png(MultiRobotMapper().merged());
   ASSERT_GT(empty.size(), 8u);
 }
 

@@ -11,7 +11,7 @@
 #include <cstdlib>
 #include <fstream>
 
-#include "base_station/core/exporter.h"
+#include "base_station/export/exporter.h"
 #include "tests/multirobot/loop_funnel.h"
 #include "tests/multirobot/split_run.h"
 

@@ -1,0 +1,36 @@
+#pragma once
+// MergedMap: what the outputs read of the merger (exports, the exploration planner, the console
+// snapshot): the global grid, the robots, their trajectories and the merged objects, and for the
+// exports that need them the stored data and the pose graph. MultiRobotMapper::merged() makes it;
+// it points into the mapper, so it is valid until the mapper next changes.
+#include <cstdint>
+#include <map>
+#include <vector>
+
+#include "base_station/core/global_object.h"
+#include "base_station/core/mapper_data.h"
+#include "base_station/core/mapper_results.h"
+#include "base_station/core/pose_graph_2d.h"
+#include "common/occupancy_grid.h"
+#include "common/trajectory.h"
+
+namespace cairn::base {
+
+struct MergedMap {
+  const OccupancyGrid* grid = nullptr;         ///< every linked keyframe's scan at its global pose
+  const MapperData* data = nullptr;            ///< what the mapper stored (keyframes, object reports)
+  const PoseGraph2d* graph = nullptr;          ///< the pose graph as last optimised
+  std::vector<RobotSummary> robots;            ///< every robot heard of, by id
+  std::map<RobotId, Trajectory> trajectories;  ///< linked robots' keyframe poses in the global frame
+  std::vector<GlobalObject> objects;           ///< merged objects of linked robots, by id
+  uint64_t version = 0;                        ///< MultiRobotMapper::version() when made
+
+  /// A linked robot's trajectory (empty when it is not linked).
+  const Trajectory& trajectory(RobotId robot) const {
+    static const Trajectory kNone;
+    const auto it = trajectories.find(robot);
+    return it == trajectories.end() ? kNone : it->second;
+  }
+};
+
+}  // namespace cairn::base
