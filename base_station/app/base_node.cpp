@@ -68,10 +68,7 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   BaseNode* self = n.get();
   n->console_ = std::make_unique<ConsoleServer>(
       options.console, ConsoleServer::SharedProvider([self] { return self->latest_snapshot_.get(); }));
-  if (!n->console_->start()) {
-    *error = "cannot start the console on " + options.console.bind_address + ":" + std::to_string(options.console.port);
-    return nullptr;
-  }
+  if (!n->console_->start(error)) return nullptr;
   return n;
 }
 
