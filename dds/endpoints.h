@@ -1,6 +1,9 @@
 #pragma once
-// Typed writer and reader over a Participant. Readers are polled with take_all() from the app's
-// own loop (no listener threads touching app state), which keeps the app single-threaded.
+// Typed writer and reader of one topic of dds/topics.h over a Participant:
+//   dds::Writer<dds::KeyframeTopic> keyframes(participant, qos_options);
+//   dds::Reader<dds::LaserScanTopic> scans(participant, robot);  // per-robot topics take the robot
+// Readers are polled with take_all() from the app's own loop (no listener threads touching app
+// state), which keeps the app single-threaded.
 #include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
 #include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -11,20 +14,29 @@
 #include <string>
 #include <vector>
 
+#include "common/ids.h"
 #include "dds/participant.h"
 #include "dds/qos.h"
+#include "dds/topics.h"
 
 namespace cairn::dds {
 
 using eprosima::fastrtps::types::ReturnCode_t;
 
-template <typename Msg, typename PubSubType>
+template <typename Topic>
 class Writer {
+  static_assert(kListedTopic<Topic>, "add the topic to AllTopics in dds/topics.h");
+
  public:
-  Writer(Participant& participant, const std::string& topic_name, TopicKind kind, const QosOptions& options = {}) {
-    auto* topic = participant.topic<PubSubType>(topic_name);
-    publisher_ = participant.publisher();
-    if (topic) writer_ = publisher_->create_datawriter(topic, writer_qos(kind, options));
+  using Msg = typename Topic::Msg;
+
+  /// A writer of a shared topic.
+  explicit Writer(Participant& participant, const QosOptions& options = {}) {
+    create(participant, topic_name<Topic>(), options);
+  }
+  /// A writer of the per-robot topic of `robot`.
+  Writer(Participant& participant, RobotId robot, const QosOptions& options = {}) {
+    create(participant, topic_name<Topic>(robot), options);
   }
   ~Writer() {
     if (writer_) publisher_->delete_datawriter(writer_);
@@ -56,24 +68,32 @@ class Writer {
   uint64_t samples_written() const { return samples_; }
 
  private:
+  void create(Participant& participant, const std::string& name, const QosOptions& options) {
+    auto* topic = participant.topic<typename Topic::PubSub>(name);
+    publisher_ = participant.publisher();
+    if (topic) writer_ = publisher_->create_datawriter(topic, writer_qos(Topic::kKind, options));
+  }
   static eprosima::fastrtps::Duration_t to_duration(double s) {
     return eprosima::fastrtps::Duration_t(int32_t(s), uint32_t((s - int32_t(s)) * 1e9));
   }
-  PubSubType type_;
+  typename Topic::PubSub type_;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
   uint64_t samples_ = 0;
   uint64_t bytes_ = 0;
 };
 
-template <typename Msg, typename PubSubType>
+template <typename Topic>
 class Reader {
+  static_assert(kListedTopic<Topic>, "add the topic to AllTopics in dds/topics.h");
+
  public:
-  Reader(Participant& participant, const std::string& topic_name, TopicKind kind) {
-    auto* topic = participant.topic<PubSubType>(topic_name);
-    subscriber_ = participant.subscriber();
-    if (topic) reader_ = subscriber_->create_datareader(topic, reader_qos(kind));
-  }
+  using Msg = typename Topic::Msg;
+
+  /// A reader of a shared topic.
+  explicit Reader(Participant& participant) { create(participant, topic_name<Topic>()); }
+  /// A reader of the per-robot topic of `robot`.
+  Reader(Participant& participant, RobotId robot) { create(participant, topic_name<Topic>(robot)); }
   ~Reader() {
     if (reader_) subscriber_->delete_datareader(reader_);
   }
@@ -99,6 +119,12 @@ class Reader {
   }
 
  private:
+  void create(Participant& participant, const std::string& name) {
+    auto* topic = participant.topic<typename Topic::PubSub>(name);
+    subscriber_ = participant.subscriber();
+    if (topic) reader_ = subscriber_->create_datareader(topic, reader_qos(Topic::kKind));
+  }
+
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
 };

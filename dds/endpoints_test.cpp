@@ -37,8 +37,8 @@ TEST(Endpoints, LargeRgbdFramesArriveIntactAndInOrder) {
   std::string error;
   auto participant = Participant::create({test_domain(), "endpoints_test"}, &error);
   ASSERT_TRUE(participant) << error;
-  Writer<cairn_msgs::RgbdFrame, cairn_msgs::RgbdFramePubSubType> writer(*participant, kRgbdTopic, TopicKind::kSensor);
-  Reader<cairn_msgs::RgbdFrame, cairn_msgs::RgbdFramePubSubType> reader(*participant, kRgbdTopic, TopicKind::kSensor);
+  Writer<RgbdTopic> writer(*participant, RobotId(1));
+  Reader<RgbdTopic> reader(*participant, RobotId(1));
   ASSERT_TRUE(writer.ok() && reader.ok());
   ASSERT_TRUE(wait_matched(writer, reader, 10.0));
 
@@ -73,11 +73,9 @@ TEST(Endpoints, ManyObjectInstancesFromManyRobotsAllArrive) {
   std::string error;
   auto participant = Participant::create({test_domain(), "objects_test"}, &error);
   ASSERT_TRUE(participant) << error;
-  using ObjW = Writer<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>;
-  using ObjR = Reader<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>;
-  ObjR reader(*participant, kObjectTopic, TopicKind::kObject);
-  std::vector<std::unique_ptr<ObjW>> writers;
-  for (int r = 0; r < 4; ++r) writers.push_back(std::make_unique<ObjW>(*participant, kObjectTopic, TopicKind::kObject));
+  Reader<ObjectTopic> reader(*participant);
+  std::vector<std::unique_ptr<Writer<ObjectTopic>>> writers;
+  for (int r = 0; r < 4; ++r) writers.push_back(std::make_unique<Writer<ObjectTopic>>(*participant));
   for (auto& w : writers) ASSERT_TRUE(wait_matched(*w, reader, 10.0));
   ObjectReport o;
   o.class_name = "victim";

@@ -20,8 +20,8 @@ namespace cairn::dds {
 namespace {
 
 namespace fs = std::filesystem;
-using KeyframeWriter = Writer<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>;
-using KeyframeReader = Reader<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>;
+using KeyframeWriter = Writer<KeyframeTopic>;
+using KeyframeReader = Reader<KeyframeTopic>;
 
 class Security : public ::testing::Test {
  protected:
@@ -77,8 +77,8 @@ class Security : public ::testing::Test {
 
   /// A writer on `from` and a reader on `to` never match, and nothing written arrives.
   static void expect_isolated(Participant& from, Participant& to) {
-    KeyframeWriter w(from, kKeyframeTopic, TopicKind::kKeyframe);
-    KeyframeReader r(to, kKeyframeTopic, TopicKind::kKeyframe);
+    KeyframeWriter w(from);
+    KeyframeReader r(to);
     EXPECT_FALSE(matched_within(w, r, 4.0));
     EXPECT_EQ(exchange(w, r, 1.0), 0u);
   }
@@ -113,8 +113,8 @@ TEST_F(Security, TeamMembersAuthenticateAndExchangeKeyframes) {
   auto robot = participant("robot0", "team/robot0");
   auto base = participant("base", "team/base");
   ASSERT_TRUE(robot && base);
-  KeyframeWriter w(*robot, kKeyframeTopic, TopicKind::kKeyframe);
-  KeyframeReader r(*base, kKeyframeTopic, TopicKind::kKeyframe);
+  KeyframeWriter w(*robot);
+  KeyframeReader r(*base);
   ASSERT_TRUE(matched_within(w, r, 20.0));
   EXPECT_EQ(exchange(w, r, 10.0), 3u);
 }

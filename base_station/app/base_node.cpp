@@ -52,20 +52,13 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   n->participant_ = dds::Participant::create(po, error);
   if (!n->participant_) return nullptr;
   auto& p = *n->participant_;
-  using dds::TopicKind;
-  n->keyframe_in_ = std::make_unique<R<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>>(p, dds::kKeyframeTopic,
-                                                                                              TopicKind::kKeyframe);
-  n->object_in_ = std::make_unique<R<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>>(
-      p, dds::kObjectTopic, TopicKind::kObject);
-  n->status_in_ = std::make_unique<R<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>>(p, dds::kStatusTopic,
-                                                                                                  TopicKind::kStatus);
-  n->keyframe_poses_in_ = std::make_unique<R<cairn_msgs::KeyframePoses, cairn_msgs::KeyframePosesPubSubType>>(
-      p, dds::kKeyframePosesTopic, TopicKind::kKeyframePoses);
-  n->ack_out_ = std::make_unique<W<cairn_msgs::Ack, cairn_msgs::AckPubSubType>>(p, dds::kAckTopic, TopicKind::kAck);
-  n->correction_out_ = std::make_unique<W<cairn_msgs::Correction, cairn_msgs::CorrectionPubSubType>>(
-      p, dds::kCorrectionTopic, TopicKind::kCorrection);
-  n->goal_out_ = std::make_unique<W<cairn_msgs::ExplorationGoal, cairn_msgs::ExplorationGoalPubSubType>>(
-      p, dds::kGoalTopic, TopicKind::kGoal);
+  n->keyframe_in_ = std::make_unique<dds::Reader<dds::KeyframeTopic>>(p);
+  n->object_in_ = std::make_unique<dds::Reader<dds::ObjectTopic>>(p);
+  n->status_in_ = std::make_unique<dds::Reader<dds::StatusTopic>>(p);
+  n->keyframe_poses_in_ = std::make_unique<dds::Reader<dds::KeyframePosesTopic>>(p);
+  n->ack_out_ = std::make_unique<dds::Writer<dds::AckTopic>>(p);
+  n->correction_out_ = std::make_unique<dds::Writer<dds::CorrectionTopic>>(p);
+  n->goal_out_ = std::make_unique<dds::Writer<dds::GoalTopic>>(p);
   if (!n->keyframe_in_->ok() || !n->object_in_->ok() || !n->status_in_->ok() || !n->keyframe_poses_in_->ok() ||
       !n->ack_out_->ok() || !n->correction_out_->ok() || !n->goal_out_->ok()) {
     *error = "cannot create the base station's DDS readers/writers";
@@ -75,10 +68,7 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   BaseNode* self = n.get();
   n->console_ = std::make_unique<ConsoleServer>(
       options.console, ConsoleServer::SharedProvider([self] { return self->latest_snapshot_.get(); }));
-  if (!n->console_->start()) {
-    *error = "cannot start the console on " + options.console.bind_address + ":" + std::to_string(options.console.port);
-    return nullptr;
-  }
+  if (!n->console_->start(error)) return nullptr;
   return n;
 }
 

@@ -79,23 +79,18 @@ class BaseNode {
   int finish();
   double now_s() const;
 
-  template <typename M, typename T>
-  using R = dds::Reader<M, T>;
-  template <typename M, typename T>
-  using W = dds::Writer<M, T>;
-
   BaseNodeOptions options_;
   MapperOptions mapper_options_;
   MultiRobotMapper mapper_;
   std::shared_ptr<spdlog::logger> log_;
   std::unique_ptr<dds::Participant> participant_;
-  std::unique_ptr<R<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>> keyframe_in_;
-  std::unique_ptr<R<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>> object_in_;
-  std::unique_ptr<R<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>> status_in_;
-  std::unique_ptr<R<cairn_msgs::KeyframePoses, cairn_msgs::KeyframePosesPubSubType>> keyframe_poses_in_;
-  std::unique_ptr<W<cairn_msgs::Ack, cairn_msgs::AckPubSubType>> ack_out_;
-  std::unique_ptr<W<cairn_msgs::Correction, cairn_msgs::CorrectionPubSubType>> correction_out_;
-  std::unique_ptr<W<cairn_msgs::ExplorationGoal, cairn_msgs::ExplorationGoalPubSubType>> goal_out_;
+  std::unique_ptr<dds::Reader<dds::KeyframeTopic>> keyframe_in_;
+  std::unique_ptr<dds::Reader<dds::ObjectTopic>> object_in_;
+  std::unique_ptr<dds::Reader<dds::StatusTopic>> status_in_;
+  std::unique_ptr<dds::Reader<dds::KeyframePosesTopic>> keyframe_poses_in_;
+  std::unique_ptr<dds::Writer<dds::AckTopic>> ack_out_;
+  std::unique_ptr<dds::Writer<dds::CorrectionTopic>> correction_out_;
+  std::unique_ptr<dds::Writer<dds::GoalTopic>> goal_out_;
   std::unique_ptr<ConsoleServer> console_;
   std::unique_ptr<Journal> journal_;
   ExplorationPlan plan_;                    ///< the newest exploration plan (console, goal topic, final export)

@@ -10,13 +10,20 @@ namespace cairn::base {
 
 namespace {
 
-/// Decodes one journal record as a sample of PubSubType and hands it to `take`; empty when taken,
-/// else why not.
+/// Decodes one journal record as a sample of PubSubType and hands it to `take`. False, with
+/// `error` set, when it is not a whole sample or `take` refuses it.
 template <typename PubSubType, typename Msg, typename Take>
-std::string replay(const JournalRecord& r, Take&& take) {
+bool replay(const JournalRecord& r, Take&& take, std::string* error) {
   Msg m;
-  if (!dds::from_cdr<PubSubType>(r.payload, &m)) return "not a whole sample";
-  return take(m) ? "" : "refused as a sample (see the warning above)";
+  if (!dds::from_cdr<PubSubType>(r.payload, &m)) {
+    *error = "not a whole sample";
+    return false;
+  }
+  if (!take(m)) {
+    *error = "refused as a sample (see the warning above)";
+    return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -60,25 +67,28 @@ void BaseNode::restore(const JournalContents& contents) {
   auto taken = [this](const auto& m) { return ingest(m).status != AddStatus::kRejected; };
   for (const JournalRecord& r : contents.records) {
     std::string why;
+    bool restored = false;
     switch (r.kind) {
       case JournalKind::kKeyframe:
-        why = replay<cairn_msgs::KeyframePubSubType, cairn_msgs::Keyframe>(r, taken);
+        restored = replay<cairn_msgs::KeyframePubSubType, cairn_msgs::Keyframe>(r, taken, &why);
         break;
       case JournalKind::kObject:
-        why = replay<cairn_msgs::ObjectReportPubSubType, cairn_msgs::ObjectReport>(r, taken);
+        restored = replay<cairn_msgs::ObjectReportPubSubType, cairn_msgs::ObjectReport>(r, taken, &why);
         break;
       case JournalKind::kKeyframePoses:
-        why = replay<cairn_msgs::KeyframePosesPubSubType, cairn_msgs::KeyframePoses>(r, taken);
+        restored = replay<cairn_msgs::KeyframePosesPubSubType, cairn_msgs::KeyframePoses>(r, taken, &why);
         break;
       case JournalKind::kStatus:
-        why = replay<cairn_msgs::RobotStatusPubSubType, cairn_msgs::RobotStatus>(
-            r, [this](const cairn_msgs::RobotStatus& m) {
+        restored = replay<cairn_msgs::RobotStatusPubSubType, cairn_msgs::RobotStatus>(
+            r,
+            [this](const cairn_msgs::RobotStatus& m) {
               ingest(m, /*live=*/false);
               return true;
-            });
+            },
+            &why);
         break;
     }
-    if (why.empty())
+    if (restored)
       ++restored_records_;
     else
       skip(r, why);

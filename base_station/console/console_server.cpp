@@ -91,9 +91,9 @@ void ConsoleServer::register_routes() {
                });
 }
 
-bool ConsoleServer::start() {
+bool ConsoleServer::start(std::string* error) {
   if (thread_.joinable()) {
-    error_ = "already started";
+    *error = "the console is already started";
     return false;
   }
   if (options_.port == 0) {
@@ -103,7 +103,7 @@ bool ConsoleServer::start() {
   }
   if (port_ <= 0) {
     port_ = -1;
-    error_ = "cannot bind " + options_.bind_address + ":" + std::to_string(options_.port);
+    *error = "cannot start the console on " + options_.bind_address + ":" + std::to_string(options_.port);
     return false;
   }
   thread_ = std::thread([this] { server_->listen_after_bind(); });

@@ -39,13 +39,12 @@ class ConsoleServer {
   ConsoleServer(const ConsoleServer&) = delete;
   ConsoleServer& operator=(const ConsoleServer&) = delete;
 
-  /// Binds and starts serving on a background thread. False (with error()) if the bind fails.
-  bool start();
+  /// Binds and starts serving on a background thread. False, with `error` set, if the bind fails.
+  bool start(std::string* error);
   void stop();
   bool running() const;
   /// The bound port (useful with port 0); -1 before start().
   int port() const { return port_; }
-  const std::string& error() const { return error_; }
   const std::string& web_dir() const { return web_dir_; }
 
  private:
@@ -57,7 +56,6 @@ class ConsoleServer {
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   int port_ = -1;
-  std::string error_;
 };
 
 }  // namespace cairn::base

@@ -66,7 +66,8 @@ TEST(ConsoleServer, ServesPagesAndApi) {
   LatestSnapshot latest;
   latest.publish(make_snapshot(make_mapper().merged(), nlohmann::json::object()));
   ConsoleServer server({"127.0.0.1", 0, ""}, [&latest] { return latest.get(); });
-  ASSERT_TRUE(server.start()) << server.error();
+  std::string error;
+  ASSERT_TRUE(server.start(&error)) << error;
   ASSERT_GT(server.port(), 0);
   httplib::Client client("127.0.0.1", server.port());
   client.set_connection_timeout(5);
@@ -111,7 +112,8 @@ TEST(ConsoleServer, ServesPagesAndApi) {
 
 TEST(ConsoleServer, CopyingProviderAndEmptySnapshot) {
   ConsoleServer server({"127.0.0.1", 0, ""}, [] { return ConsoleSnapshot{}; });
-  ASSERT_TRUE(server.start());
+  std::string error;
+  ASSERT_TRUE(server.start(&error)) << error;
   httplib::Client client("127.0.0.1", server.port());
   auto status = client.Get("/api/status");
   ASSERT_TRUE(status);

@@ -40,28 +40,18 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
   n->participant_ = dds::Participant::create(po, error);
   if (!n->participant_) return nullptr;
   auto& p = *n->participant_;
-  using dds::TopicKind;
-  n->odometry_in_ = std::make_unique<R<cairn_msgs::Odometry, cairn_msgs::OdometryPubSubType>>(
-      p, dds::robot_topic(dds::kOdometryTopic, robot), TopicKind::kSensor);
-  n->laser_in_ = std::make_unique<R<cairn_msgs::LaserScan, cairn_msgs::LaserScanPubSubType>>(
-      p, dds::robot_topic(dds::kLaserTopic, robot), TopicKind::kSensor);
-  n->rgbd_in_ = std::make_unique<R<cairn_msgs::RgbdFrame, cairn_msgs::RgbdFramePubSubType>>(
-      p, dds::robot_topic(dds::kRgbdTopic, robot), TopicKind::kSensor);
-  n->clock_in_ = std::make_unique<R<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>>(p, dds::kClockTopic,
-                                                                                                   TopicKind::kClock);
-  n->ack_in_ = std::make_unique<R<cairn_msgs::Ack, cairn_msgs::AckPubSubType>>(p, dds::kAckTopic, TopicKind::kAck);
-  n->goal_in_ = std::make_unique<R<cairn_msgs::ExplorationGoal, cairn_msgs::ExplorationGoalPubSubType>>(
-      p, dds::kGoalTopic, TopicKind::kGoal);
+  n->odometry_in_ = std::make_unique<dds::Reader<dds::OdometryTopic>>(p, robot);
+  n->laser_in_ = std::make_unique<dds::Reader<dds::LaserScanTopic>>(p, robot);
+  n->rgbd_in_ = std::make_unique<dds::Reader<dds::RgbdTopic>>(p, robot);
+  n->clock_in_ = std::make_unique<dds::Reader<dds::ClockTopic>>(p);
+  n->ack_in_ = std::make_unique<dds::Reader<dds::AckTopic>>(p);
+  n->goal_in_ = std::make_unique<dds::Reader<dds::GoalTopic>>(p);
   dds::QosOptions large;
   large.large_data_flow_controlled = options.large_data_bytes_per_sec > 0;
-  n->keyframe_out_ = std::make_unique<W<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>>(
-      p, dds::kKeyframeTopic, TopicKind::kKeyframe, large);
-  n->object_out_ = std::make_unique<W<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>>(
-      p, dds::kObjectTopic, TopicKind::kObject, large);
-  n->keyframe_poses_out_ = std::make_unique<W<cairn_msgs::KeyframePoses, cairn_msgs::KeyframePosesPubSubType>>(
-      p, dds::kKeyframePosesTopic, TopicKind::kKeyframePoses);
-  n->status_out_ = std::make_unique<W<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>>(p, dds::kStatusTopic,
-                                                                                                   TopicKind::kStatus);
+  n->keyframe_out_ = std::make_unique<dds::Writer<dds::KeyframeTopic>>(p, large);
+  n->object_out_ = std::make_unique<dds::Writer<dds::ObjectTopic>>(p, large);
+  n->keyframe_poses_out_ = std::make_unique<dds::Writer<dds::KeyframePosesTopic>>(p);
+  n->status_out_ = std::make_unique<dds::Writer<dds::StatusTopic>>(p);
   if (!n->odometry_in_->ok() || !n->laser_in_->ok() || !n->rgbd_in_->ok() || !n->clock_in_->ok() || !n->ack_in_->ok() ||
       !n->keyframe_out_->ok() || !n->object_out_->ok() || !n->keyframe_poses_out_->ok() || !n->status_out_->ok() ||
       !n->goal_in_->ok()) {

@@ -52,26 +52,21 @@ class AgentNode {
   /// Keyframe, object and keyframe-pose payloads written so far.
   uint64_t bytes_sent() const;
 
-  template <typename M, typename T>
-  using R = dds::Reader<M, T>;
-  template <typename M, typename T>
-  using W = dds::Writer<M, T>;
-
   RobotId robot_;
   AgentNodeOptions options_;
   AgentPipeline pipeline_;
   std::shared_ptr<spdlog::logger> log_;
   std::unique_ptr<dds::Participant> participant_;
-  std::unique_ptr<R<cairn_msgs::Odometry, cairn_msgs::OdometryPubSubType>> odometry_in_;
-  std::unique_ptr<R<cairn_msgs::LaserScan, cairn_msgs::LaserScanPubSubType>> laser_in_;
-  std::unique_ptr<R<cairn_msgs::RgbdFrame, cairn_msgs::RgbdFramePubSubType>> rgbd_in_;
-  std::unique_ptr<R<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>> clock_in_;
-  std::unique_ptr<R<cairn_msgs::Ack, cairn_msgs::AckPubSubType>> ack_in_;
-  std::unique_ptr<R<cairn_msgs::ExplorationGoal, cairn_msgs::ExplorationGoalPubSubType>> goal_in_;
-  std::unique_ptr<W<cairn_msgs::Keyframe, cairn_msgs::KeyframePubSubType>> keyframe_out_;
-  std::unique_ptr<W<cairn_msgs::ObjectReport, cairn_msgs::ObjectReportPubSubType>> object_out_;
-  std::unique_ptr<W<cairn_msgs::KeyframePoses, cairn_msgs::KeyframePosesPubSubType>> keyframe_poses_out_;
-  std::unique_ptr<W<cairn_msgs::RobotStatus, cairn_msgs::RobotStatusPubSubType>> status_out_;
+  std::unique_ptr<dds::Reader<dds::OdometryTopic>> odometry_in_;
+  std::unique_ptr<dds::Reader<dds::LaserScanTopic>> laser_in_;
+  std::unique_ptr<dds::Reader<dds::RgbdTopic>> rgbd_in_;
+  std::unique_ptr<dds::Reader<dds::ClockTopic>> clock_in_;
+  std::unique_ptr<dds::Reader<dds::AckTopic>> ack_in_;
+  std::unique_ptr<dds::Reader<dds::GoalTopic>> goal_in_;
+  std::unique_ptr<dds::Writer<dds::KeyframeTopic>> keyframe_out_;
+  std::unique_ptr<dds::Writer<dds::ObjectTopic>> object_out_;
+  std::unique_ptr<dds::Writer<dds::KeyframePosesTopic>> keyframe_poses_out_;
+  std::unique_ptr<dds::Writer<dds::StatusTopic>> status_out_;
 
   std::unique_ptr<LogSource> log_source_;  ///< set when replaying a log instead of DDS input
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();

@@ -17,20 +17,16 @@ std::unique_ptr<SimPublisher> SimPublisher::create(dds::ParticipantOptions parti
   for (RobotId r : robots) {
     RobotWriters w;
     w.robot = r;
-    w.odometry = std::make_unique<W<cairn_msgs::Odometry, cairn_msgs::OdometryPubSubType>>(
-        part, dds::robot_topic(dds::kOdometryTopic, r), dds::TopicKind::kSensor);
-    w.laser = std::make_unique<W<cairn_msgs::LaserScan, cairn_msgs::LaserScanPubSubType>>(
-        part, dds::robot_topic(dds::kLaserTopic, r), dds::TopicKind::kSensor);
-    w.rgbd = std::make_unique<W<cairn_msgs::RgbdFrame, cairn_msgs::RgbdFramePubSubType>>(
-        part, dds::robot_topic(dds::kRgbdTopic, r), dds::TopicKind::kSensor);
+    w.odometry = std::make_unique<dds::Writer<dds::OdometryTopic>>(part, r);
+    w.laser = std::make_unique<dds::Writer<dds::LaserScanTopic>>(part, r);
+    w.rgbd = std::make_unique<dds::Writer<dds::RgbdTopic>>(part, r);
     if (!w.odometry->ok() || !w.laser->ok() || !w.rgbd->ok()) {
       *error = "cannot create sensor writers for " + to_string(r);
       return nullptr;
     }
     p->robots_.push_back(std::move(w));
   }
-  p->clock_ = std::make_unique<W<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>>(part, dds::kClockTopic,
-                                                                                                dds::TopicKind::kClock);
+  p->clock_ = std::make_unique<dds::Writer<dds::ClockTopic>>(part);
   if (!p->clock_->ok()) {
     *error = "cannot create the mission clock writer";
     return nullptr;

@@ -4,7 +4,6 @@
 #include <string>
 #include <vector>
 
-#include "cairn_msgsPubSubTypes.h"
 #include "dds/endpoints.h"
 #include "sim/simulator.h"
 
@@ -23,19 +22,17 @@ class SimPublisher {
   bool finish(StampNs final_stamp_ns, std::string* error);
 
  private:
-  template <typename M, typename T>
-  using W = dds::Writer<M, T>;
   struct RobotWriters {
     RobotId robot;
-    std::unique_ptr<W<cairn_msgs::Odometry, cairn_msgs::OdometryPubSubType>> odometry;
-    std::unique_ptr<W<cairn_msgs::LaserScan, cairn_msgs::LaserScanPubSubType>> laser;
-    std::unique_ptr<W<cairn_msgs::RgbdFrame, cairn_msgs::RgbdFramePubSubType>> rgbd;
+    std::unique_ptr<dds::Writer<dds::OdometryTopic>> odometry;
+    std::unique_ptr<dds::Writer<dds::LaserScanTopic>> laser;
+    std::unique_ptr<dds::Writer<dds::RgbdTopic>> rgbd;
   };
   RobotWriters* writers_of(RobotId robot);
 
   std::unique_ptr<dds::Participant> participant_;
   std::vector<RobotWriters> robots_;
-  std::unique_ptr<W<cairn_msgs::MissionClock, cairn_msgs::MissionClockPubSubType>> clock_;
+  std::unique_ptr<dds::Writer<dds::ClockTopic>> clock_;
   StampNs next_clock_ns_ = 0;
 };
 
