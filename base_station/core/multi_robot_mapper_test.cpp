@@ -38,7 +38,7 @@ bool occupied_near(const OccupancyGrid& grid, const Eigen::Vector2d& p) {
 }
 
 /// These tests exercise placement by start hints: automatic loop detection is off so their exact
-/// figures hold (merger_test.cpp covers automatic linking), and so are object constraints (the
+/// figures hold (multi_robot_mapper_merge_test.cpp covers automatic linking), and so are object constraints (the
 /// victim both robots report 0.22 m apart would pull the keyframes; object_constraints_test.cpp).
 MapperOptions hint_only_options() {
   MapperOptions o;
