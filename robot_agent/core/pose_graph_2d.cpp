@@ -6,86 +6,9 @@
 
 #include <cmath>
 
+#include "common/se2_relative_pose_residual.h"
+
 namespace cairn::agent {
-namespace {
-
-// Residual (Cartographer's SpaCostFunction2D) = L * (z (-) (T_i^-1 T_j)), L = diag(w_t, w_t, w_r) or a
-// full square-root information (anisotropic loop closures, see FullRelativePoseCost), with
-//   translation: R(yaw_i)^T (t_j - t_i) - t_z,   rotation: wrap(yaw_j - yaw_i - yaw_z),
-// with its analytic Jacobians (cheaper than Jets: the graph is re-solved periodically).
-class RelativePoseCost : public ceres::SizedCostFunction<3, 3, 3> {
- public:
-  RelativePoseCost(const SE2& z, double w_t, double w_r) : x_(z.x()), y_(z.y()), yaw_(z.yaw()), w_t_(w_t), w_r_(w_r) {}
-  static ceres::CostFunction* create(const SE2& z, double w_t, double w_r) { return new RelativePoseCost(z, w_t, w_r); }
-
-  bool Evaluate(double const* const* p, double* r, double** J) const override {
-    const double* a = p[0];
-    const double* b = p[1];
-    const double c = std::cos(a[2]), s = std::sin(a[2]);
-    const double dx = b[0] - a[0], dy = b[1] - a[1];
-    r[0] = w_t_ * (c * dx + s * dy - x_);
-    r[1] = w_t_ * (-s * dx + c * dy - y_);
-    r[2] = w_r_ * normalize_angle(b[2] - a[2] - yaw_);
-    if (J == nullptr) return true;
-    if (J[0] != nullptr) {
-      double* Ja = J[0];  // row-major 3x3, d r / d (x_i, y_i, yaw_i)
-      Ja[0] = -w_t_ * c;
-      Ja[1] = -w_t_ * s;
-      Ja[2] = w_t_ * (-s * dx + c * dy);
-      Ja[3] = w_t_ * s;
-      Ja[4] = -w_t_ * c;
-      Ja[5] = w_t_ * (-c * dx - s * dy);
-      Ja[6] = 0.0;
-      Ja[7] = 0.0;
-      Ja[8] = -w_r_;
-    }
-    if (J[1] != nullptr) {
-      double* Jb = J[1];  // d r / d (x_j, y_j, yaw_j)
-      Jb[0] = w_t_ * c;
-      Jb[1] = w_t_ * s;
-      Jb[2] = 0.0;
-      Jb[3] = -w_t_ * s;
-      Jb[4] = w_t_ * c;
-      Jb[5] = 0.0;
-      Jb[6] = 0.0;
-      Jb[7] = 0.0;
-      Jb[8] = w_r_;
-    }
-    return true;
-  }
-
- private:
-  double x_, y_, yaw_, w_t_, w_r_;
-};
-
-// The same error e with a full square-root information L: residual = L e, Jacobians L * de/dp.
-class FullRelativePoseCost : public ceres::SizedCostFunction<3, 3, 3> {
- public:
-  FullRelativePoseCost(const SE2& z, const Eigen::Matrix3d& L) : raw_(z, 1.0, 1.0), L_(L) {}
-
-  bool Evaluate(double const* const* p, double* r, double** J) const override {
-    double e[3], Ja[9], Jb[9];
-    double* Jraw[2] = {Ja, Jb};
-    raw_.Evaluate(p, e, J ? Jraw : nullptr);
-    const Eigen::Map<const Eigen::Vector3d> ev(e);
-    Eigen::Map<Eigen::Vector3d> rv(r);
-    rv = L_ * ev;
-    using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
-    for (int k = 0; J && k < 2; ++k) {
-      if (J[k] == nullptr) continue;
-      const Eigen::Map<const RowMajor3> jraw(Jraw[k]);
-      Eigen::Map<RowMajor3> jout(J[k]);
-      jout = L_ * jraw;
-    }
-    return true;
-  }
-
- private:
-  RelativePoseCost raw_;
-  Eigen::Matrix3d L_;
-};
-
-}  // namespace
 
 Eigen::Matrix3d anisotropic_sqrt_information(const Eigen::Matrix3d& covariance, double yaw_frame_match_rad,
                                              double translation_weight, double rotation_weight,
@@ -140,20 +63,22 @@ bool PoseGraph2D::optimize(int max_num_iterations) {
   const PoseGraphOptions& o = options_;
   for (const PoseGraphConstraint& c : constraints_) {
     const bool loop = c.kind == PoseGraphConstraint::Kind::kLoopClosure;
-    ceres::CostFunction* cost =
-        c.has_sqrt_information
-            ? static_cast<ceres::CostFunction*>(new FullRelativePoseCost(c.T_submap_node, c.sqrt_information))
-            : RelativePoseCost::create(c.T_submap_node, loop ? o.loop_translation_weight : o.intra_translation_weight,
-                                       loop ? o.loop_rotation_weight : o.intra_rotation_weight);
+    const Eigen::Matrix3d L =
+        c.has_sqrt_information ? c.sqrt_information
+        : loop
+            ? Se2RelativePoseResidual::diagonal_sqrt_information(o.loop_translation_weight, o.loop_rotation_weight)
+            : Se2RelativePoseResidual::diagonal_sqrt_information(o.intra_translation_weight, o.intra_rotation_weight);
+    ceres::CostFunction* cost = Se2RelativePoseResidual::create(c.T_submap_node, L, YawWrap::kFmod);
     problem.AddResidualBlock(cost, loop ? new ceres::HuberLoss(o.loop_huber_scale) : nullptr,
                              s[size_t(c.submap)].data(), n[size_t(c.node)].data());
   }
   for (size_t i = 1; i < nodes_.size(); ++i) {
     const SE2 z = local_nodes_[i - 1].between(local_nodes_[i]);
-    ceres::CostFunction* cost =
-        has_successive_sqrt_information_[i]
-            ? static_cast<ceres::CostFunction*>(new FullRelativePoseCost(z, successive_sqrt_information_[i]))
-            : RelativePoseCost::create(z, o.successive_translation_weight, o.successive_rotation_weight);
+    const Eigen::Matrix3d L = has_successive_sqrt_information_[i]
+                                  ? successive_sqrt_information_[i]
+                                  : Se2RelativePoseResidual::diagonal_sqrt_information(o.successive_translation_weight,
+                                                                                       o.successive_rotation_weight);
+    ceres::CostFunction* cost = Se2RelativePoseResidual::create(z, L, YawWrap::kFmod);
     problem.AddResidualBlock(cost, nullptr, n[i - 1].data(), n[i].data());
   }
   problem.SetParameterBlockConstant(s[0].data());

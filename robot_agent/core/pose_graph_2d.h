@@ -3,7 +3,8 @@
 // "sparse pose adjustment", Konolige et al. 2010; Hess et al. 2016 Sec. V-A): every node is tied to
 // the submaps it was inserted into (intra-submap constraints from local SLAM) and to its successor,
 // and loop-closure constraints tie nodes to older submaps. Optimised with Ceres, robust (Huber) loss
-// on loop closures, the first submap held fixed.
+// on loop closures, the first submap held fixed. Every edge is the shared SE2 relative-pose residual
+// (common/se2_relative_pose_residual.h) with the yaw error wrapped as SE2 wraps it (YawWrap::kFmod).
 #include <Eigen/Core>
 #include <array>
 #include <vector>
