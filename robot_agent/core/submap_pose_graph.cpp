@@ -1,4 +1,4 @@
-#include "robot_agent/core/pose_graph_2d.h"
+#include "robot_agent/core/submap_pose_graph.h"
 
 #include <ceres/ceres.h>
 
@@ -32,15 +32,15 @@ Eigen::Matrix3d anisotropic_sqrt_information(const Eigen::Matrix3d& covariance, 
   return L;
 }
 
-PoseGraph2D::PoseGraph2D(const PoseGraphOptions& options) : options_(options) {}
+SubmapPoseGraph::SubmapPoseGraph(const SubmapPoseGraphOptions& options) : options_(options) {}
 
-int PoseGraph2D::add_submap(const SE2& T_global_submap) {
+int SubmapPoseGraph::add_submap(const SE2& T_global_submap) {
   submaps_.push_back(T_global_submap);
   return int(submaps_.size()) - 1;
 }
 
-int PoseGraph2D::add_node(const SE2& T_global_node, const SE2& T_local_node,
-                          const Eigen::Matrix3d* successive_sqrt_information) {
+int SubmapPoseGraph::add_node(const SE2& T_global_node, const SE2& T_local_node,
+                              const Eigen::Matrix3d* successive_sqrt_information) {
   nodes_.push_back(T_global_node);
   local_nodes_.push_back(T_local_node);
   has_successive_sqrt_information_.push_back(successive_sqrt_information != nullptr);
@@ -49,20 +49,20 @@ int PoseGraph2D::add_node(const SE2& T_global_node, const SE2& T_local_node,
   return int(nodes_.size()) - 1;
 }
 
-void PoseGraph2D::add_constraint(const PoseGraphConstraint& c) {
+void SubmapPoseGraph::add_constraint(const SubmapPoseGraphConstraint& c) {
   constraints_.push_back(c);
-  if (c.kind == PoseGraphConstraint::Kind::kLoopClosure) ++num_loops_;
+  if (c.kind == SubmapPoseGraphConstraint::Kind::kLoopClosure) ++num_loops_;
 }
 
-bool PoseGraph2D::optimize(int max_num_iterations) {
+bool SubmapPoseGraph::optimize(int max_num_iterations) {
   if (submaps_.empty() || nodes_.empty()) return true;
   std::vector<std::array<double, 3>> s(submaps_.size()), n(nodes_.size());
   for (size_t i = 0; i < submaps_.size(); ++i) s[i] = {submaps_[i].x(), submaps_[i].y(), submaps_[i].yaw()};
   for (size_t i = 0; i < nodes_.size(); ++i) n[i] = {nodes_[i].x(), nodes_[i].y(), nodes_[i].yaw()};
   ceres::Problem problem;
-  const PoseGraphOptions& o = options_;
-  for (const PoseGraphConstraint& c : constraints_) {
-    const bool loop = c.kind == PoseGraphConstraint::Kind::kLoopClosure;
+  const SubmapPoseGraphOptions& o = options_;
+  for (const SubmapPoseGraphConstraint& c : constraints_) {
+    const bool loop = c.kind == SubmapPoseGraphConstraint::Kind::kLoopClosure;
     const Eigen::Matrix3d L =
         c.has_sqrt_information ? c.sqrt_information
         : loop
