@@ -109,7 +109,4 @@ class LocalSlam {
   std::optional<std::pair<StampNs, SE2>> matched_prev_, matched_last_;
 };
 
-/// Keeps the first point per cell of `voxel_m` (scan order), so dense scans cost less to match.
-std::vector<Eigen::Vector2f> voxel_filter_2d(const std::vector<Eigen::Vector2f>& points, double voxel_m);
-
 }  // namespace cairn::agent

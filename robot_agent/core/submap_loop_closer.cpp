@@ -3,7 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 
-#include "robot_agent/core/local_slam.h"
+#include "common/laser_scan.h"
 
 namespace cairn::agent {
 namespace {
