@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <unordered_set>
 
 namespace cairn {
 
@@ -29,6 +30,18 @@ std::vector<Eigen::Vector2f> scan_to_points(const LaserScan& scan, ScanFilterSta
   }
   if (stats) *stats += local;
   return points;
+}
+
+std::vector<Eigen::Vector2f> voxel_filter_2d(const std::vector<Eigen::Vector2f>& points, double voxel_m) {
+  if (voxel_m <= 0.0) return points;
+  std::unordered_set<int64_t> seen;
+  std::vector<Eigen::Vector2f> out;
+  out.reserve(points.size());
+  for (const auto& p : points) {
+    const int64_t cx = int64_t(std::floor(p.x() / voxel_m)), cy = int64_t(std::floor(p.y() / voxel_m));
+    if (seen.insert((cx << 32) ^ (cy & 0xffffffff)).second) out.push_back(p);
+  }
+  return out;
 }
 
 }  // namespace cairn

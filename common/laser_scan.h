@@ -1,5 +1,6 @@
 #pragma once
-// A planar laser scan and its conversion to points with bad readings filtered and counted.
+// A planar laser scan, its conversion to points with bad readings filtered and counted, and the
+// voxel thinning of those points.
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
@@ -34,6 +35,10 @@ struct ScanFilterStats {
 
 /// Endpoints of the valid beams in the sensor frame (metres).
 std::vector<Eigen::Vector2f> scan_to_points(const LaserScan& scan, ScanFilterStats* stats = nullptr);
+
+/// Keeps the first point per cell of `voxel_m` (scan order), so dense scans cost less to match
+/// (0 or less: all points).
+std::vector<Eigen::Vector2f> voxel_filter_2d(const std::vector<Eigen::Vector2f>& points, double voxel_m);
 
 /// Angle of beam i.
 inline float beam_angle_rad(const LaserScan& scan, size_t i) {

@@ -26,5 +26,15 @@ TEST(LaserScan, FiltersAndCountsBadReadings) {
   EXPECT_EQ(stats.max_range, 2);  // 10 m = range_max and +inf: no return
 }
 
+TEST(VoxelFilter2d, KeepsTheFirstPointOfEachCellInScanOrder) {
+  const std::vector<Eigen::Vector2f> points = {{0.01f, 0.01f}, {0.05f, 0.08f}, {0.15f, 0.01f}, {-0.01f, 0.01f}};
+  const auto kept = voxel_filter_2d(points, 0.1);
+  ASSERT_EQ(kept.size(), 3u);  // the second point shares the first's cell
+  EXPECT_EQ(kept[0], points[0]);
+  EXPECT_EQ(kept[1], points[2]);
+  EXPECT_EQ(kept[2], points[3]);
+  EXPECT_EQ(voxel_filter_2d(points, 0.0).size(), points.size());
+}
+
 }  // namespace
 }  // namespace cairn

@@ -8,15 +8,10 @@
 #include <set>
 #include <unordered_set>
 
+#include "common/se2_relative_pose_residual.h"
+
 namespace cairn::base {
 namespace {
-
-/// Wraps an angle to [-pi, pi); works on doubles and Ceres Jets.
-template <typename T>
-T normalize_angle_t(const T& a_rad) {
-  const T two_pi(2.0 * M_PI);
-  return a_rad - two_pi * ceres::floor((a_rad + T(M_PI)) / two_pi);
-}
 
 /// A node (x, y, yaw): x, y Euclidean, yaw on the circle (x + delta wrapped, y - x the shortest
 /// signed arc), as Ceres 2.1 AutoDiffManifold.
@@ -25,40 +20,16 @@ struct PoseManifold {
   bool Plus(const T* x, const T* delta, T* x_plus_delta) const {
     x_plus_delta[0] = x[0] + delta[0];
     x_plus_delta[1] = x[1] + delta[1];
-    x_plus_delta[2] = normalize_angle_t(x[2] + delta[2]);
+    x_plus_delta[2] = wrap_angle_floor(x[2] + delta[2]);
     return true;
   }
   template <typename T>
   bool Minus(const T* y, const T* x, T* y_minus_x) const {
     y_minus_x[0] = y[0] - x[0];
     y_minus_x[1] = y[1] - x[1];
-    y_minus_x[2] = normalize_angle_t(y[2] - x[2]);
+    y_minus_x[2] = wrap_angle_floor(y[2] - x[2]);
     return true;
   }
-};
-
-/// Relative-pose error of edge a -> b (poses a, b = (x, y, yaw)).
-/// Residual (3): sqrt_info * [ R_a^T (p_b - p_a) - p_ab ;  wrap(yaw_b - yaw_a - yaw_ab) ].
-struct RelativePoseResidual {
-  RelativePoseResidual(const SE2& T_a_b, const Eigen::Matrix3d& sqrt_information)
-      : p_ab_(T_a_b.translation()), yaw_ab_rad_(T_a_b.yaw()), sqrt_information_(sqrt_information) {}
-
-  template <typename T>
-  bool operator()(const T* a, const T* b, T* residual) const {
-    const T c = ceres::cos(a[2]), s = ceres::sin(a[2]);
-    const T dx = b[0] - a[0], dy = b[1] - a[1];
-    Eigen::Matrix<T, 3, 1> e;
-    e(0) = c * dx + s * dy - T(p_ab_.x());
-    e(1) = -s * dx + c * dy - T(p_ab_.y());
-    e(2) = normalize_angle_t(b[2] - a[2] - T(yaw_ab_rad_));
-    Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
-    r = sqrt_information_.template cast<T>() * e;
-    return true;
-  }
-
-  Eigen::Vector2d p_ab_;
-  double yaw_ab_rad_;
-  Eigen::Matrix3d sqrt_information_;
 };
 
 /// SE-Sync's per-edge objective (Rosen et al. 2019) for 2D, so that sum r^2 equals it:
@@ -77,7 +48,7 @@ struct SeSyncResidual {
     const T dx = b[0] - a[0], dy = b[1] - a[1];
     r[0] = T(sqrt_tau_) * (c * dx + s * dy - T(p_ab_.x()));
     r[1] = T(sqrt_tau_) * (-s * dx + c * dy - T(p_ab_.y()));
-    r[2] = T(sqrt_8kappa_) * ceres::sin(normalize_angle_t(b[2] - a[2] - T(yaw_ab_rad_)) / T(2.0));
+    r[2] = T(sqrt_8kappa_) * ceres::sin(wrap_angle_floor(b[2] - a[2] - T(yaw_ab_rad_)) / T(2.0));
     return true;
   }
 
@@ -96,7 +67,7 @@ struct PriorResidual {
     Eigen::Matrix<T, 3, 1> e;
     e(0) = pose[0] - T(p_.x());
     e(1) = pose[1] - T(p_.y());
-    e(2) = normalize_angle_t(pose[2] - T(yaw_rad_));
+    e(2) = wrap_angle_floor(pose[2] - T(yaw_rad_));
     Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
     r = sqrt_information_.template cast<T>() * e;
     return true;
@@ -119,7 +90,7 @@ struct RangeBearingResidual {
     const T dx = l[0] - a[0], dy = l[1] - a[1];
     const T x = c * dx + s * dy, y = -s * dx + c * dy;
     residual[0] = (ceres::sqrt(x * x + y * y + T(1e-12)) - T(e_.range_m)) / T(e_.sigma_range_m);
-    residual[1] = normalize_angle_t(ceres::atan2(y, x) - T(e_.bearing_rad)) / T(e_.sigma_bearing_rad);
+    residual[1] = wrap_angle_floor(ceres::atan2(y, x) - T(e_.bearing_rad)) / T(e_.sigma_bearing_rad);
     return true;
   }
 
@@ -177,7 +148,7 @@ struct PoseGraph2d::Problem {
   size_t edges_added = 0;
   /// Per added edge, its residual's functor (the one of the graph's residual type; the other
   /// nullptr), owned by Ceres: set_edge_measurement() rewrites the measurement in place.
-  std::vector<RelativePoseResidual*> relative_residuals;
+  std::vector<Se2RelativePoseResidual*> relative_residuals;
   std::vector<SeSyncResidual*> sesync_residuals;
   std::vector<KeyframeId> new_nodes;  ///< added to the graph since the last sync
   std::vector<ceres::ResidualBlockId> prior_blocks;
@@ -249,7 +220,9 @@ bool PoseGraph2d::set_edge_measurement(size_t index, const SE2& T_from_to, const
   edges_[index].T_from_to = T_from_to;
   edges_[index].information = information;
   if (problem_ && index < problem_->edges_added) {
-    if (RelativePoseResidual* r = problem_->relative_residuals[index]) *r = RelativePoseResidual(T_from_to, *sqrt_info);
+    if (Se2RelativePoseResidual* r = problem_->relative_residuals[index]) {
+      *r = Se2RelativePoseResidual(T_from_to, *sqrt_info, YawWrap::kFloor);
+    }
     if (SeSyncResidual* r = problem_->sesync_residuals[index]) *r = SeSyncResidual(T_from_to, information);
   }
   return true;
@@ -294,13 +267,15 @@ void PoseGraph2d::sync_problem() {
     const PoseGraphEdge& e = edges_[p.edges_added];
     ceres::CostFunction* cost = nullptr;
     SeSyncResidual* sesync = nullptr;
-    RelativePoseResidual* relative = nullptr;
+    Se2RelativePoseResidual* relative = nullptr;
     if (options_.residual == EdgeResidualType::kSeSync) {
       cost = new ceres::AutoDiffCostFunction<SeSyncResidual, 3, 3, 3>(
           sesync = new SeSyncResidual(e.T_from_to, e.information));
     } else {
-      cost = new ceres::AutoDiffCostFunction<RelativePoseResidual, 3, 3, 3>(
-          relative = new RelativePoseResidual(e.T_from_to, *sqrt_information(e.information)));
+      // The shared edge residual (common/se2_relative_pose_residual.h), yaw wrapped by floor as the
+      // manifold wraps it.
+      cost = new ceres::AutoDiffCostFunction<Se2RelativePoseResidual, 3, 3, 3>(
+          relative = new Se2RelativePoseResidual(e.T_from_to, *sqrt_information(e.information), YawWrap::kFloor));
     }
     p.sesync_residuals.push_back(sesync);
     p.relative_residuals.push_back(relative);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_set>
 
 namespace cairn::agent {
 
@@ -42,18 +41,6 @@ const char* to_string(LocalSlamResult::Status status) {
       return "odometry_stalled";
   }
   return "unknown";
-}
-
-std::vector<Eigen::Vector2f> voxel_filter_2d(const std::vector<Eigen::Vector2f>& points, double voxel_m) {
-  if (voxel_m <= 0.0) return points;
-  std::unordered_set<int64_t> seen;
-  std::vector<Eigen::Vector2f> out;
-  out.reserve(points.size());
-  for (const auto& p : points) {
-    const int64_t cx = int64_t(std::floor(p.x() / voxel_m)), cy = int64_t(std::floor(p.y() / voxel_m));
-    if (seen.insert((cx << 32) ^ (cy & 0xffffffff)).second) out.push_back(p);
-  }
-  return out;
 }
 
 LocalSlam::LocalSlam(const LocalSlamOptions& options)

@@ -3,7 +3,7 @@
 // 2016): predict the pose from odometry (or constant velocity), skip near-duplicate scans with a
 // motion filter, match the scan against the active submap (scan_matcher.h: real-time correlative
 // search + Ceres), insert it into the submaps, and close loops against older submaps
-// (loop_closure.h) so the robot's own map stays consistent over long runs.
+// (submap_loop_closer.h, SubmapLoopCloser) so the robot's own map stays consistent over long runs.
 #include <Eigen/Core>
 #include <optional>
 #include <vector>
@@ -12,9 +12,9 @@
 #include "common/se2.h"
 #include "common/time.h"
 #include "common/trajectory.h"
-#include "robot_agent/core/loop_closure.h"
 #include "robot_agent/core/scan_matcher.h"
 #include "robot_agent/core/submap.h"
+#include "robot_agent/core/submap_loop_closer.h"
 
 namespace cairn::agent {
 
@@ -29,7 +29,7 @@ struct LocalSlamOptions {
   SubmapOptions submaps;
   ScanMatcherOptions matcher;
   MotionFilterOptions motion_filter;
-  LoopClosureOptions loop_closure;
+  SubmapLoopCloserOptions loop_closure;
   int min_valid_points = 20;  ///< fewer valid beams: the scan is skipped
   /// The correlative window grows with the predicted motion since the last matched scan (odometry
   /// error grows with distance): + this many metres per metre and radians per metre / per radian.
@@ -72,7 +72,7 @@ class LocalSlam {
   /// Latest tracked pose (matched or predicted).
   const SE2& pose() const { return pose_; }
   const ActiveSubmaps& submaps() const { return submaps_; }
-  const LoopClosure& loop_closure() const { return loop_closure_; }
+  const SubmapLoopCloser& loop_closure() const { return loop_closure_; }
   /// End of input: final pose-graph optimisation.
   void finish() { loop_closure_.finish(); }
   /// Every processed scan's pose in the optimised frame (scans between nodes ride on the latest node
@@ -89,7 +89,7 @@ class LocalSlam {
   LocalSlamOptions options_;
   ScanMatcher matcher_;
   ActiveSubmaps submaps_;
-  LoopClosure loop_closure_;
+  SubmapLoopCloser loop_closure_;
   struct ScanRecord {
     StampNs stamp_ns;
     int node;         ///< latest node at or before the scan (-1: before the first node)
@@ -108,8 +108,5 @@ class LocalSlam {
   /// Constant-velocity model: the last two matched poses.
   std::optional<std::pair<StampNs, SE2>> matched_prev_, matched_last_;
 };
-
-/// Keeps the first point per cell of `voxel_m` (scan order), so dense scans cost less to match.
-std::vector<Eigen::Vector2f> voxel_filter_2d(const std::vector<Eigen::Vector2f>& points, double voxel_m);
 
 }  // namespace cairn::agent

@@ -95,7 +95,7 @@ SlamRunResult run_slam(const CarmenLog& log, bool corrected, const SlamRunOption
   out.stats.slam_major_faults = usage1.major_faults - usage0.major_faults;
   for (size_t i = 0; i < log.scans.size(); ++i) out.odometry.push_back({log.scans[i].stamp_ns, odometry[i]});
   if (!log.scans.empty()) out.stats.log_duration_s = ns_to_sec(log.scans.back().stamp_ns - log.scans.front().stamp_ns);
-  const agent::LoopClosure& lc = slam.loop_closure();
+  const agent::SubmapLoopCloser& lc = slam.loop_closure();
   out.stats.nodes = lc.num_nodes();
   out.stats.submaps = lc.graph().num_submaps();
   out.stats.loop_closures = lc.stats().loop_closures;

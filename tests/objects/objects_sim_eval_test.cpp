@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "robot_agent/core/objects/objects_sim_eval.h"
+#include "tests/objects/objects_sim_eval.h"
 
 namespace cairn::agent {
 namespace {

@@ -1,6 +1,8 @@
 #pragma once
-// Intra-robot loop closure for the local SLAM (Cartographer's ConstraintBuilder2D + PoseGraph2D;
-// Hess et al., ICRA 2016, Sec. V): every inserted scan becomes a node of a sparse pose graph over
+// SubmapLoopCloser: intra-robot loop closure for the local SLAM, scans against the robot's own
+// older submaps (the base station's cross-robot closures between keyframes are base::LoopCloser).
+// After Cartographer's ConstraintBuilder2D + PoseGraph2D (Hess et al., ICRA 2016, Sec. V): every
+// inserted scan becomes a node of a sparse pose graph over
 // submaps and nodes; finished submaps get a branch-and-bound matcher (fast_correlative_scan_matcher.h);
 // sampled nodes are searched against older finished submaps near their current estimate, matches
 // are refined with Ceres and added as loop-closure constraints, and the graph is optimised
@@ -18,12 +20,12 @@
 #include "robot_agent/core/ceres_scan_matcher.h"
 #include "robot_agent/core/correlative_scan_matcher.h"
 #include "robot_agent/core/fast_correlative_scan_matcher.h"
-#include "robot_agent/core/pose_graph_2d.h"
 #include "robot_agent/core/submap.h"
+#include "robot_agent/core/submap_pose_graph.h"
 
 namespace cairn::agent {
 
-struct LoopClosureOptions {
+struct SubmapLoopCloserOptions {
   bool enabled = true;
   FastCorrelativeScanMatcherOptions fast;
   CeresScanMatcherOptions refine = [] {
@@ -33,7 +35,7 @@ struct LoopClosureOptions {
     o.compute_covariance = false;  // loop closures are weighted by the score-surface covariance
     return o;
   }();
-  PoseGraphOptions graph;
+  SubmapPoseGraphOptions graph;
   /// The search window grows with the drift the node's estimate can have accumulated relative to
   /// the submap: window = min(max, base + per_node * gap), gap = the nodes since the submap was last
   /// touched.
@@ -71,10 +73,10 @@ struct LoopClosureOptions {
   int periodic_max_num_iterations = 10;
   /// Covariance-weighted loop closures: the match's score-surface covariance
   /// (correlative_scan_matcher.h score_surface_covariance) shapes the constraint's translation weight
-  /// (pose_graph_2d.h anisotropic_sqrt_information), so a match along a featureless corridor only
+  /// (submap_pose_graph.h anisotropic_sqrt_information), so a match along a featureless corridor only
   /// constrains the across-corridor position. (The Ceres refinement's Gauss-Newton covariance cannot
   /// be used: J^T J of the likelihood-field residuals vanishes across a wall at the optimum, where
-  /// the field peaks, and is dominated by rasterisation ripples along it; loop_closure_test.cpp.)
+  /// the field peaks, and is dominated by rasterisation ripples along it; submap_loop_closer_test.cpp.)
   bool covariance_weighting = true;
   ScoreSurfaceOptions score_surface;
   double covariance_min_weight_ratio = 0.05;  ///< along the worst direction, of the fixed weight
@@ -87,7 +89,7 @@ struct LoopClosureOptions {
   double refine_voxel_m = 0.08;  ///< points used for the Ceres refinement
 };
 
-struct LoopClosureStats {
+struct SubmapLoopCloserStats {
   int searches = 0;
   int loop_closures = 0;
   int rejected_after_refinement = 0;
@@ -100,9 +102,9 @@ struct LoopClosureStats {
   int anisotropic_local_nodes = 0;
 };
 
-class LoopClosure {
+class SubmapLoopCloser {
  public:
-  explicit LoopClosure(const LoopClosureOptions& options = {});
+  explicit SubmapLoopCloser(const SubmapLoopCloserOptions& options = {});
 
   /// Adds the node of a scan inserted at `T_local_node` (`insertion` from ActiveSubmaps::insert,
   /// `submaps` after it; `covariance`: of the node's scan-to-submap match, local frame, when matched
@@ -119,8 +121,8 @@ class LoopClosure {
   const SE2& local_node_pose(int node) const { return local_nodes_[size_t(node)]; }
   /// Maps the local SLAM frame to the optimised frame (from the newest submap).
   SE2 T_global_local() const;
-  const PoseGraph2D& graph() const { return graph_; }
-  const LoopClosureStats& stats() const { return stats_; }
+  const SubmapPoseGraph& graph() const { return graph_; }
+  const SubmapLoopCloserStats& stats() const { return stats_; }
 
  private:
   struct SubmapEntry {
@@ -137,8 +139,8 @@ class LoopClosure {
   bool try_submap(int node, SubmapEntry& entry, int submap_id, const std::vector<Eigen::Vector2f>& coarse,
                   const std::vector<Eigen::Vector2f>& fine);
 
-  LoopClosureOptions options_;
-  PoseGraph2D graph_;
+  SubmapLoopCloserOptions options_;
+  SubmapPoseGraph graph_;
   CeresScanMatcher refiner_;
   std::vector<SubmapEntry> submaps_;
   std::vector<SE2> local_nodes_;
@@ -155,7 +157,7 @@ class LoopClosure {
   int last_loop_node_ = -1;  ///< newest node with an accepted loop closure
   int anchored_node_ = -1;   ///< last_loop_node_ as of the latest optimisation
   int nodes_since_optimize_ = 0;
-  LoopClosureStats stats_;
+  SubmapLoopCloserStats stats_;
 };
 
 }  // namespace cairn::agent

@@ -1,9 +1,12 @@
 #pragma once
-// Sparse pose graph over submaps and scan nodes (Cartographer's PoseGraph2D / OptimizationProblem2D,
-// "sparse pose adjustment", Konolige et al. 2010; Hess et al. 2016 Sec. V-A): every node is tied to
-// the submaps it was inserted into (intra-submap constraints from local SLAM) and to its successor,
-// and loop-closure constraints tie nodes to older submaps. Optimised with Ceres, robust (Huber) loss
-// on loop closures, the first submap held fixed.
+// SubmapPoseGraph: one robot's own sparse pose graph over its submaps and scan nodes (the base
+// station's multi-robot keyframe graph is base::PoseGraph2d). After Cartographer's PoseGraph2D /
+// OptimizationProblem2D ("sparse pose adjustment", Konolige et al. 2010; Hess et al. 2016 Sec. V-A):
+// every node is tied to the submaps it was inserted into (intra-submap constraints from local SLAM)
+// and to its successor, and loop-closure constraints tie nodes to older submaps. Optimised with
+// Ceres, robust (Huber) loss on loop closures, the first submap held fixed. Every edge is the shared
+// SE2 relative-pose residual (common/se2_relative_pose_residual.h) with the yaw error wrapped as SE2
+// wraps it (YawWrap::kFmod).
 #include <Eigen/Core>
 #include <array>
 #include <vector>
@@ -12,7 +15,7 @@
 
 namespace cairn::agent {
 
-struct PoseGraphOptions {
+struct SubmapPoseGraphOptions {
   /// Weights are 1/sigma of each residual component (metres, radians).
   double intra_translation_weight = 1.0 / 0.05;
   double intra_rotation_weight = 1.0 / 0.01;
@@ -24,7 +27,7 @@ struct PoseGraphOptions {
   int max_num_iterations = 30;
 };
 
-struct PoseGraphConstraint {
+struct SubmapPoseGraphConstraint {
   enum class Kind { kIntraSubmap, kLoopClosure };
   int submap = 0;
   int node = 0;
@@ -47,16 +50,16 @@ Eigen::Matrix3d anisotropic_sqrt_information(const Eigen::Matrix3d& covariance, 
                                              double translation_weight, double rotation_weight,
                                              double min_weight_ratio);
 
-class PoseGraph2D {
+class SubmapPoseGraph {
  public:
-  explicit PoseGraph2D(const PoseGraphOptions& options = {});
+  explicit SubmapPoseGraph(const SubmapPoseGraphOptions& options = {});
 
   int add_submap(const SE2& T_global_submap);
   /// A node; consecutive nodes are tied by their local-SLAM relative pose `T_prev_node`, weighted by
   /// `successive_sqrt_information` (in the previous node's frame) when given, else by the options.
   int add_node(const SE2& T_global_node, const SE2& T_local_node,
                const Eigen::Matrix3d* successive_sqrt_information = nullptr);
-  void add_constraint(const PoseGraphConstraint& c);
+  void add_constraint(const SubmapPoseGraphConstraint& c);
 
   /// Runs Ceres (at most `max_num_iterations`, or the options' when <= 0); returns false when the
   /// solver reports an unusable solution (poses unchanged).
@@ -66,17 +69,17 @@ class PoseGraph2D {
   const SE2& node_pose(int i) const { return nodes_[size_t(i)]; }
   int num_submaps() const { return int(submaps_.size()); }
   int num_nodes() const { return int(nodes_.size()); }
-  const std::vector<PoseGraphConstraint>& constraints() const { return constraints_; }
+  const std::vector<SubmapPoseGraphConstraint>& constraints() const { return constraints_; }
   int num_loop_closures() const { return num_loops_; }
 
  private:
-  PoseGraphOptions options_;
+  SubmapPoseGraphOptions options_;
   std::vector<SE2> submaps_;
   std::vector<SE2> nodes_;
   std::vector<SE2> local_nodes_;                              ///< local-SLAM poses, for successive-node constraints
   std::vector<Eigen::Matrix3d> successive_sqrt_information_;  ///< per node (from the second)
   std::vector<bool> has_successive_sqrt_information_;
-  std::vector<PoseGraphConstraint> constraints_;
+  std::vector<SubmapPoseGraphConstraint> constraints_;
   int num_loops_ = 0;
 };
 

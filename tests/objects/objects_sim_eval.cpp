@@ -1,4 +1,4 @@
-#include "robot_agent/core/objects/objects_sim_eval.h"
+#include "tests/objects/objects_sim_eval.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,9 +1,9 @@
-#include "robot_agent/core/loop_closure.h"
+#include "robot_agent/core/submap_loop_closer.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 
-#include "robot_agent/core/local_slam.h"
+#include "common/laser_scan.h"
 
 namespace cairn::agent {
 namespace {
@@ -16,25 +16,25 @@ double weight_ratio(const Eigen::Matrix3d& L) {
 
 }  // namespace
 
-LoopClosure::LoopClosure(const LoopClosureOptions& options)
+SubmapLoopCloser::SubmapLoopCloser(const SubmapLoopCloserOptions& options)
     : options_(options), graph_(options.graph), refiner_(options.refine) {}
 
-SE2 LoopClosure::T_global_local() const {
+SE2 SubmapLoopCloser::T_global_local() const {
   if (submaps_.empty()) return SE2();
   const int last = int(submaps_.size()) - 1;
   return graph_.submap_pose(last) * submaps_.back().T_local_submap.inverse();
 }
 
-int LoopClosure::add_node(const SE2& T_local_node, const std::vector<Eigen::Vector2f>& points_base,
-                          const SubmapInsertion& insertion, const ActiveSubmaps& submaps,
-                          const Covariance3* covariance) {
+int SubmapLoopCloser::add_node(const SE2& T_local_node, const std::vector<Eigen::Vector2f>& points_base,
+                               const SubmapInsertion& insertion, const ActiveSubmaps& submaps,
+                               const Covariance3* covariance) {
   const SE2 correction = T_global_local();
   if (insertion.created) {
     const auto& s = *submaps.active().back();
     submaps_.push_back(SubmapEntry{s.T_local_submap, nullptr, nullptr, -1});
     graph_.add_submap(correction * s.T_local_submap);
   }
-  const LoopClosureOptions& o = options_;
+  const SubmapLoopCloserOptions& o = options_;
   const bool shaped = o.local_covariance_weighting && covariance != nullptr;
   Eigen::Matrix3d successive;
   if (shaped && !local_nodes_.empty()) {
@@ -52,8 +52,8 @@ int LoopClosure::add_node(const SE2& T_local_node, const std::vector<Eigen::Vect
   for (int id : insertion.inserted_into) {
     SubmapEntry& e = submaps_[size_t(id)];
     e.last_node = node;
-    PoseGraphConstraint c{id, node, e.T_local_submap.between(T_local_node), PoseGraphConstraint::Kind::kIntraSubmap,
-                          1.0};
+    SubmapPoseGraphConstraint c{id, node, e.T_local_submap.between(T_local_node),
+                                SubmapPoseGraphConstraint::Kind::kIntraSubmap, 1.0};
     if (shaped) {
       c.has_sqrt_information = true;
       c.sqrt_information =
@@ -77,7 +77,7 @@ int LoopClosure::add_node(const SE2& T_local_node, const std::vector<Eigen::Vect
   return node;
 }
 
-void LoopClosure::optimize(int max_num_iterations) {
+void SubmapLoopCloser::optimize(int max_num_iterations) {
   const int newest = graph_.num_nodes() - 1;
   const SE2 before = newest >= 0 ? graph_.node_pose(newest) : SE2();
   loops_since_optimize_ = 0;
@@ -97,8 +97,8 @@ void LoopClosure::optimize(int max_num_iterations) {
   anchored_node_ = last_loop_node_;
 }
 
-void LoopClosure::anchored_window(int anchor, int node, double* linear_m, double* angular_rad) const {
-  const LoopClosureOptions& o = options_;
+void SubmapLoopCloser::anchored_window(int anchor, int node, double* linear_m, double* angular_rad) const {
+  const SubmapLoopCloserOptions& o = options_;
   double linear_rate = o.anchor_min_linear_rate, angular_rate = o.anchor_min_angular_rate_rad;
   for (const auto& [l, a] : observed_rates_) {
     linear_rate = std::max(linear_rate, l);
@@ -109,8 +109,8 @@ void LoopClosure::anchored_window(int anchor, int node, double* linear_m, double
   *angular_rad = o.angular_window_base_rad + o.anchor_gap_factor * angular_rate * travel_m;
 }
 
-void LoopClosure::window(int node, const SubmapEntry& e, double* linear_m, double* angular_rad) const {
-  const LoopClosureOptions& o = options_;
+void SubmapLoopCloser::window(int node, const SubmapEntry& e, double* linear_m, double* angular_rad) const {
+  const SubmapLoopCloserOptions& o = options_;
   const double gap = double(node - e.last_node);
   *linear_m = std::min(o.linear_window_max_m, o.linear_window_base_m + o.linear_window_per_node_m * gap);
   *angular_rad = std::min(o.angular_window_max_rad, o.angular_window_base_rad + o.angular_window_per_node_rad * gap);
@@ -121,7 +121,7 @@ void LoopClosure::window(int node, const SubmapEntry& e, double* linear_m, doubl
   *angular_rad = std::min(*angular_rad, a);
 }
 
-void LoopClosure::search(int node, const std::vector<Eigen::Vector2f>& points_base, const std::vector<int>& own) {
+void SubmapLoopCloser::search(int node, const std::vector<Eigen::Vector2f>& points_base, const std::vector<int>& own) {
   const SE2& T_global_node = graph_.node_pose(node);
   std::vector<Eigen::Vector2f> coarse, fine;
   for (int id = 0; id < int(submaps_.size()); ++id) {
@@ -149,13 +149,13 @@ void LoopClosure::search(int node, const std::vector<Eigen::Vector2f>& points_ba
   }
 }
 
-bool LoopClosure::try_submap(int node, SubmapEntry& e, int id, const std::vector<Eigen::Vector2f>& points,
-                             const std::vector<Eigen::Vector2f>& fine) {
+bool SubmapLoopCloser::try_submap(int node, SubmapEntry& e, int id, const std::vector<Eigen::Vector2f>& points,
+                                  const std::vector<Eigen::Vector2f>& fine) {
   ++stats_.searches;
   // The initial guess in the submap grid's (local) frame, from the current optimised poses.
   const SE2 T_submap_node = graph_.submap_pose(id).between(graph_.node_pose(node));
   SE2 initial = e.T_local_submap * T_submap_node;
-  const LoopClosureOptions& o = options_;
+  const SubmapLoopCloserOptions& o = options_;
   double linear_m = 0.0, angular_rad = 0.0;
   window(node, e, &linear_m, &angular_rad);
   if (o.tracking_max_gap_nodes > 0 && e.loop_node >= 0 && node - e.loop_node <= o.tracking_max_gap_nodes) {
@@ -188,8 +188,8 @@ bool LoopClosure::try_submap(int node, SubmapEntry& e, int id, const std::vector
     return fail();
   }
   e.failures = 0;
-  PoseGraphConstraint c{id, node, e.T_local_submap.between(refined.pose), PoseGraphConstraint::Kind::kLoopClosure,
-                        refined.score};
+  SubmapPoseGraphConstraint c{id, node, e.T_local_submap.between(refined.pose),
+                              SubmapPoseGraphConstraint::Kind::kLoopClosure, refined.score};
   if (o.covariance_weighting) {
     // The covariance is over the pose in the grid (local) frame; the residual is in the submap's.
     c.has_sqrt_information = true;
@@ -205,7 +205,7 @@ bool LoopClosure::try_submap(int node, SubmapEntry& e, int id, const std::vector
   return true;
 }
 
-void LoopClosure::finish() {
+void SubmapLoopCloser::finish() {
   if (!options_.enabled || graph_.num_loop_closures() == 0) return;
   optimize(options_.graph.max_num_iterations);
 }
