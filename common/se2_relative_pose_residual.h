@@ -1,6 +1,6 @@
 #pragma once
 // The SE2 relative-pose residual of every pose graph in Cairn: the robot agent's submap graph
-// (agent::SubmapPoseGraph) and the base station's keyframe graph (base::PoseGraph2d). It is the
+// (agent::SubmapPoseGraph) and the base station's keyframe graph (base::KeyframePoseGraph). It is the
 // "sparse pose adjustment" edge (Konolige et al. 2010; Ceres' pose_graph_2d example; Cartographer's
 // SpaCostFunction2D), header-only and templated for ceres::AutoDiffCostFunction. Include it only in
 // the .cpp files that build a Ceres problem.
@@ -34,7 +34,7 @@ ceres::Jet<double, N> wrap_angle_fmod(const ceres::Jet<double, N>& a_rad) {
 /// each graph keeps the one its results were produced with:
 enum class YawWrap {
   kFmod,   ///< (-pi, pi], cairn::normalize_angle (as SE2 wraps): agent::SubmapPoseGraph
-  kFloor,  ///< [-pi, pi), floor (as its yaw manifold wraps): base::PoseGraph2d
+  kFloor,  ///< [-pi, pi), floor (as its yaw manifold wraps): base::KeyframePoseGraph
 };
 
 /// Relative-pose error of an edge a -> b measured as z = T_a_b; poses a, b = (x, y, yaw) in one

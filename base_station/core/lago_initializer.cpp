@@ -18,7 +18,7 @@ struct Indexed {
 };
 
 /// Anchors: priors, plus the first node of each connected component that has none.
-Indexed index_graph(const PoseGraph2d& graph, std::vector<std::vector<std::pair<int, int>>>* adj) {
+Indexed index_graph(const KeyframePoseGraph& graph, std::vector<std::vector<std::pair<int, int>>>* adj) {
   Indexed g;
   for (const auto& [id, pose] : graph.estimates()) {
     g.index[id] = int(g.ids.size());
@@ -40,7 +40,7 @@ Indexed index_graph(const PoseGraph2d& graph, std::vector<std::vector<std::pair<
 
 /// Breadth-first spanning-tree yaw of each node, from the anchors; components without an anchor
 /// get their first node as one (at its current estimate).
-std::vector<double> tree_yaw(const PoseGraph2d& graph, Indexed* g,
+std::vector<double> tree_yaw(const KeyframePoseGraph& graph, Indexed* g,
                              const std::vector<std::vector<std::pair<int, int>>>& adj) {
   const size_t n = g->ids.size();
   std::vector<double> yaw(n, 0.0);
@@ -90,7 +90,7 @@ std::optional<Eigen::VectorXd> solve_normal(int n, const Triplets& triplets, con
   return x;
 }
 
-std::optional<Eigen::VectorXd> solve_orientations(const PoseGraph2d& graph, const Indexed& g,
+std::optional<Eigen::VectorXd> solve_orientations(const KeyframePoseGraph& graph, const Indexed& g,
                                                   const std::vector<double>& tree, double w_anchor) {
   const int n = int(g.ids.size());
   Triplets t;
@@ -118,8 +118,8 @@ std::optional<Eigen::VectorXd> solve_orientations(const PoseGraph2d& graph, cons
   return solve_normal(n, t, b);
 }
 
-std::optional<Eigen::VectorXd> solve_positions(const PoseGraph2d& graph, const Indexed& g, const Eigen::VectorXd& theta,
-                                               double w_anchor) {
+std::optional<Eigen::VectorXd> solve_positions(const KeyframePoseGraph& graph, const Indexed& g,
+                                               const Eigen::VectorXd& theta, double w_anchor) {
   const int n = int(g.ids.size());
   Triplets t;
   Eigen::VectorXd b = Eigen::VectorXd::Zero(2 * n);
@@ -150,7 +150,7 @@ std::optional<Eigen::VectorXd> solve_positions(const PoseGraph2d& graph, const I
 
 }  // namespace
 
-std::optional<std::map<KeyframeId, SE2>> lago_initialize(const PoseGraph2d& graph, const LagoOptions& options) {
+std::optional<std::map<KeyframeId, SE2>> lago_initialize(const KeyframePoseGraph& graph, const LagoOptions& options) {
   std::map<KeyframeId, SE2> out;
   if (graph.num_nodes() == 0) return out;
   std::vector<std::vector<std::pair<int, int>>> adj;

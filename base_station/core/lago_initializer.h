@@ -13,7 +13,7 @@
 #include <optional>
 #include <vector>
 
-#include "base_station/core/pose_graph_2d.h"
+#include "base_station/core/keyframe_pose_graph.h"
 
 namespace cairn::base {
 
@@ -25,6 +25,7 @@ struct LagoOptions {
 
 /// Estimates every node connected to an anchor; nodes in components without one are fixed by
 /// their first node at its current estimate. nullopt if the linear systems are singular.
-std::optional<std::map<KeyframeId, SE2>> lago_initialize(const PoseGraph2d& graph, const LagoOptions& options = {});
+std::optional<std::map<KeyframeId, SE2>> lago_initialize(const KeyframePoseGraph& graph,
+                                                         const LagoOptions& options = {});
 
 }  // namespace cairn::base

@@ -4,7 +4,7 @@
 // both saw (least squares, Umeyama 1991 without scale, with the worst landmark dropped while the
 // residual is above a gate: a mis-identified marker must not produce a wrong merge).
 // The MultiRobotMapper uses these to offer marker-based link hypotheses and to add landmark nodes
-// with range-bearing residuals to its pose graph (multi_robot_mapper_landmarks.cpp).
+// with range-bearing residuals to its pose graph (robot_linker_landmarks.cpp, multi_robot_mapper_graph.cpp).
 #include <Eigen/Core>
 #include <map>
 #include <optional>

@@ -191,7 +191,7 @@ TEST(Landmarks, AlignmentNeedsEnoughConsistentSpreadMarkers) {
 TEST(Landmarks, PoseGraphRangeBearingRecoversPointAndPose) {
   // Two poses 4 m apart seeing two landmarks; pose 1's odometry is off by 0.5 m in y: the
   // landmark residuals (pose 0 pinned) pull it back.
-  PoseGraph2d graph;
+  KeyframePoseGraph graph;
   const KeyframeId k0{RobotId(0), 0}, k1{RobotId(0), 1};
   ASSERT_TRUE(graph.add_node(k0, SE2()));
   ASSERT_TRUE(graph.add_node(k1, SE2(4, 0.5, 0)));
@@ -214,7 +214,7 @@ TEST(Landmarks, PoseGraphRangeBearingRecoversPointAndPose) {
   EXPECT_LT((*graph.landmark_estimate(LandmarkId(1)) - Eigen::Vector2d(2, 3)).norm(), 0.02);
   EXPECT_EQ(graph.num_landmarks(), 2u);
   // A copy carries the landmarks and solves on its own.
-  PoseGraph2d copy = graph;
+  KeyframePoseGraph copy = graph;
   EXPECT_TRUE(copy.solve().converged);
   EXPECT_EQ(copy.landmark_estimates().size(), 2u);
 }

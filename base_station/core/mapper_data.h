@@ -10,10 +10,10 @@
 #include <optional>
 #include <vector>
 
+#include "base_station/core/keyframe_pose_graph.h"
 #include "base_station/core/landmarks.h"
 #include "base_station/core/mapper_options.h"
 #include "base_station/core/pcm.h"
-#include "base_station/core/pose_graph_2d.h"
 #include "common/keyframe.h"
 #include "common/object_report.h"
 #include "common/trajectory.h"

@@ -3,18 +3,18 @@
 // indoor rescue scenes.
 #include "base_station/core/global_map_renderer.h"
 #include "base_station/core/global_object.h"
+#include "base_station/core/keyframe_loop_closer.h"
+#include "base_station/core/keyframe_pose_graph.h"
 #include "base_station/core/landmarks.h"
-#include "base_station/core/loop_closer.h"
 #include "base_station/core/map_consistency.h"
 #include "base_station/core/object_constraints.h"
 #include "base_station/core/pcm.h"
-#include "base_station/core/pose_graph_2d.h"
 #include "common/occupancy_grid.h"
 
 namespace cairn::base {
 
 /// Guided search around a link hypothesis whose rigid placement the map check refutes by a near
-/// miss (multi_robot_mapper_guided.cpp): the hypothesis is judged again as the closures found
+/// miss (robot_linker_guided.cpp): the hypothesis is judged again as the closures found
 /// around it place the new robot, and those closures join the graph if it is accepted. Only then: on the
 /// simulated demo, where every link passes rigidly, adding them to every link moved the robots from
 /// 0.089-0.102 to 0.109-0.135 m RMSE (the closures are right to 5 mm; the simulated robots' own
@@ -53,7 +53,7 @@ struct MapperOptions {
   /// Max-range beams (no return) clear free space up to min(scan range_max, this).
   double no_return_clear_range_m = 10.0;
 
-  PoseGraphOptions graph;  ///< robust losses per edge kind (Cauchy on loops)
+  KeyframePoseGraphOptions graph;  ///< robust losses per edge kind (Cauchy on loops)
   PoseGraphSolveOptions solve;
   /// Prior pinning each linked robot's first keyframe at T_global_local * T_local_base(first).
   double start_prior_sigma_xy_m = 0.01;
@@ -63,10 +63,10 @@ struct MapperOptions {
   double gap_sigma_xy_m_per_step = 0.05;
   double gap_sigma_yaw_rad_per_step = 0.02;
 
-  /// Automatic merging: place recognition + verification (loop_closer.h), PCM on each robot
+  /// Automatic merging: place recognition + verification (keyframe_loop_closer.h), PCM on each robot
   /// pair's inter-robot closures before the pair is first linked (pcm.h).
   bool detect_loops = true;
-  LoopCloserOptions loop_closer;
+  KeyframeLoopCloserOptions loop_closer;
   PcmOptions pcm;
   /// Mutually consistent inter-robot closures needed to link two robots for the first time.
   int min_link_clique = 3;

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "base_station/core/pose_graph_2d.h"
+#include "base_station/core/keyframe_pose_graph.h"
 #include "base_station/core/robot_linker.h"
 #include "common/ids.h"
 #include "common/se2.h"

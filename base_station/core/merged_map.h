@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "base_station/core/global_object.h"
+#include "base_station/core/keyframe_pose_graph.h"
 #include "base_station/core/mapper_data.h"
 #include "base_station/core/mapper_results.h"
-#include "base_station/core/pose_graph_2d.h"
 #include "common/occupancy_grid.h"
 #include "common/trajectory.h"
 
@@ -19,7 +19,7 @@ namespace cairn::base {
 struct MergedMap {
   const OccupancyGrid* grid = nullptr;         ///< every linked keyframe's scan at its global pose
   const MapperData* data = nullptr;            ///< what the mapper stored (keyframes, object reports)
-  const PoseGraph2d* graph = nullptr;          ///< the pose graph as last optimised
+  const KeyframePoseGraph* graph = nullptr;    ///< the pose graph as last optimised
   std::vector<RobotSummary> robots;            ///< every robot heard of, by id
   std::map<RobotId, Trajectory> trajectories;  ///< linked robots' keyframe poses in the global frame
   std::vector<GlobalObject> objects;           ///< merged objects of linked robots, by id

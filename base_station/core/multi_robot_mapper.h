@@ -16,12 +16,12 @@
 
 #include "base_station/core/global_map_cache.h"
 #include "base_station/core/global_object.h"
+#include "base_station/core/keyframe_pose_graph.h"
 #include "base_station/core/mapper_data.h"
 #include "base_station/core/mapper_options.h"
 #include "base_station/core/mapper_results.h"
 #include "base_station/core/merged_map.h"
 #include "base_station/core/object_constraints.h"
-#include "base_station/core/pose_graph_2d.h"
 #include "base_station/core/robot_linker.h"
 
 namespace cairn::base {
@@ -63,7 +63,7 @@ class MultiRobotMapper {
 
   // The parts, and shorthands into them.
   const MapperData& data() const { return data_; }
-  const PoseGraph2d& graph() const { return graph_; }
+  const KeyframePoseGraph& graph() const { return graph_; }
   const MapperOptions& options() const { return options_; }
   bool linked(RobotId robot) const { return data_.linked(robot); }
   std::optional<SE2> global_pose(KeyframeId id) const { return data_.global_pose(id); }
@@ -75,7 +75,7 @@ class MultiRobotMapper {
   const std::vector<LoopClosure>& loop_closures() const { return data_.loops; }
   const std::map<RobotId, LocalLandmarks>& local_landmarks() const { return data_.local_landmarks; }
   const LinkStats& link_stats() const { return linker_.stats(); }
-  const LoopCloserStats& loop_closer_stats() const { return linker_.loop_closer_stats(); }
+  const KeyframeLoopCloserStats& loop_closer_stats() const { return linker_.loop_closer_stats(); }
   const std::vector<LinkEvent>& landmark_link_events() const { return linker_.landmark_link_events(); }
   /// Optimised global positions of the landmarks seen by linked robots.
   std::map<LandmarkId, Eigen::Vector2d> landmarks() const { return graph_.landmark_estimates(); }
@@ -108,7 +108,7 @@ class MultiRobotMapper {
   MapperOptions options_;
   MapperData data_;
   RobotLinker linker_;
-  PoseGraph2d graph_;
+  KeyframePoseGraph graph_;
   std::vector<bool> loop_in_graph_;                   ///< per data_.loops entry
   std::set<RobotId> chains_changed_;                  ///< robots whose chain edges in graph_ need re-measuring
   std::vector<ObjectConstraint> object_constraints_;  ///< sorted by report

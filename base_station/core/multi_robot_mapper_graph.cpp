@@ -15,7 +15,7 @@ namespace {
 /// The robot's first keyframe not in the graph yet (the end of its range when all are). Keyframes
 /// enter the graph in seq order (one arriving before a placed successor forces a rebuild), so this
 /// walks back over the new ones only: O(new keyframes), not O(trajectory).
-KeyframeMap::const_iterator first_unplaced(const MapperData& data, const PoseGraph2d& graph, RobotId robot) {
+KeyframeMap::const_iterator first_unplaced(const MapperData& data, const KeyframePoseGraph& graph, RobotId robot) {
   const RobotKeyframes range = data.robot_keyframes(robot);
   auto it = range.end();
   while (it != range.begin() && !graph.has_node(std::prev(it)->first)) --it;
@@ -64,7 +64,7 @@ void MultiRobotMapper::update_graph(bool full_resolve, OptimizeResult* result) {
 void MultiRobotMapper::rebuild_graph_if_needed() {
   if (!options_.incremental_graph) rebuild_graph_ = true;  // mapper_options.h: why
   if (!rebuild_graph_) return;
-  graph_ = PoseGraph2d(options_.graph);
+  graph_ = KeyframePoseGraph(options_.graph);
   loop_in_graph_.assign(data_.loops.size(), false);
   object_edges_in_graph_.clear();
   rebuild_graph_ = false;

@@ -21,9 +21,9 @@ TEST(Lago, ReachesGlobalOptimumOfManhattanFromOdometry) {
   const std::string path = std::string(CAIRN_SHARED_DATA_DIR) + "/g2o_2d/manhattan.g2o";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "data absent: " << path;
   const G2oGraph g = read_g2o(path);
-  PoseGraphOptions o;
+  KeyframePoseGraphOptions o;
   o.loop_loss.type = RobustLossType::kNone;
-  PoseGraph2d graph(o);
+  KeyframePoseGraph graph(o);
   for (const auto& [k, p] : initialize_from_odometry(g)) graph.add_node(kf(k.robot, int(k.index)), p);
   for (const auto& e : g.edges) {
     graph.add_edge({kf(e.from.robot, int(e.from.index)), kf(e.to.robot, int(e.to.index)), e.T_from_to, e.information});
@@ -32,9 +32,9 @@ TEST(Lago, ReachesGlobalOptimumOfManhattanFromOdometry) {
   ASSERT_TRUE(init.has_value());
   graph.set_estimates(*init);
   graph.solve();
-  PoseGraphOptions so = o;
+  KeyframePoseGraphOptions so = o;
   so.residual = EdgeResidualType::kSeSync;
-  PoseGraph2d polish(so);
+  KeyframePoseGraph polish(so);
   for (const auto& [id, p] : graph.estimates()) polish.add_node(id, p);
   for (const auto& e : graph.edges()) polish.add_edge(e);
   polish.solve();

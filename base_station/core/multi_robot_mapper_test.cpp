@@ -255,7 +255,7 @@ std::vector<Keyframe> noisy_keyframes(RobotId robot, const std::vector<SE2>& pat
 /// Largest distance between the mapper's poses and those of a batch solve of its graph restarted
 /// from odometry (the optimum the incremental scheme must reach).
 double gap_to_batch_optimum_m(const MultiRobotMapper& mapper) {
-  PoseGraph2d batch = mapper.graph();
+  KeyframePoseGraph batch = mapper.graph();
   std::map<KeyframeId, SE2> odometry;
   for (const auto& [id, kf] : mapper.keyframes()) {
     auto prev = odometry.find(KeyframeId{id.robot, id.seq - 1});

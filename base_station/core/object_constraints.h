@@ -6,13 +6,13 @@
 // observation of one 2D point node (PointNodeId = the cluster's ObjectId) from its anchor keyframe:
 // the xy of T_anchor_object (the anchor's planar pose lifted to 3D, so xy in the anchor frame is the
 // planar observation) with the report's xy covariance, floored. The graph puts a robust loss on them
-// (PoseGraphOptions::object_loss) so that one wrong merge cannot bend the map.
+// (KeyframePoseGraphOptions::object_loss) so that one wrong merge cannot bend the map.
 // Pure function of the merged objects and the reports; the mapper recomputes it per optimize().
 #include <map>
 #include <vector>
 
 #include "base_station/core/global_object.h"
-#include "base_station/core/pose_graph_2d.h"
+#include "base_station/core/keyframe_pose_graph.h"
 #include "common/object_report.h"
 
 namespace cairn::base {

@@ -246,7 +246,7 @@ TEST(ObjectConstraints, OnlyVerifiedMultiAnchorClustersQualify) {
 }
 
 TEST(ObjectConstraints, ObjectAndMarkerNodesNeverCollide) {
-  PoseGraph2d graph;
+  KeyframePoseGraph graph;
   const KeyframeId k{RobotId(0), 0};
   ASSERT_TRUE(graph.add_node(k, SE2()));
   graph.set_prior(PosePrior{k, SE2()});

@@ -131,7 +131,7 @@ void RobotLinker::refresh_own_frames(MapperData* data) const {
   for (const auto& [robot, list] : own_loops) {
     OwnFrame& frame = data->own_frames[robot];
     if (frame.loops == list.size()) continue;  // newer keyframes: carried in refined_local_pose
-    PoseGraph2d graph(options_.graph);
+    KeyframePoseGraph graph(options_.graph);
     const Keyframe* prev = nullptr;
     SE2 prev_initial;
     for (const auto& [id, kf] : data->robot_keyframes(robot)) {

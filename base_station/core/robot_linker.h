@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "base_station/core/loop_closer.h"
+#include "base_station/core/keyframe_loop_closer.h"
 #include "base_station/core/map_consistency.h"
 #include "base_station/core/mapper_data.h"
 #include "base_station/core/mapper_options.h"
@@ -89,7 +89,7 @@ class RobotLinker {
   LinkUpdate update(MapperData* data);
 
   const LinkStats& stats() const { return stats_; }
-  const LoopCloserStats& loop_closer_stats() const { return loop_closer_.stats(); }
+  const KeyframeLoopCloserStats& loop_closer_stats() const { return loop_closer_.stats(); }
   /// Marker-based link decisions so far (accepted ones and the latest refusal per pair).
   const std::vector<LinkEvent>& landmark_link_events() const { return landmark_link_events_; }
 
@@ -143,7 +143,7 @@ class RobotLinker {
 
   MapperOptions options_;
   bool anchor_committed_ = false;
-  LoopCloser loop_closer_;
+  KeyframeLoopCloser loop_closer_;
   std::vector<KeyframeId> detect_queue_;
   std::map<std::pair<RobotId, RobotId>, std::vector<LoopClosure>> inter_candidates_;  ///< a = lower id
   std::map<RobotId, RobotId> component_parent_;

@@ -76,7 +76,7 @@ PlacedScans RobotLinker::tentative_placement(const MapperData& data, RobotId ra,
                                              const std::vector<LoopClosure>& clique,
                                              std::vector<LoopClosure>* guided) const {
   const auto solve = [&](const std::vector<LoopClosure>& ties) {
-    PoseGraph2d graph(options_.graph);
+    KeyframePoseGraph graph(options_.graph);
     std::vector<KeyframeId> moving;
     const Keyframe* prev = nullptr;
     for (const auto& [id, kf] : data.robot_keyframes(rb)) {
@@ -94,7 +94,7 @@ PlacedScans RobotLinker::tentative_placement(const MapperData& data, RobotId ra,
       if (!graph.has_node(c.a)) graph.add_node(c.a, data.pose_in_frame_a(ra, c.a));
       graph.add_edge(loop_edge(c));
     }
-    // The gauge: a placed node (constant anyway). Without a prior PoseGraph2d would hold the
+    // The gauge: a placed node (constant anyway). Without a prior KeyframePoseGraph would hold the
     // lowest id constant, rb's first keyframe when rb's id is the lower one.
     if (!ties.empty()) graph.set_prior(PosePrior{ties.front().a, data.pose_in_frame_a(ra, ties.front().a)});
     PoseGraphSolveOptions options = options_.solve;

@@ -103,7 +103,7 @@ std::pair<Eigen::Vector2d, Eigen::Matrix2d> cartesian_observation(const Landmark
 
 }  // namespace
 
-bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::string* error) {
+bool write_graph_g2o(const KeyframePoseGraph& graph, const std::string& path, std::string* error) {
   std::ostringstream s;
   s << std::setprecision(12);
   s << "# cairn pose graph. Vertex id = dense index over keyframes in (robot, seq) order, then over the"

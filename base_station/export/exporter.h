@@ -56,7 +56,7 @@ bool write_objects_csv(const std::vector<GlobalObject>& objects, const std::stri
 /// index over the nodes in (robot, seq) order, listed in "# KEYFRAME <vertex> <robot> <seq>" lines.
 /// Point nodes follow as VERTEX_XY ("# MARKER <vertex> <id>", "# OBJECT <vertex> <robot> <seq>") with
 /// their range-bearing observations as EDGE_SE2_XY (point in the pose frame, information I11 I12 I22).
-bool write_graph_g2o(const PoseGraph2d& graph, const std::string& path, std::string* error);
+bool write_graph_g2o(const KeyframePoseGraph& graph, const std::string& path, std::string* error);
 bool write_map_png(const MergedMap& merged, const std::string& path, const ExportOptions& options, std::string* error,
                    const ExplorationPlan* plan = nullptr);
 /// Any row-major RGB picture (top row first, 3 bytes per pixel) as PNG, e.g. draw_map_consistency's.

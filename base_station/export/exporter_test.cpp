@@ -120,7 +120,7 @@ TEST(Exporter, WritesEveryFileAndTheyParseBack) {
 }
 
 TEST(Exporter, G2oLandmarksAreCartesianPointsWithPropagatedInformation) {
-  PoseGraph2d graph;
+  KeyframePoseGraph graph;
   const KeyframeId k0{RobotId(0), 0}, k1{RobotId(0), 1};
   ASSERT_TRUE(graph.add_node(k0, SE2()));
   ASSERT_TRUE(graph.add_node(k1, SE2(1, 0, M_PI / 2)));

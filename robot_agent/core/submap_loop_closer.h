@@ -1,6 +1,6 @@
 #pragma once
 // SubmapLoopCloser: intra-robot loop closure for the local SLAM, scans against the robot's own
-// older submaps (the base station's cross-robot closures between keyframes are base::LoopCloser).
+// older submaps (the base station's cross-robot closures between keyframes are base::KeyframeLoopCloser).
 // After Cartographer's ConstraintBuilder2D + PoseGraph2D (Hess et al., ICRA 2016, Sec. V): every
 // inserted scan becomes a node of a sparse pose graph over
 // submaps and nodes; finished submaps get a branch-and-bound matcher (fast_correlative_scan_matcher.h);

@@ -1,6 +1,6 @@
 #pragma once
 // SubmapPoseGraph: one robot's own sparse pose graph over its submaps and scan nodes (the base
-// station's multi-robot keyframe graph is base::PoseGraph2d). After Cartographer's PoseGraph2D /
+// station's multi-robot keyframe graph is base::KeyframePoseGraph). After Cartographer's PoseGraph2D /
 // OptimizationProblem2D ("sparse pose adjustment", Konolige et al. 2010; Hess et al. 2016 Sec. V-A):
 // every node is tied to the submaps it was inserted into (intra-submap constraints from local SLAM)
 // and to its successor, and loop-closure constraints tie nodes to older submaps. Optimised with

@@ -5,7 +5,7 @@
 
 namespace cairn::multirobot {
 
-std::vector<FunnelRow> loop_funnel(const std::vector<RobotRun>& runs, const base::LoopCloserOptions& options,
+std::vector<FunnelRow> loop_funnel(const std::vector<RobotRun>& runs, const base::KeyframeLoopCloserOptions& options,
                                    double true_radius_m, int optimize_every) {
   auto ref = [&](KeyframeId id) { return runs.at(size_t(id.robot.value)).reference.at(size_t(id.seq)); };
   std::map<std::pair<int, int>, FunnelRow> rows;
@@ -15,7 +15,7 @@ std::vector<FunnelRow> loop_funnel(const std::vector<RobotRun>& runs, const base
     r.b = RobotId(std::max(x.value, y.value));
     return r;
   };
-  base::LoopCloser closer(options);
+  base::KeyframeLoopCloser closer(options);
   std::map<KeyframeId, Keyframe> keyframes;
   std::vector<KeyframeId> queue, done;
   auto detect = [&] {

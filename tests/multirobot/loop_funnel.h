@@ -1,13 +1,13 @@
 #pragma once
 // Diagnostics of the merger's place recognition on a split log (tests/multirobot): replays the
-// robots' keyframes through a LoopCloser in the order merge() feeds them and counts, per robot
+// robots' keyframes through a KeyframeLoopCloser in the order merge() feeds them and counts, per robot
 // pair, how many queries had a true inter-robot neighbour (reference poses within a radius) and
 // how many of those kept a true candidate at each stage: ring-key pre-selection, Scan Context
 // distance, verification tried, verified (and verified closures that disagree with the reference).
 #include <string>
 #include <vector>
 
-#include "base_station/core/loop_closer.h"
+#include "base_station/core/keyframe_loop_closer.h"
 #include "tests/multirobot/split_run.h"
 
 namespace cairn::multirobot {
@@ -23,7 +23,7 @@ struct FunnelRow {
 };
 
 /// One row per robot pair, replaying detection every `optimize_every` keyframes like merge().
-std::vector<FunnelRow> loop_funnel(const std::vector<RobotRun>& runs, const base::LoopCloserOptions& options,
+std::vector<FunnelRow> loop_funnel(const std::vector<RobotRun>& runs, const base::KeyframeLoopCloserOptions& options,
                                    double true_radius_m = 2.0, int optimize_every = 25);
 std::string to_string(const FunnelRow& row);
 

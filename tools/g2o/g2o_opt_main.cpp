@@ -9,8 +9,8 @@
 #include <cstdio>
 
 #include <fstream>
+#include "base_station/core/keyframe_pose_graph.h"
 #include "base_station/core/lago_initializer.h"
-#include "base_station/core/pose_graph_2d.h"
 #include "common/errors.h"
 #include "common/g2o_io.h"
 #include "common/trajectory.h"
@@ -20,16 +20,17 @@ namespace {
 using cairn::G2oGraph;
 using cairn::G2oKey;
 using cairn::SE2;
-using cairn::base::PoseGraph2d;
+using cairn::base::KeyframePoseGraph;
 using Clock = std::chrono::steady_clock;
 
 cairn::KeyframeId to_id(G2oKey k) { return cairn::KeyframeId{cairn::RobotId(k.robot), int32_t(k.index)}; }
 
-PoseGraph2d to_pose_graph(const G2oGraph& g, const std::map<G2oKey, SE2>& poses, cairn::base::EdgeResidualType type) {
-  cairn::base::PoseGraphOptions o;
+KeyframePoseGraph to_pose_graph(const G2oGraph& g, const std::map<G2oKey, SE2>& poses,
+                                cairn::base::EdgeResidualType type) {
+  cairn::base::KeyframePoseGraphOptions o;
   o.residual = type;
   o.loop_loss = {cairn::base::RobustLossType::kNone, 1.0};
-  PoseGraph2d graph(o);
+  KeyframePoseGraph graph(o);
   for (const auto& [k, p] : poses) graph.add_node(to_id(k), p);
   for (const auto& e : g.edges) {
     graph.add_edge({to_id(e.from), to_id(e.to), e.T_from_to, e.information, cairn::base::EdgeKind::kOdometry});
@@ -37,7 +38,7 @@ PoseGraph2d to_pose_graph(const G2oGraph& g, const std::map<G2oKey, SE2>& poses,
   return graph;
 }
 
-std::map<G2oKey, SE2> from_pose_graph(const PoseGraph2d& graph) {
+std::map<G2oKey, SE2> from_pose_graph(const KeyframePoseGraph& graph) {
   std::map<G2oKey, SE2> out;
   for (const auto& [id, p] : graph.estimates()) out[G2oKey{id.robot.value, id.seq}] = p;
   return out;
@@ -83,7 +84,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-sesync-polish", no_polish, "skip the final solve on SE-Sync's objective");
   app.add_option("--iterations", iterations, "max Ceres iterations per solve");
   bool cholmod = false;
-  app.add_flag("--cholmod", cholmod, "sparse Cholesky by SuiteSparse CHOLMOD instead of Eigen (pose_graph_2d.h)");
+  app.add_flag("--cholmod", cholmod, "sparse Cholesky by SuiteSparse CHOLMOD instead of Eigen (keyframe_pose_graph.h)");
   CLI11_PARSE(app, argc, argv);
   try {
     G2oGraph g;
@@ -100,7 +101,7 @@ int main(int argc, char** argv) {
     }
     print_stage("initial", g, poses, ms_since(t0));
     const auto t_total = Clock::now();
-    PoseGraph2d graph = to_pose_graph(g, poses, cairn::base::EdgeResidualType::kRelativePose);
+    KeyframePoseGraph graph = to_pose_graph(g, poses, cairn::base::EdgeResidualType::kRelativePose);
     if (!no_lago) {
       t0 = Clock::now();
       const auto lago = cairn::base::lago_initialize(graph);
@@ -117,7 +118,7 @@ int main(int argc, char** argv) {
     std::printf("  ceres: %d iterations, %s\n", r.iterations, r.reason.c_str());
     if (!no_polish) {
       t0 = Clock::now();
-      PoseGraph2d polish = to_pose_graph(g, from_pose_graph(graph), cairn::base::EdgeResidualType::kSeSync);
+      KeyframePoseGraph polish = to_pose_graph(g, from_pose_graph(graph), cairn::base::EdgeResidualType::kSeSync);
       r = polish.solve(so);
       graph = polish;
       print_stage("sesync-polish", g, from_pose_graph(graph), ms_since(t0));

@@ -1,4 +1,4 @@
-#include "base_station/core/loop_closer.h"
+#include "base_station/core/keyframe_loop_closer.h"
 
 #include <algorithm>
 
@@ -13,15 +13,15 @@ void append_points(const Keyframe& frame, const Keyframe& other, std::vector<Eig
 
 }  // namespace
 
-LoopCloser::LoopCloser(const LoopCloserOptions& options) : options_(options) {}
+KeyframeLoopCloser::KeyframeLoopCloser(const KeyframeLoopCloserOptions& options) : options_(options) {}
 
-const std::vector<float>* LoopCloser::descriptor(KeyframeId id) const {
+const std::vector<float>* KeyframeLoopCloser::descriptor(KeyframeId id) const {
   auto it = database_.find(id);
   return it == database_.end() ? nullptr : &it->second.descriptor;
 }
 
-std::vector<float> LoopCloser::descriptor_of(const Keyframe& kf,
-                                             const std::map<KeyframeId, Keyframe>& keyframes) const {
+std::vector<float> KeyframeLoopCloser::descriptor_of(const Keyframe& kf,
+                                                     const std::map<KeyframeId, Keyframe>& keyframes) const {
   if (scan_context_size_ok(kf.place_descriptor, options_.scan_context)) return kf.place_descriptor;
   std::vector<const Keyframe*> recent;
   for (int k = 1; k < options_.scan_context.descriptor_keyframes; ++k) {
@@ -31,8 +31,8 @@ std::vector<float> LoopCloser::descriptor_of(const Keyframe& kf,
   return compute_keyframe_scan_context(kf, recent, options_.scan_context);
 }
 
-std::vector<Eigen::Vector2f> LoopCloser::local_map(KeyframeId center,
-                                                   const std::map<KeyframeId, Keyframe>& keyframes) const {
+std::vector<Eigen::Vector2f> KeyframeLoopCloser::local_map(KeyframeId center,
+                                                           const std::map<KeyframeId, Keyframe>& keyframes) const {
   std::vector<Eigen::Vector2f> points;
   const Keyframe& c = keyframes.at(center);
   const int n = options_.local_map_half_keyframes;
@@ -43,8 +43,8 @@ std::vector<Eigen::Vector2f> LoopCloser::local_map(KeyframeId center,
   return points;
 }
 
-std::vector<Eigen::Vector2f> LoopCloser::query_points(const Keyframe& kf,
-                                                      const std::map<KeyframeId, Keyframe>& keyframes) const {
+std::vector<Eigen::Vector2f> KeyframeLoopCloser::query_points(const Keyframe& kf,
+                                                              const std::map<KeyframeId, Keyframe>& keyframes) const {
   std::vector<Eigen::Vector2f> query = scan_to_points(kf.scan);
   for (int back = 1; back <= options_.query_submap_keyframes; ++back) {
     auto it = keyframes.find(KeyframeId{kf.id.robot, kf.id.seq - back});
@@ -53,18 +53,18 @@ std::vector<Eigen::Vector2f> LoopCloser::query_points(const Keyframe& kf,
   return query;
 }
 
-std::optional<LoopClosure> LoopCloser::verify_guided(KeyframeId candidate, KeyframeId query,
-                                                     const SE2& T_candidate_query,
-                                                     const std::map<KeyframeId, Keyframe>& keyframes,
-                                                     const LoopVerifierOptions& verifier) const {
+std::optional<LoopClosure> KeyframeLoopCloser::verify_guided(KeyframeId candidate, KeyframeId query,
+                                                             const SE2& T_candidate_query,
+                                                             const std::map<KeyframeId, Keyframe>& keyframes,
+                                                             const LoopVerifierOptions& verifier) const {
   const LoopVerification v = verify_loop(local_map(candidate, keyframes), query_points(keyframes.at(query), keyframes),
                                          T_candidate_query, verifier);
   if (!v.accepted) return std::nullopt;
   return LoopClosure{candidate, query, v.T_map_query, v.covariance, v.score};
 }
 
-std::vector<LoopClosure> LoopCloser::add_and_detect(const Keyframe& kf,
-                                                    const std::map<KeyframeId, Keyframe>& keyframes) {
+std::vector<LoopClosure> KeyframeLoopCloser::add_and_detect(const Keyframe& kf,
+                                                            const std::map<KeyframeId, Keyframe>& keyframes) {
   std::vector<LoopClosure> out;
   last_candidates_.clear();
   Entry entry;

@@ -1,4 +1,4 @@
-#include "base_station/core/pose_graph_2d.h"
+#include "base_station/core/keyframe_pose_graph.h"
 
 #include <ceres/ceres.h>
 
@@ -8,117 +8,15 @@
 #include <set>
 #include <unordered_set>
 
+#include "base_station/core/keyframe_pose_graph_costs.h"
 #include "common/se2_relative_pose_residual.h"
 
 namespace cairn::base {
 namespace {
 
-/// A node (x, y, yaw): x, y Euclidean, yaw on the circle (x + delta wrapped, y - x the shortest
-/// signed arc), as Ceres 2.1 AutoDiffManifold.
-struct PoseManifold {
-  template <typename T>
-  bool Plus(const T* x, const T* delta, T* x_plus_delta) const {
-    x_plus_delta[0] = x[0] + delta[0];
-    x_plus_delta[1] = x[1] + delta[1];
-    x_plus_delta[2] = wrap_angle_floor(x[2] + delta[2]);
-    return true;
-  }
-  template <typename T>
-  bool Minus(const T* y, const T* x, T* y_minus_x) const {
-    y_minus_x[0] = y[0] - x[0];
-    y_minus_x[1] = y[1] - x[1];
-    y_minus_x[2] = wrap_angle_floor(y[2] - x[2]);
-    return true;
-  }
-};
-
-/// SE-Sync's per-edge objective (Rosen et al. 2019) for 2D, so that sum r^2 equals it:
-/// Residual (3): [ sqrt(tau) (R_a^T (p_b - p_a) - p_ab) ; sqrt(8 kappa) sin(wrap(yaw_b - yaw_a - yaw_ab) / 2) ]
-/// (||R_b - R_a R_ab||_F^2 = 4 (1 - cos e) = 8 sin^2(e / 2); the translation norm is rotation-invariant).
-struct SeSyncResidual {
-  SeSyncResidual(const SE2& T_a_b, const Eigen::Matrix3d& information)
-      : p_ab_(T_a_b.translation()),
-        yaw_ab_rad_(T_a_b.yaw()),
-        sqrt_tau_(std::sqrt(2.0 / information.topLeftCorner<2, 2>().inverse().trace())),
-        sqrt_8kappa_(std::sqrt(8.0 * information(2, 2))) {}
-
-  template <typename T>
-  bool operator()(const T* a, const T* b, T* r) const {
-    const T c = ceres::cos(a[2]), s = ceres::sin(a[2]);
-    const T dx = b[0] - a[0], dy = b[1] - a[1];
-    r[0] = T(sqrt_tau_) * (c * dx + s * dy - T(p_ab_.x()));
-    r[1] = T(sqrt_tau_) * (-s * dx + c * dy - T(p_ab_.y()));
-    r[2] = T(sqrt_8kappa_) * ceres::sin(wrap_angle_floor(b[2] - a[2] - T(yaw_ab_rad_)) / T(2.0));
-    return true;
-  }
-
-  Eigen::Vector2d p_ab_;
-  double yaw_ab_rad_, sqrt_tau_, sqrt_8kappa_;
-};
-
-/// Absolute prior on one node.
-/// Residual (3): sqrt_info * [ p - p_prior ; wrap(yaw - yaw_prior) ] (errors in the world frame).
-struct PriorResidual {
-  PriorResidual(const SE2& T_world_node, const Eigen::Matrix3d& sqrt_information)
-      : p_(T_world_node.translation()), yaw_rad_(T_world_node.yaw()), sqrt_information_(sqrt_information) {}
-
-  template <typename T>
-  bool operator()(const T* pose, T* residual) const {
-    Eigen::Matrix<T, 3, 1> e;
-    e(0) = pose[0] - T(p_.x());
-    e(1) = pose[1] - T(p_.y());
-    e(2) = wrap_angle_floor(pose[2] - T(yaw_rad_));
-    Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
-    r = sqrt_information_.template cast<T>() * e;
-    return true;
-  }
-
-  Eigen::Vector2d p_;
-  double yaw_rad_;
-  Eigen::Matrix3d sqrt_information_;
-};
-
-/// Range-bearing observation of a landmark point l from pose a.
-/// Residual (2): [ (|d| - range) / sigma_range ; wrap(atan2(d_y, d_x) - bearing) / sigma_bearing ],
-/// d = R_a^T (l - p_a) (the landmark in a's frame).
-struct RangeBearingResidual {
-  explicit RangeBearingResidual(const LandmarkEdge& e) : e_(e) {}
-
-  template <typename T>
-  bool operator()(const T* a, const T* l, T* residual) const {
-    const T c = ceres::cos(a[2]), s = ceres::sin(a[2]);
-    const T dx = l[0] - a[0], dy = l[1] - a[1];
-    const T x = c * dx + s * dy, y = -s * dx + c * dy;
-    residual[0] = (ceres::sqrt(x * x + y * y + T(1e-12)) - T(e_.range_m)) / T(e_.sigma_range_m);
-    residual[1] = wrap_angle_floor(ceres::atan2(y, x) - T(e_.bearing_rad)) / T(e_.sigma_bearing_rad);
-    return true;
-  }
-
-  LandmarkEdge e_;
-};
-
-/// Upper-triangular R with R^T R = information (the example's LLT square root).
-std::optional<Eigen::Matrix3d> sqrt_information(const Eigen::Matrix3d& information) {
-  if (!information.allFinite()) return std::nullopt;
-  const Eigen::Matrix3d sym = 0.5 * (information + information.transpose());
-  Eigen::LLT<Eigen::Matrix3d> llt(sym);
-  if (llt.info() != Eigen::Success) return std::nullopt;
-  return Eigen::Matrix3d(llt.matrixL().transpose());
-}
+using namespace keyframe_pose_graph_costs;
 
 bool finite(const SE2& T) { return T.vector().allFinite(); }
-
-ceres::LossFunction* make_loss(const RobustLossOptions& o) {
-  switch (o.type) {
-    case RobustLossType::kHuber:
-      return new ceres::HuberLoss(o.scale);
-    case RobustLossType::kCauchy:
-      return new ceres::CauchyLoss(o.scale);
-    case RobustLossType::kNone:
-      break;
-  }
-  return nullptr;
-}
 
 }  // namespace
 
@@ -135,7 +33,7 @@ const char* to_string(EdgeKind kind) {
 }
 
 /// The live Ceres problem and what of the graph it already holds.
-struct PoseGraph2d::Problem {
+struct KeyframePoseGraph::Problem {
   Problem() : problem(make_options()) {}
   static ceres::Problem::Options make_options() {
     ceres::Problem::Options o;
@@ -158,11 +56,11 @@ struct PoseGraph2d::Problem {
   std::set<PointNodeId> landmarks_added;
 };
 
-PoseGraph2d::PoseGraph2d(const PoseGraphOptions& options) : options_(options) {}
-PoseGraph2d::~PoseGraph2d() = default;
-PoseGraph2d::PoseGraph2d(PoseGraph2d&&) noexcept = default;
-PoseGraph2d& PoseGraph2d::operator=(PoseGraph2d&&) noexcept = default;
-PoseGraph2d::PoseGraph2d(const PoseGraph2d& o)
+KeyframePoseGraph::KeyframePoseGraph(const KeyframePoseGraphOptions& options) : options_(options) {}
+KeyframePoseGraph::~KeyframePoseGraph() = default;
+KeyframePoseGraph::KeyframePoseGraph(KeyframePoseGraph&&) noexcept = default;
+KeyframePoseGraph& KeyframePoseGraph::operator=(KeyframePoseGraph&&) noexcept = default;
+KeyframePoseGraph::KeyframePoseGraph(const KeyframePoseGraph& o)
     : options_(o.options_),
       nodes_(o.nodes_),
       edges_(o.edges_),
@@ -171,7 +69,7 @@ PoseGraph2d::PoseGraph2d(const PoseGraph2d& o)
       landmark_edges_(o.landmark_edges_),
       landmark_sources_(o.landmark_sources_),
       landmarks_need_init_(o.landmarks_need_init_) {}
-PoseGraph2d& PoseGraph2d::operator=(const PoseGraph2d& o) {
+KeyframePoseGraph& KeyframePoseGraph::operator=(const KeyframePoseGraph& o) {
   if (this != &o) {
     problem_.reset();
     options_ = o.options_;
@@ -186,26 +84,26 @@ PoseGraph2d& PoseGraph2d::operator=(const PoseGraph2d& o) {
   return *this;
 }
 
-bool PoseGraph2d::add_node(KeyframeId id, const SE2& T) {
+bool KeyframePoseGraph::add_node(KeyframeId id, const SE2& T) {
   if (nodes_.count(id) || !finite(T)) return false;
   nodes_[id] = NodeState{{T.x(), T.y(), T.yaw()}};
   if (problem_) problem_->new_nodes.push_back(id);
   return true;
 }
 
-bool PoseGraph2d::set_estimate(KeyframeId id, const SE2& T) {
+bool KeyframePoseGraph::set_estimate(KeyframeId id, const SE2& T) {
   auto it = nodes_.find(id);
   if (it == nodes_.end() || !finite(T)) return false;
   it->second = NodeState{{T.x(), T.y(), T.yaw()}};
   return true;
 }
 
-void PoseGraph2d::set_estimates(const std::map<KeyframeId, SE2>& estimates) {
+void KeyframePoseGraph::set_estimates(const std::map<KeyframeId, SE2>& estimates) {
   for (const auto& [id, T] : estimates) set_estimate(id, T);
   landmarks_need_init_ = !landmarks_.empty();  // their old positions belong to the old poses
 }
 
-bool PoseGraph2d::add_edge(const PoseGraphEdge& edge) {
+bool KeyframePoseGraph::add_edge(const PoseGraphEdge& edge) {
   if (edge.kind == EdgeKind::kPrior || edge.from == edge.to) return false;
   if (!nodes_.count(edge.from) || !nodes_.count(edge.to)) return false;
   if (!finite(edge.T_from_to) || !sqrt_information(edge.information)) return false;
@@ -213,7 +111,7 @@ bool PoseGraph2d::add_edge(const PoseGraphEdge& edge) {
   return true;
 }
 
-bool PoseGraph2d::set_edge_measurement(size_t index, const SE2& T_from_to, const Eigen::Matrix3d& information) {
+bool KeyframePoseGraph::set_edge_measurement(size_t index, const SE2& T_from_to, const Eigen::Matrix3d& information) {
   if (index >= edges_.size() || !finite(T_from_to)) return false;
   const std::optional<Eigen::Matrix3d> sqrt_info = sqrt_information(information);
   if (!sqrt_info) return false;
@@ -228,7 +126,7 @@ bool PoseGraph2d::set_edge_measurement(size_t index, const SE2& T_from_to, const
   return true;
 }
 
-bool PoseGraph2d::set_prior(const PosePrior& prior) {
+bool KeyframePoseGraph::set_prior(const PosePrior& prior) {
   if (!nodes_.count(prior.node) || !finite(prior.T_world_node) || !sqrt_information(prior.information)) {
     return false;
   }
@@ -237,25 +135,25 @@ bool PoseGraph2d::set_prior(const PosePrior& prior) {
   return true;
 }
 
-bool PoseGraph2d::remove_prior(KeyframeId id) {
+bool KeyframePoseGraph::remove_prior(KeyframeId id) {
   if (priors_.erase(id) == 0) return false;
   if (problem_) problem_->priors_dirty = true;
   return true;
 }
 
-std::optional<SE2> PoseGraph2d::estimate(KeyframeId id) const {
+std::optional<SE2> KeyframePoseGraph::estimate(KeyframeId id) const {
   auto it = nodes_.find(id);
   if (it == nodes_.end()) return std::nullopt;
   return SE2(it->second.pose[0], it->second.pose[1], it->second.pose[2]);
 }
 
-std::map<KeyframeId, SE2> PoseGraph2d::estimates() const {
+std::map<KeyframeId, SE2> KeyframePoseGraph::estimates() const {
   std::map<KeyframeId, SE2> out;
   for (const auto& [id, n] : nodes_) out.emplace_hint(out.end(), id, SE2(n.pose[0], n.pose[1], n.pose[2]));
   return out;
 }
 
-void PoseGraph2d::sync_problem() {
+void KeyframePoseGraph::sync_problem() {
   if (!problem_) {
     problem_ = std::make_unique<Problem>();
     for (const auto& [id, n] : nodes_) problem_->new_nodes.push_back(id);
@@ -360,7 +258,7 @@ struct LocalProblem {
 
 }  // namespace
 
-PoseGraphSolveResult PoseGraph2d::solve(const PoseGraphSolveOptions& options) {
+PoseGraphSolveResult KeyframePoseGraph::solve(const PoseGraphSolveOptions& options) {
   PoseGraphSolveResult result;
   if (nodes_.empty()) {
     result.converged = true;
@@ -404,7 +302,7 @@ PoseGraphSolveResult PoseGraph2d::solve(const PoseGraphSolveOptions& options) {
   return result;
 }
 
-void PoseGraph2d::sync_landmarks() {
+void KeyframePoseGraph::sync_landmarks() {
   if (landmarks_need_init_) initialize_landmarks();
   Problem& p = *problem_;
   for (auto& [id, l] : landmarks_) {

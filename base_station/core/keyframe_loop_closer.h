@@ -16,7 +16,7 @@
 
 namespace cairn::base {
 
-struct LoopCloserOptions {
+struct KeyframeLoopCloserOptions {
   /// Must equal the agents' (both use the defaults of ScanContextOptions); a received descriptor
   /// of another size is ignored and recomputed here.
   ScanContextOptions scan_context;
@@ -46,27 +46,27 @@ struct LoopCandidate {
   SE2 T_candidate_query;  ///< when verified
 };
 
-struct LoopCloserStats {
+struct KeyframeLoopCloserStats {
   int queries = 0;
   int descriptor_matches = 0;
   int verifications = 0;
   int accepted = 0;
 };
 
-class LoopCloser {
+class KeyframeLoopCloser {
  public:
-  explicit LoopCloser(const LoopCloserOptions& options = {});
+  explicit KeyframeLoopCloser(const KeyframeLoopCloserOptions& options = {});
 
   /// Adds `kf` (already stored in `keyframes`) to the database and returns the verified closures
   /// with keyframes already in the database: a = the older candidate, b = kf.
   std::vector<LoopClosure> add_and_detect(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes);
   /// Verifies one given pair around a pose guess (no place recognition): `query`'s scan against the
   /// local map of `candidate`, searched within `verifier`'s windows around T_candidate_query.
-  /// The merger's guided search around a link hypothesis (MultiRobotMapper::guided_closures).
+  /// The merger's guided search around a link hypothesis (RobotLinker::guided_closures).
   std::optional<LoopClosure> verify_guided(KeyframeId candidate, KeyframeId query, const SE2& T_candidate_query,
                                            const std::map<KeyframeId, Keyframe>& keyframes,
                                            const LoopVerifierOptions& verifier) const;
-  const LoopCloserStats& stats() const { return stats_; }
+  const KeyframeLoopCloserStats& stats() const { return stats_; }
   const std::vector<float>* descriptor(KeyframeId id) const;
   /// The ring-key candidates of the last add_and_detect call, best ring key first.
   const std::vector<LoopCandidate>& last_candidates() const { return last_candidates_; }
@@ -76,13 +76,13 @@ class LoopCloser {
     std::vector<float> descriptor, ring_key;
   };
   std::vector<float> descriptor_of(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes) const;
-  /// The query side of a verification (LoopCloserOptions::query_submap_keyframes).
+  /// The query side of a verification (KeyframeLoopCloserOptions::query_submap_keyframes).
   std::vector<Eigen::Vector2f> query_points(const Keyframe& kf, const std::map<KeyframeId, Keyframe>& keyframes) const;
   std::vector<Eigen::Vector2f> local_map(KeyframeId center, const std::map<KeyframeId, Keyframe>& keyframes) const;
 
-  LoopCloserOptions options_;
+  KeyframeLoopCloserOptions options_;
   std::map<KeyframeId, Entry> database_;
-  LoopCloserStats stats_;
+  KeyframeLoopCloserStats stats_;
   std::vector<LoopCandidate> last_candidates_;
 };
 

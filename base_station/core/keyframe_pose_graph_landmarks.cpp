@@ -1,9 +1,9 @@
-// PoseGraph2d: point nodes (markers and merged objects) and their range-bearing observations (see
-// pose_graph_2d.h).
-// The Ceres blocks are added by PoseGraph2d::sync_landmarks() in pose_graph_2d.cpp.
+// KeyframePoseGraph: point nodes (markers and merged objects) and their range-bearing observations (see
+// keyframe_pose_graph.h).
+// The Ceres blocks are added by KeyframePoseGraph::sync_landmarks() in keyframe_pose_graph.cpp.
 #include <cmath>
 
-#include "base_station/core/pose_graph_2d.h"
+#include "base_station/core/keyframe_pose_graph.h"
 
 namespace cairn::base {
 namespace {
@@ -25,7 +25,7 @@ std::string to_string(const PointNodeId& id) {
   return "object " + to_string(std::get<ObjectId>(id));
 }
 
-bool PoseGraph2d::add_landmark_edge(const LandmarkEdge& e) {
+bool KeyframePoseGraph::add_landmark_edge(const LandmarkEdge& e) {
   if (!valid(e.landmark) || !nodes_.count(e.from)) return false;
   if (!std::isfinite(e.range_m) || !std::isfinite(e.bearing_rad) || e.range_m < 0.01) return false;
   if (!(e.sigma_range_m > 0) || !(e.sigma_bearing_rad > 0) || !std::isfinite(e.sigma_range_m) ||
@@ -41,13 +41,13 @@ bool PoseGraph2d::add_landmark_edge(const LandmarkEdge& e) {
   return true;
 }
 
-std::optional<Eigen::Vector2d> PoseGraph2d::point_estimate(const PointNodeId& id) const {
+std::optional<Eigen::Vector2d> KeyframePoseGraph::point_estimate(const PointNodeId& id) const {
   auto it = landmarks_.find(id);
   if (it == landmarks_.end()) return std::nullopt;
   return Eigen::Vector2d(it->second.p[0], it->second.p[1]);
 }
 
-std::map<LandmarkId, Eigen::Vector2d> PoseGraph2d::landmark_estimates() const {
+std::map<LandmarkId, Eigen::Vector2d> KeyframePoseGraph::landmark_estimates() const {
   std::map<LandmarkId, Eigen::Vector2d> out;
   for (const auto& [id, l] : landmarks_) {
     if (const auto* marker = std::get_if<LandmarkId>(&id))
@@ -56,7 +56,7 @@ std::map<LandmarkId, Eigen::Vector2d> PoseGraph2d::landmark_estimates() const {
   return out;
 }
 
-std::map<ObjectId, Eigen::Vector2d> PoseGraph2d::object_estimates() const {
+std::map<ObjectId, Eigen::Vector2d> KeyframePoseGraph::object_estimates() const {
   std::map<ObjectId, Eigen::Vector2d> out;
   for (const auto& [id, l] : landmarks_) {
     if (const auto* object = std::get_if<ObjectId>(&id))
@@ -65,13 +65,13 @@ std::map<ObjectId, Eigen::Vector2d> PoseGraph2d::object_estimates() const {
   return out;
 }
 
-std::map<PointNodeId, Eigen::Vector2d> PoseGraph2d::point_estimates() const {
+std::map<PointNodeId, Eigen::Vector2d> KeyframePoseGraph::point_estimates() const {
   std::map<PointNodeId, Eigen::Vector2d> out;
   for (const auto& [id, l] : landmarks_) out.emplace_hint(out.end(), id, Eigen::Vector2d(l.p[0], l.p[1]));
   return out;
 }
 
-void PoseGraph2d::initialize_landmarks() {
+void KeyframePoseGraph::initialize_landmarks() {
   std::map<PointNodeId, std::pair<Eigen::Vector2d, int>> sums;
   for (const LandmarkEdge& e : landmark_edges_) {
     auto& [sum, n] = sums.try_emplace(e.landmark, Eigen::Vector2d::Zero(), 0).first->second;

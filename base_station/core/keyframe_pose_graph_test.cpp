@@ -1,4 +1,4 @@
-#include "base_station/core/pose_graph_2d.h"
+#include "base_station/core/keyframe_pose_graph.h"
 
 #include <gtest/gtest.h>
 
@@ -9,17 +9,17 @@ namespace {
 
 KeyframeId kf(int robot, int seq) { return KeyframeId{RobotId(robot), seq}; }
 
-double position_rmse(const PoseGraph2d& graph, const std::map<KeyframeId, SE2>& truth) {
+double position_rmse(const KeyframePoseGraph& graph, const std::map<KeyframeId, SE2>& truth) {
   double sum = 0;
   for (const auto& [id, T] : truth) sum += (graph.estimate(id)->translation() - T.translation()).squaredNorm();
   return std::sqrt(sum / truth.size());
 }
 
-TEST(PoseGraph2d, AnEdgeReMeasuredInTheLiveProblemSolvesLikeAFreshGraph) {
+TEST(KeyframePoseGraph, AnEdgeReMeasuredInTheLiveProblemSolvesLikeAFreshGraph) {
   // A chain of 4 with a loop edge; solved once (the live Ceres problem exists), then the middle
   // edge re-measured in place: the new solution equals a graph built with that measurement.
   auto build = [](const SE2& middle) {
-    PoseGraph2d g;
+    KeyframePoseGraph g;
     for (int i = 0; i < 4; ++i) g.add_node(kf(0, i), SE2(1.0 * i, 0, 0));
     g.add_edge({kf(0, 0), kf(0, 1), SE2(1, 0, 0), Eigen::Matrix3d::Identity() * 100, EdgeKind::kOdometry});
     g.add_edge({kf(0, 1), kf(0, 2), middle, Eigen::Matrix3d::Identity() * 100, EdgeKind::kOdometry});
@@ -29,7 +29,7 @@ TEST(PoseGraph2d, AnEdgeReMeasuredInTheLiveProblemSolvesLikeAFreshGraph) {
     return g;
   };
   const SE2 remeasured(0.9, 0.2, 0.15);
-  PoseGraph2d live = build(SE2(1, 0, 0));
+  KeyframePoseGraph live = build(SE2(1, 0, 0));
   ASSERT_TRUE(live.solve().converged);
   const SE2 before = *live.estimate(kf(0, 3));
   ASSERT_TRUE(live.set_edge_measurement(1, remeasured, Eigen::Matrix3d::Identity() * 100));
@@ -38,7 +38,7 @@ TEST(PoseGraph2d, AnEdgeReMeasuredInTheLiveProblemSolvesLikeAFreshGraph) {
   EXPECT_FALSE(live.set_edge_measurement(1, remeasured, Eigen::Matrix3d::Zero()));
   EXPECT_TRUE(live.edges()[1].T_from_to.vector().isApprox(remeasured.vector()));  // the failed calls changed nothing
   ASSERT_TRUE(live.solve().converged);
-  PoseGraph2d fresh = build(remeasured);
+  KeyframePoseGraph fresh = build(remeasured);
   ASSERT_TRUE(fresh.solve().converged);
   for (int i = 0; i < 4; ++i) {
     EXPECT_LT((live.estimate(kf(0, i))->vector() - fresh.estimate(kf(0, i))->vector()).norm(), 1e-6) << i;
@@ -47,10 +47,10 @@ TEST(PoseGraph2d, AnEdgeReMeasuredInTheLiveProblemSolvesLikeAFreshGraph) {
       << "the re-measured edge moved nothing";
 }
 
-TEST(PoseGraph2d, SquareWithLoopIsExact) {
+TEST(KeyframePoseGraph, SquareWithLoopIsExact) {
   // g2o-like square, 2 m sides, yaw crossing +-pi; initial estimates perturbed.
   const std::vector<SE2> truth = {{0, 0, 0}, {2, 0, M_PI / 2}, {2, 2, M_PI}, {0, 2, -M_PI / 2}};
-  PoseGraph2d graph;
+  KeyframePoseGraph graph;
   for (int i = 0; i < 4; ++i) {
     ASSERT_TRUE(graph.add_node(kf(0, i), truth[i] * SE2(0.3 * i, -0.2 * i, 0.2 * i)));
   }
@@ -72,8 +72,8 @@ TEST(PoseGraph2d, SquareWithLoopIsExact) {
   }
 }
 
-TEST(PoseGraph2d, RejectsBadInput) {
-  PoseGraph2d graph;
+TEST(KeyframePoseGraph, RejectsBadInput) {
+  KeyframePoseGraph graph;
   EXPECT_TRUE(graph.add_node(kf(0, 0), SE2()));
   EXPECT_FALSE(graph.add_node(kf(0, 0), SE2()));
   EXPECT_FALSE(graph.add_node(kf(0, 1), SE2(NAN, 0, 0)));
@@ -82,11 +82,11 @@ TEST(PoseGraph2d, RejectsBadInput) {
   EXPECT_FALSE(graph.add_edge({kf(0, 0), kf(0, 1), SE2(), Eigen::Matrix3d::Zero(), EdgeKind::kOdometry}));
   EXPECT_TRUE(graph.add_edge({kf(0, 0), kf(0, 1), SE2(1, 0, 0), Eigen::Matrix3d::Identity(), EdgeKind::kOdometry}));
   EXPECT_EQ(graph.edges().size(), 1u);
-  EXPECT_TRUE(PoseGraph2d().solve().converged);  // empty graph
+  EXPECT_TRUE(KeyframePoseGraph().solve().converged);  // empty graph
 }
 
 /// Two robots driving noisy circles, intra-robot loop closures and inter-robot edges.
-TEST(PoseGraph2d, NoisyTwoRobotGraphGetsCloserToTruth) {
+TEST(KeyframePoseGraph, NoisyTwoRobotGraphGetsCloserToTruth) {
   std::mt19937 rng(42);
   std::normal_distribution<double> noise_xy(0.0, 0.03), noise_yaw(0.0, 0.02);
   const int n = 30;
@@ -97,9 +97,9 @@ TEST(PoseGraph2d, NoisyTwoRobotGraphGetsCloserToTruth) {
       truth[kf(r, i)] = SE2(4 * r + 2 * std::cos(a), 2 * std::sin(a), a + M_PI / 2);
     }
   }
-  PoseGraphOptions options;
+  KeyframePoseGraphOptions options;
   options.loop_loss = {RobustLossType::kHuber, 1.0};
-  PoseGraph2d graph(options);
+  KeyframePoseGraph graph(options);
   const Eigen::Matrix3d info = Eigen::Vector3d(1 / 9e-4, 1 / 9e-4, 1 / 4e-4).asDiagonal();
   auto noisy = [&](const SE2& T) { return T * SE2(noise_xy(rng), noise_xy(rng), noise_yaw(rng)); };
   for (int r = 0; r < 2; ++r) {
@@ -155,9 +155,9 @@ LoopWalk make_loop_walk(int n) {
   return w;
 }
 
-TEST(PoseGraph2d, LocalSolveMovesOnlyTheActiveNodes) {
+TEST(KeyframePoseGraph, LocalSolveMovesOnlyTheActiveNodes) {
   const LoopWalk w = make_loop_walk(40);
-  PoseGraph2d graph;
+  KeyframePoseGraph graph;
   ASSERT_TRUE(graph.add_node(kf(0, 0), w.truth[0]));
   ASSERT_TRUE(graph.set_prior({kf(0, 0), w.truth[0], Eigen::Matrix3d::Identity() * 1e6}));
   for (int i = 1; i < 20; ++i) {
@@ -194,10 +194,10 @@ TEST(PoseGraph2d, LocalSolveMovesOnlyTheActiveNodes) {
 
 /// The mapper's scheme (local windows per new node, then warm-started full solves after loop
 /// closures) must reach the optimum a batch solve of the same graph finds.
-TEST(PoseGraph2d, WindowedUpdatesThenFullSolveReachTheBatchOptimum) {
+TEST(KeyframePoseGraph, WindowedUpdatesThenFullSolveReachTheBatchOptimum) {
   const int n = 60;
   const LoopWalk w = make_loop_walk(n);
-  PoseGraph2d graph;
+  KeyframePoseGraph graph;
   ASSERT_TRUE(graph.add_node(kf(0, 0), w.truth[0]));
   ASSERT_TRUE(graph.set_prior({kf(0, 0), w.truth[0], Eigen::Matrix3d::Identity() * 1e6}));
   size_t next_loop = 0;
@@ -227,7 +227,7 @@ TEST(PoseGraph2d, WindowedUpdatesThenFullSolveReachTheBatchOptimum) {
   EXPECT_FALSE(refine);
   EXPECT_GT(full_solves, 0);
   // Batch: the same graph from odometry, one full solve.
-  PoseGraph2d batch;
+  KeyframePoseGraph batch;
   batch.add_node(kf(0, 0), w.truth[0]);
   batch.set_prior({kf(0, 0), w.truth[0], Eigen::Matrix3d::Identity() * 1e6});
   for (int i = 1; i < n; ++i) batch.add_node(kf(0, i), *batch.estimate(kf(0, i - 1)) * w.odometry[i - 1]);

@@ -69,7 +69,7 @@ struct RobustLossOptions {
 /// to polish a solution for comparison with certified optima.
 enum class EdgeResidualType { kRelativePose, kSeSync };
 
-struct PoseGraphOptions {
+struct KeyframePoseGraphOptions {
   EdgeResidualType residual = EdgeResidualType::kRelativePose;
   RobustLossOptions odometry_loss{RobustLossType::kNone, 1.0};
   RobustLossOptions loop_loss{RobustLossType::kCauchy, 1.0};
@@ -109,15 +109,15 @@ struct PoseGraphSolveResult {
   std::string reason;
 };
 
-class PoseGraph2d {
+class KeyframePoseGraph {
  public:
-  explicit PoseGraph2d(const PoseGraphOptions& options = {});
-  ~PoseGraph2d();
+  explicit KeyframePoseGraph(const KeyframePoseGraphOptions& options = {});
+  ~KeyframePoseGraph();
   /// Copies carry the graph and estimates; the copy builds its own Ceres problem on first solve.
-  PoseGraph2d(const PoseGraph2d& other);
-  PoseGraph2d& operator=(const PoseGraph2d& other);
-  PoseGraph2d(PoseGraph2d&&) noexcept;
-  PoseGraph2d& operator=(PoseGraph2d&&) noexcept;
+  KeyframePoseGraph(const KeyframePoseGraph& other);
+  KeyframePoseGraph& operator=(const KeyframePoseGraph& other);
+  KeyframePoseGraph(KeyframePoseGraph&&) noexcept;
+  KeyframePoseGraph& operator=(KeyframePoseGraph&&) noexcept;
 
   /// Adds a node at an initial estimate. False (graph unchanged) if it exists or is not finite.
   bool add_node(KeyframeId id, const SE2& T_world_node);
@@ -144,7 +144,7 @@ class PoseGraph2d {
   /// Replaces every estimate (e.g. by a LAGO initialisation); unknown ids are ignored.
   void set_estimates(const std::map<KeyframeId, SE2>& estimates);
 
-  // Landmarks (pose_graph_2d_landmarks.cpp): 2D point nodes (markers and objects) with range-bearing
+  // Landmarks (keyframe_pose_graph_landmarks.cpp): 2D point nodes (markers and objects) with range-bearing
   // residuals (robust loss landmark_loss / object_loss). A node is created by its first observation.
   /// Adds an observation. False (graph unchanged) if the pose node is unknown or a value is not
   /// finite / a sigma not positive / the range below 1 cm.
@@ -173,11 +173,11 @@ class PoseGraph2d {
   struct NodeState {
     double pose[3] = {0, 0, 0};  ///< x_m, y_m, yaw_rad: one Ceres parameter block
   };
-  struct Problem;  ///< the live Ceres problem (pose_graph_2d.cpp)
+  struct Problem;  ///< the live Ceres problem (keyframe_pose_graph.cpp)
   void sync_problem();
-  void sync_landmarks();  ///< adds new landmark blocks to the live problem (pose_graph_2d.cpp)
+  void sync_landmarks();  ///< adds new landmark blocks to the live problem (keyframe_pose_graph.cpp)
 
-  PoseGraphOptions options_;
+  KeyframePoseGraphOptions options_;
   std::unique_ptr<Problem> problem_;
   std::map<KeyframeId, NodeState> nodes_;  ///< std::map: stable addresses for Ceres blocks
   std::vector<PoseGraphEdge> edges_;
