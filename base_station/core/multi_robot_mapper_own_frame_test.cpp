@@ -24,7 +24,7 @@ double worst_error_m(const std::vector<SE2>& path_world, PoseFn pose) {
   return worst;
 }
 
-TEST(RobotLinkerOwnFrame, AnUnlinkedRobotsOwnLoopClosuresStraightenTheMapItIsJudgedBy) {
+TEST(MultiRobotMapperOwnFrame, AnUnlinkedRobotsOwnLoopClosuresStraightenTheMapItIsJudgedBy) {
   // Robot 1 tours wing W twice (corridor, both rooms) with 0.3 deg/m of heading drift; robot 0,
   // the anchor, is in another building, so robot 1 stays unlinked.
   std::vector<Eigen::Vector2d> route = testing::west_route(0), back = testing::west_route(0);
@@ -73,7 +73,7 @@ KeyframePoses true_poses(RobotId robot, const std::vector<SE2>& path_world) {
   return update;
 }
 
-TEST(RobotLinkerOwnFrame, TheAgentsLoopClosedPosesReplaceTheDriftingFrontEndChain) {
+TEST(MultiRobotMapperOwnFrame, TheAgentsLoopClosedPosesReplaceTheDriftingFrontEndChain) {
   // Robot 0 (the anchor, placed) and robot 1 (another building, unlinked) both tour with 0.5 deg/m
   // of heading drift in their front ends; their agents then send loop-closed poses.
   const std::vector<SE2> path0 = along(testing::west_route(0));

@@ -64,7 +64,7 @@ double worst_error_m(const MultiRobotMapper& mapper, RobotId robot, const std::v
   return worst_m;
 }
 
-TEST(RobotLinkerGuidedLink, ARobotWhoseMapDriftsAwayFromTheLinkIsCheckedAsTheGuidedClosuresPlaceIt) {
+TEST(MultiRobotMapperGuidedLink, ARobotWhoseMapDriftsAwayFromTheLinkIsCheckedAsTheGuidedClosuresPlaceIt) {
   const std::vector<SE2> p1 = along({{1.5, 6}, {4.5, 6.5}, {3, 5}, {1.5, 6}, {3, 5}, {3, 1}, {11, 1}});
   size_t drift_from = 0;  // robot 1's heading drifts once it is back in the corridor: 1 deg/m
   while (p1[drift_from].y() > 1.5) ++drift_from;
@@ -100,7 +100,7 @@ TEST(RobotLinkerGuidedLink, ARobotWhoseMapDriftsAwayFromTheLinkIsCheckedAsTheGui
   EXPECT_GT(front_end_worst_m, 0.5);
 }
 
-TEST(RobotLinkerGuidedLink, TheNewRobotMayHaveTheLowerId) {
+TEST(MultiRobotMapperGuidedLink, TheNewRobotMayHaveTheLowerId) {
   // Robot 1 is the anchor and robot 0 the newcomer: the hypothesis is judged from the placed side
   // (the closures reversed). Robot 0 starts at the corridor's east end and drifts on its way to
   // room A, where the clique places it: its first keyframe, the tentative graph's lowest id, is

@@ -51,7 +51,7 @@ double worst_position_error_m(const MultiRobotMapper& mapper, RobotId robot, con
   return worst;
 }
 
-TEST(RobotLinkerAliasing, RobotsInIdenticalWingsStayUnlinked) {
+TEST(MultiRobotMapperAliasing, RobotsInIdenticalWingsStayUnlinked) {
   const std::vector<SE2> p0 = along(west_route(0)), p1 = along(west_route(12));
   MapperOptions unchecked;
   unchecked.check_map_consistency = false;
@@ -73,7 +73,7 @@ TEST(RobotLinkerAliasing, RobotsInIdenticalWingsStayUnlinked) {
   }
 }
 
-TEST(RobotLinkerAliasing, OverlappingRobotsAreLinkedPrecisely) {
+TEST(MultiRobotMapperAliasing, OverlappingRobotsAreLinkedPrecisely) {
   const std::vector<SE2> p0 = along(west_route(0));
   std::vector<Eigen::Vector2d> back = west_route(0);
   std::reverse(back.begin(), back.end());  // robot 1 retraces wing W from its east end
@@ -85,7 +85,7 @@ TEST(RobotLinkerAliasing, OverlappingRobotsAreLinkedPrecisely) {
   EXPECT_LT(worst_position_error_m(mapper, RobotId(1), p1, p0[0].inverse()), 0.05);
 }
 
-TEST(RobotLinkerAliasing, ARobotSeeingOnePlaceOfAnotherFromAlongItsPathIsLinked) {
+TEST(MultiRobotMapperAliasing, ARobotSeeingOnePlaceOfAnotherFromAlongItsPathIsLinked) {
   // Robot 0 only looks around in the corridor at room A's door; robot 1 drives the corridor and
   // tours room B. The closures join one place of robot 0 (< 2 m) to metres of robot 1's path:
   // their lever arm is on robot 1's side, and the map check judges the rest.
@@ -104,7 +104,7 @@ TEST(RobotLinkerAliasing, ARobotSeeingOnePlaceOfAnotherFromAlongItsPathIsLinked)
   EXPECT_LT(worst_position_error_m(mapper, RobotId(1), p1, p0[0].inverse()), 0.05);
 }
 
-TEST(RobotLinkerAliasing, AClosureFarOffALinkedPairIsDroppedUnchecked) {
+TEST(MultiRobotMapperAliasing, AClosureFarOffALinkedPairIsDroppedUnchecked) {
   // Both starts told to the base (linked from the start), robots in the two identical wings: every
   // inter-robot closure is an alias 12 m off the estimate, no drift correction.
   const std::vector<SE2> p0 = along(west_route(0)), p1 = along(west_route(12));
@@ -136,7 +136,7 @@ double worst_intra_closure_error_m(const MultiRobotMapper& mapper, const std::ve
   return worst;
 }
 
-TEST(RobotLinkerAliasing, OneRobotThroughIdenticalWingsKeepsOnlyTrueClosures) {
+TEST(MultiRobotMapperAliasing, OneRobotThroughIdenticalWingsKeepsOnlyTrueClosures) {
   // One robot explores wing W, then wing E: its scans in E verify against W's identical rooms
   // 12 m back. Those closures agree with each other, so only the robot's own poses (loop-closed
   // by its SLAM) can tell them wrong.
