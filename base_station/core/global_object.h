@@ -25,7 +25,13 @@
 namespace cairn::base {
 
 struct GlobalObject {
-  ObjectId id;  ///< merged id: the smallest ObjectId among its reports
+  /// The id the team first saw it under (ObjectIdRegistry); merge_object_reports gives the smallest
+  /// ObjectId among its reports.
+  ObjectId id;
+  /// Invalid: position_m is in the global frame. Else the robot (not linked yet) in whose own local
+  /// frame position_m and cloud_global are (robot_frame_objects.h).
+  RobotId frame;
+  std::vector<ObjectId> aliases;  ///< other ids it was shown under before objects merged (sorted)
   std::string class_name;
   float confidence = 0.f;                                           ///< max over reports
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();             ///< global frame, observation-weighted

@@ -52,6 +52,9 @@ struct MapperData {
   std::vector<LoopClosure> loops;                     ///< accepted loop closures (intra and inter-robot), a = older
   std::map<RobotId, OwnFrame> own_frames;             ///< unlinked robots with intra-robot loop closures
   std::map<RobotId, LocalLandmarks> local_landmarks;  ///< each robot's landmarks in its local frame
+  StampNs latest_stamp_ns = 0;                        ///< newest keyframe stamp of any robot: mission time
+  /// Mission time at which each robot was linked (its first keyframe's for the anchor and hinted ones).
+  std::map<RobotId, StampNs> linked_at_ns;
 
   bool linked(RobotId robot) const { return starts.count(robot) > 0; }
   /// A stored keyframe (checked: asking for one that is not stored is a bug).

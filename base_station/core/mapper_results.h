@@ -51,8 +51,12 @@ struct RobotSummary {
   RobotId id;
   bool linked = false;
   int keyframes = 0;
-  int objects = 0;  ///< reports from this robot (placed or pending)
+  int objects = 0;             ///< reports from this robot (placed or pending)
+  StampNs first_stamp_ns = 0;  ///< its first keyframe's (0: none yet)
   StampNs last_stamp_ns = 0;
+  /// Mission seconds from its first keyframe to its link (0 for the anchor and hinted robots); -1 while
+  /// not linked.
+  double time_to_link_s = -1.0;
   int32_t last_seq = -1;
   int missing_keyframes = 0;  ///< gaps in seq 0..last_seq
   /// Correction global <- robot local frame (identity when not linked); the "correction" topic.

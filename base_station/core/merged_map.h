@@ -11,6 +11,7 @@
 #include "base_station/core/keyframe_pose_graph.h"
 #include "base_station/core/mapper_data.h"
 #include "base_station/core/mapper_results.h"
+#include "base_station/core/robot_frame_objects.h"
 #include "common/occupancy_grid.h"
 #include "common/trajectory.h"
 
@@ -23,7 +24,10 @@ struct MergedMap {
   std::vector<RobotSummary> robots;            ///< every robot heard of, by id
   std::map<RobotId, Trajectory> trajectories;  ///< linked robots' keyframe poses in the global frame
   std::vector<GlobalObject> objects;           ///< merged objects of linked robots, by id
-  uint64_t version = 0;                        ///< MultiRobotMapper::version() when made
+  /// Objects of robots not linked yet, in their robot's own frame (GlobalObject::frame), by id.
+  std::vector<GlobalObject> unplaced_objects;
+  std::vector<RobotFrameMap> robot_frame_maps;  ///< each unlinked robot's own map, by robot
+  uint64_t version = 0;                         ///< MultiRobotMapper::version() when made
 
   /// A linked robot's trajectory (empty when it is not linked).
   const Trajectory& trajectory(RobotId robot) const {

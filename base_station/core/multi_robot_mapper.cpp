@@ -7,6 +7,8 @@
 #include <climits>
 #include <cmath>
 
+#include "base_station/core/robot_frame_objects.h"
+
 namespace cairn::base {
 namespace {
 
@@ -70,6 +72,7 @@ AddResult MultiRobotMapper::add_keyframe(const Keyframe& kf) {
   if (!invalid.empty()) return {AddStatus::kRejected, to_string(kf.id) + ": " + invalid};
   if (data_.keyframes.count(kf.id)) return {AddStatus::kDuplicate, to_string(kf.id) + " already stored"};
   data_.keyframes.emplace(kf.id, kf);
+  data_.latest_stamp_ns = std::max(data_.latest_stamp_ns, kf.stamp_ns);
   ++version_;
   if (linker_.note_keyframe(kf, &data_)) map_.all_moved();  // the provisional anchor changed
   if (graph_.has_node(kf.id)) rebuild_graph_ = true;
@@ -125,6 +128,7 @@ OptimizeResult MultiRobotMapper::optimize() {
   result.newly_linked = std::move(links.newly_linked);
   result.link_events = std::move(links.events);
   result.pending_candidates = links.pending_candidates;
+  note_link_times();
   // 2. Bring the linked robots' new keyframes and the accepted constraints into the graph; solve.
   update_graph(links.full_resolve, &result);
   count_graph(&result);
@@ -137,6 +141,18 @@ OptimizeResult MultiRobotMapper::optimize() {
   map_.poses_changed();
   ++version_;
   return result;
+}
+
+void MultiRobotMapper::note_link_times() {
+  for (auto it = data_.linked_at_ns.begin(); it != data_.linked_at_ns.end();) {  // a provisional anchor replaced
+    it = data_.linked(it->first) ? std::next(it) : data_.linked_at_ns.erase(it);
+  }
+  for (const auto& [robot, start] : data_.starts) {
+    const RobotKeyframes own = data_.robot_keyframes(robot);
+    if (data_.linked_at_ns.count(robot) || own.empty()) continue;
+    const bool from_start = data_.anchor == robot || data_.hints.count(robot);
+    data_.linked_at_ns[robot] = from_start ? own.begin()->second.stamp_ns : data_.latest_stamp_ns;
+  }
 }
 
 void MultiRobotMapper::count_graph(OptimizeResult* result) const {
@@ -165,6 +181,7 @@ std::vector<RobotSummary> MultiRobotMapper::robots() const {
   for (const auto& [id, start] : data_.starts) entry(id);
   for (const auto& [id, kf] : data_.keyframes) {
     RobotSummary& s = entry(id.robot);
+    if (s.keyframes == 0) s.first_stamp_ns = kf.stamp_ns;  // keyframes are in seq order per robot
     ++s.keyframes;
     s.last_stamp_ns = std::max(s.last_stamp_ns, kf.stamp_ns);
     s.last_seq = std::max(s.last_seq, id.seq);
@@ -179,6 +196,8 @@ std::vector<RobotSummary> MultiRobotMapper::robots() const {
   for (auto& [id, s] : out) {
     s.missing_keyframes = s.last_seq + 1 - s.keyframes;
     if (s.linked) s.T_global_local = data_.correction(id);
+    const auto linked_at = data_.linked_at_ns.find(id);
+    if (linked_at != data_.linked_at_ns.end()) s.time_to_link_s = ns_to_sec(linked_at->second - s.first_stamp_ns);
     list.push_back(s);
   }
   return list;
@@ -194,6 +213,13 @@ MergedMap MultiRobotMapper::merged() const {
     if (r.linked) m.trajectories[r.id] = data_.global_trajectory(r.id);
   }
   m.objects = objects();
+  m.unplaced_objects = unplaced_objects();
+  for (const RobotSummary& r : m.robots) {
+    if (!r.linked && r.keyframes > 0) {
+      m.robot_frame_maps.push_back(
+          robot_frame_map(data_, r.id, m.unplaced_objects, options_.grid, map_render_options(options_)));
+    }
+  }
   m.version = version_;
   return m;
 }

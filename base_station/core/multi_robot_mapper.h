@@ -22,6 +22,7 @@
 #include "base_station/core/mapper_results.h"
 #include "base_station/core/merged_map.h"
 #include "base_station/core/object_constraints.h"
+#include "base_station/core/object_id_registry.h"
 #include "base_station/core/robot_linker.h"
 
 namespace cairn::base {
@@ -51,8 +52,10 @@ class MultiRobotMapper {
   // What the outputs read.
   MergedMap merged() const;
   std::vector<RobotSummary> robots() const;
-  /// Merged objects of linked robots, sorted by id.
+  /// Merged objects of linked robots, sorted by id (ids stable for the mission: ObjectIdRegistry).
   std::vector<GlobalObject> objects() const;
+  /// Objects of robots not linked yet, each in its robot's own frame (robot_frame_objects.h).
+  std::vector<GlobalObject> unplaced_objects() const;
   /// Reports whose anchor keyframe has not arrived yet.
   std::vector<ObjectId> pending_objects() const { return data_.pending_objects(); }
   /// Occupancy grid of every linked keyframe's scan at its current global pose.
@@ -103,7 +106,11 @@ class MultiRobotMapper {
   void refresh_object_constraints();
   void add_object_edges();
   std::vector<GlobalObject> compute_objects() const;
+  void refresh_objects() const;
+  ObjectMergeOptions merge_options() const;
   void count_graph(OptimizeResult* result) const;
+  /// Records when robots got linked (MapperData::linked_at_ns), in mission time.
+  void note_link_times();
 
   MapperOptions options_;
   MapperData data_;
@@ -121,7 +128,8 @@ class MultiRobotMapper {
   uint64_t version_ = 1;          ///< anything changed
   mutable GlobalMapCache map_;
   mutable uint64_t objects_version_ = 0;
-  mutable std::vector<GlobalObject> objects_;
+  mutable std::vector<GlobalObject> objects_, unplaced_;
+  mutable ObjectIdRegistry object_ids_;  ///< ids as first shown, whenever objects are first computed
 };
 
 }  // namespace cairn::base

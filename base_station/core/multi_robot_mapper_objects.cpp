@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "base_station/core/multi_robot_mapper.h"
+#include "base_station/core/robot_frame_objects.h"
 
 namespace cairn::base {
 namespace {
@@ -60,11 +61,25 @@ AddResult MultiRobotMapper::add_object(const ObjectReport& report) {
 }
 
 std::vector<GlobalObject> MultiRobotMapper::objects() const {
-  if (objects_version_ != version_) {
-    objects_ = compute_objects();
-    objects_version_ = version_;
-  }
+  refresh_objects();
   return objects_;
+}
+
+std::vector<GlobalObject> MultiRobotMapper::unplaced_objects() const {
+  refresh_objects();
+  return unplaced_;
+}
+
+void MultiRobotMapper::refresh_objects() const {
+  if (objects_version_ == version_) return;
+  // Placed and unplaced together through the registry: an object keeps its id when its robot links.
+  std::vector<GlobalObject> all = compute_objects();
+  for (GlobalObject& o : robot_frame_objects(data_, merge_options())) all.push_back(std::move(o));
+  object_ids_.assign(&all);
+  objects_.clear();
+  unplaced_.clear();
+  for (GlobalObject& o : all) (o.frame.valid() ? unplaced_ : objects_).push_back(std::move(o));
+  objects_version_ = version_;
 }
 
 void MultiRobotMapper::refresh_object_constraints() {
@@ -106,10 +121,14 @@ std::vector<GlobalObject> MultiRobotMapper::compute_objects() const {
     placed.push_back(PlacedObjectReport{&r, anchor->to_isometry3() * r.T_anchor_object});
   }
   // Candidates by overlap, verified by RGB-ICP in the global frame (global_object.h).
+  return merge_object_reports(placed, merge_options());
+}
+
+ObjectMergeOptions MultiRobotMapper::merge_options() const {
   ObjectMergeOptions merge = options_.object_merge;
   merge.max_gate_m = options_.merge_distance_m;
   merge.object_voxel_m = options_.object_voxel_m;
-  return merge_object_reports(placed, merge);
+  return merge;
 }
 
 }  // namespace cairn::base

@@ -1,0 +1,68 @@
+#include "base_station/core/object_id_registry.h"
+
+#include <algorithm>
+#include <optional>
+
+namespace cairn::base {
+
+void ObjectIdRegistry::assign(std::vector<GlobalObject>* objects) {
+  // The ids each object's reports were shown under, first shown first.
+  std::vector<std::vector<ObjectId>> known(objects->size());
+  for (size_t i = 0; i < objects->size(); ++i) {
+    for (ObjectId report : (*objects)[i].reports) {
+      const auto it = shown_as_.find(report);
+      if (it != shown_as_.end() && std::find(known[i].begin(), known[i].end(), it->second) == known[i].end())
+        known[i].push_back(it->second);
+    }
+    std::sort(known[i].begin(), known[i].end(),
+              [&](ObjectId a, ObjectId b) { return first_shown_.at(a) < first_shown_.at(b); });
+  }
+  std::set<ObjectId> taken;  // one object per id in this call
+  std::vector<std::optional<ObjectId>> id(objects->size());
+  auto own = [&](size_t i, ObjectId k) {
+    const auto& r = (*objects)[i].reports;
+    return std::find(r.begin(), r.end(), k) != r.end();
+  };
+  // 1. An id goes first to the object that still holds the report it was born from (after a split,
+  //    the part with that report keeps it).
+  for (size_t i = 0; i < objects->size(); ++i) {
+    for (ObjectId k : known[i]) {
+      if (own(i, k) && !taken.count(k)) {
+        id[i] = k;
+        taken.insert(k);
+        break;
+      }
+    }
+  }
+  // 2. Then the earliest shown id not taken; else its own smallest free report id (a new object, or
+  //    the part of a split that lost its id).
+  for (size_t i = 0; i < objects->size(); ++i) {
+    if (id[i]) continue;
+    for (ObjectId k : known[i]) {
+      if (!taken.count(k)) {
+        id[i] = k;
+        break;
+      }
+    }
+    for (size_t r = 0; !id[i] && r < (*objects)[i].reports.size(); ++r) {
+      if (!taken.count((*objects)[i].reports[r])) id[i] = (*objects)[i].reports[r];
+    }
+    if (!id[i]) id[i] = (*objects)[i].id;  // every report id taken: cannot happen with disjoint reports
+    taken.insert(*id[i]);
+  }
+  // 3. Aliases: the other ids its reports were shown under that no other object holds now.
+  for (size_t i = 0; i < objects->size(); ++i) {
+    GlobalObject& o = (*objects)[i];
+    o.id = *id[i];
+    o.aliases.clear();
+    for (ObjectId k : known[i]) {
+      if (k != o.id && !taken.count(k)) o.aliases.push_back(k);
+    }
+    std::sort(o.aliases.begin(), o.aliases.end());
+    if (!first_shown_.count(o.id)) first_shown_[o.id] = next_++;
+    for (ObjectId report : o.reports) shown_as_[report] = o.id;
+  }
+  std::sort(objects->begin(), objects->end(), [](const GlobalObject& a, const GlobalObject& b) { return a.id < b.id; });
+}
+
+}  // namespace cairn::base
