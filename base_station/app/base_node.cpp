@@ -313,11 +313,21 @@ int BaseNode::finish() {
     j["keyframes"] = rs.keyframes;
     j["missing_keyframes"] = rs.missing_keyframes;
     j["object_reports"] = rs.objects;
+    j["first_stamp_s"] = ns_to_sec(rs.first_stamp_ns);
+    j["time_to_link_s"] = rs.time_to_link_s >= 0 ? nlohmann::json(rs.time_to_link_s) : nlohmann::json();
     const std::string key = std::to_string(rs.id.value);
     j["link"] = links.contains(key) ? links[key] : nlohmann::json::object();
     summary["robots"].push_back(j);
   }
-  summary["objects"] = mapper_.objects().size();
+  const MergedMap merged = mapper_.merged();
+  summary["objects"] = merged.objects.size();
+  // Never quiet about what is not on the map: the robots not placed and their finds, in their own frame.
+  summary["unlinked_robots"] = nlohmann::json::array();
+  for (const RobotSummary& rs : merged.robots) {
+    if (!rs.linked) summary["unlinked_robots"].push_back(rs.id.value);
+  }
+  summary["unplaced_objects"] = nlohmann::json::array();
+  for (const GlobalObject& o : merged.unplaced_objects) summary["unplaced_objects"].push_back(object_json(o, merged));
   summary["mapped_area_m2"] = mapper_.mapped_area_m2();
   summary["graph"] = {{"nodes", r.nodes},
                       {"edges", r.edges},

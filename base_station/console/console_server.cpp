@@ -75,6 +75,13 @@ void ConsoleServer::register_routes() {
     res.set_header("Cache-Control", "no-store");
     res.set_content(reinterpret_cast<const char*>(s->map_png.data()), s->map_png.size(), "image/png");
   });
+  server_->Get(R"(/api/robots/([0-9]+)/own_map\.png)", [snapshot](const httplib::Request& req, httplib::Response& res) {
+    const auto s = snapshot();
+    auto it = s->own_maps.find(req.matches[1]);
+    if (it == s->own_maps.end() || it->second.empty()) return reply_not_found(res, "own map of an unlinked robot");
+    res.set_header("Cache-Control", "no-store");
+    res.set_content(reinterpret_cast<const char*>(it->second.data()), it->second.size(), "image/png");
+  });
   server_->Get(R"(/api/objects/([0-9]+-[0-9]+)/thumbnail\.jpg)",
                [snapshot](const httplib::Request& req, httplib::Response& res) {
                  const auto s = snapshot();

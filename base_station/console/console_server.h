@@ -5,6 +5,7 @@
 //   GET /, /app.js, /style.css          web assets from ConsoleOptions::web_dir
 //   GET /api/status, /api/robots, /api/objects      JSON
 //   GET /api/map.png                                 the rendered map
+//   GET /api/robots/<id>/own_map.png                 an unlinked robot's own map (its frame)
 //   GET /api/objects/<robot>-<seq>/thumbnail.jpg     object thumbnail
 //   GET /api/objects/<robot>-<seq>/cloud             JSON [[x,y,z,r,g,b],...] (<= 2000 points)
 #include <functional>

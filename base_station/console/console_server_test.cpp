@@ -5,6 +5,7 @@
 #include <httplib.h>
 
 #include "base_station/core/synthetic_world_test_util.h"
+#include "base_station/core/unlinked_robot_test_util.h"
 
 namespace cairn::base {
 namespace {
@@ -62,6 +63,38 @@ TEST(Snapshot, ShowsWhereEachRobotShouldSearchNext) {
   EXPECT_NE(s.map_png, without.map_png);
 }
 
+TEST(Snapshot, AnUnlinkedRobotsVictimIsInTheApiTheAlertsAndItsOwnMap) {
+  const testing::UnlinkableRobot u;
+  const ConsoleSnapshot s = make_snapshot(u.mapper.merged(), nlohmann::json::object());
+  EXPECT_EQ(s.status["unlinked_robots"], nlohmann::json::array({1}));
+  EXPECT_EQ(s.status["unplaced_objects"], 1);
+  ASSERT_EQ(s.objects.size(), 1u);
+  const nlohmann::json& o = s.objects[0];
+  EXPECT_EQ(o["id"], "1-0");
+  EXPECT_EQ(o["frame"], "robot1");
+  EXPECT_NEAR(o["position_m"][0].get<double>(), 4.0, 0.05);
+  EXPECT_NE(o["from_entry"]["text"].get<std::string>().find("from where robot 1 entered"), std::string::npos);
+  bool alerted = false;
+  for (const auto& a : s.status["alerts"]) {
+    if (a.value("object", "") == "1-0") {
+      alerted = true;
+      EXPECT_EQ(a["level"], "critical");
+      EXPECT_EQ(a["frame"], "robot1");
+      EXPECT_NE(a["text"].get<std::string>().find("not on the map yet"), std::string::npos) << a["text"];
+    }
+  }
+  EXPECT_TRUE(alerted) << s.status["alerts"].dump();
+  ASSERT_TRUE(s.own_maps.count("1"));
+  EXPECT_EQ(std::string(s.own_maps.at("1").begin(), s.own_maps.at("1").begin() + 8),
+            std::string("\x89PNG\r\n\x1a\n", 8));
+  for (const auto& r : s.robots) {
+    if (r["id"] == 1) {
+      EXPECT_EQ(r["own_map"], "/api/robots/1/own_map.png");
+      EXPECT_TRUE(r["time_to_link_s"].is_null());
+    }
+  }
+}
+
 TEST(ConsoleServer, ServesPagesAndApi) {
   LatestSnapshot latest;
   latest.publish(make_snapshot(make_mapper().merged(), nlohmann::json::object()));
@@ -103,6 +136,9 @@ TEST(ConsoleServer, ServesPagesAndApi) {
   auto cloud = client.Get("/api/objects/0-2/cloud");
   ASSERT_TRUE(cloud);
   EXPECT_GT(nlohmann::json::parse(cloud->body).size(), 0u);
+  auto no_own_map = client.Get("/api/robots/0/own_map.png");  // robot 0 is placed: no own map
+  ASSERT_TRUE(no_own_map);
+  EXPECT_EQ(no_own_map->status, 404);
   auto missing = client.Get("/api/objects/9-9/cloud");
   ASSERT_TRUE(missing);
   EXPECT_EQ(missing->status, 404);

@@ -47,20 +47,40 @@ nlohmann::json robot_json(const MergedMap& merged, const RobotSummary& r, const 
           {"keyframes", r.keyframes},
           {"missing_keyframes", r.missing_keyframes},
           {"objects", r.objects},
+          {"first_stamp_s", ns_to_sec(r.first_stamp_ns)},
           {"last_stamp_s", ns_to_sec(r.last_stamp_ns)},
+          {"time_to_link_s", r.time_to_link_s >= 0 ? nlohmann::json(r.time_to_link_s) : nlohmann::json()},
+          {"own_map", r.linked || r.keyframes == 0
+                          ? nlohmann::json()
+                          : nlohmann::json("/api/robots/" + std::to_string(r.id.value) + "/own_map.png")},
           {"correction",
            {{"x_m", r.T_global_local.x()}, {"y_m", r.T_global_local.y()}, {"yaw_rad", r.T_global_local.yaw()}}},
           {"trajectory", trajectory},
           {"link", link_stats.is_object() && link_stats.contains(key) ? link_stats[key] : nlohmann::json::object()}};
 }
 
-nlohmann::json object_json(const GlobalObject& o) {
+}  // namespace
+
+nlohmann::json object_json(const GlobalObject& o, const MergedMap& merged) {
   std::vector<int> robots;
   for (RobotId r : o.robots) robots.push_back(r.value);
   std::vector<std::string> reports;
   for (ObjectId id : o.reports) reports.push_back(object_key(id));
+  std::vector<std::string> aliases;
+  for (ObjectId id : o.aliases) aliases.push_back(object_key(id));
   const std::string key = object_key(o.id);
+  nlohmann::json where;  // unplaced: where it is, told from where its robot entered
+  if (o.frame.valid() && merged.data) {
+    const FromEntry w = from_entry(*merged.data, o.frame, o.position_m.head<2>());
+    where = {{"distance_m", w.distance_m},
+             {"bearing_deg", w.bearing_rad * 180.0 / M_PI},
+             {"path_m", w.path_m},
+             {"text", describe(o.frame, w)}};
+  }
   return {{"id", key},
+          {"frame", o.frame.valid() ? "robot" + std::to_string(o.frame.value) : "global"},
+          {"aliases", aliases},
+          {"from_entry", where},
           {"class", o.class_name},
           {"confidence", o.confidence},
           {"position_m", {o.position_m.x(), o.position_m.y(), o.position_m.z()}},
@@ -76,25 +96,40 @@ nlohmann::json object_json(const GlobalObject& o) {
           {"cloud_points", o.cloud_global.size()}};
 }
 
-nlohmann::json alerts_json(const std::vector<RobotSummary>& robots, const std::vector<GlobalObject>& objects) {
+namespace {
+
+nlohmann::json alerts_json(const MergedMap& merged) {
+  const std::vector<RobotSummary>& robots = merged.robots;
   nlohmann::json alerts = nlohmann::json::array();
-  for (const GlobalObject& o : objects) {
+  std::vector<const GlobalObject*> objects;
+  for (const auto* list : {&merged.objects, &merged.unplaced_objects}) {
+    for (const GlobalObject& o : *list) objects.push_back(&o);
+  }
+  for (const GlobalObject* object : objects) {
+    const GlobalObject& o = *object;
     const char* level = o.class_name == "victim" ? "critical" : o.class_name == "hazard" ? "warning" : "info";
-    char where[64];
-    std::snprintf(where, sizeof(where), " at (%.1f, %.1f) m", o.position_m.x(), o.position_m.y());
+    char at[64];
+    std::snprintf(at, sizeof(at), " at (%.1f, %.1f) m", o.position_m.x(), o.position_m.y());
+    std::string where = at;
+    if (o.frame.valid() && merged.data) {  // never hidden: told from where its robot entered
+      where = ", not on the map yet: " + describe(o.frame, from_entry(*merged.data, o.frame, o.position_m.head<2>()));
+    }
     std::string what = o.class_name;
     if (!what.empty()) what[0] = char(std::toupper(static_cast<unsigned char>(what[0])));
     alerts.push_back({{"level", level},
                       {"object", object_key(o.id)},
                       {"stamp_s", ns_to_sec(o.last_stamp_ns)},
+                      {"frame", o.frame.valid() ? "robot" + std::to_string(o.frame.value) : "global"},
                       {"text", what + " found by " + robots_text(o.robots) + where}});
   }
   for (const RobotSummary& r : robots) {
     if (!r.linked) {
-      alerts.push_back({{"level", "warning"},
-                        {"robot", r.id.value},
-                        {"stamp_s", ns_to_sec(r.last_stamp_ns)},
-                        {"text", "Robot " + std::to_string(r.id.value) + " is not linked to the global map"}});
+      alerts.push_back(
+          {{"level", "warning"},
+           {"robot", r.id.value},
+           {"stamp_s", ns_to_sec(r.last_stamp_ns)},
+           {"text", "Robot " + std::to_string(r.id.value) +
+                        " is not linked to the global map: its map and finds are shown in its own frame"}});
     }
   }
   // Most urgent first, then newest.
@@ -126,7 +161,6 @@ ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& lin
                               const ExplorationPlan* plan) {
   ConsoleSnapshot s;
   const std::vector<RobotSummary>& robots = merged.robots;
-  const std::vector<GlobalObject>& objects = merged.objects;
   StampNs mission_ns = 0;
   int linked = 0;
   for (const RobotSummary& r : robots) {
@@ -134,9 +168,18 @@ ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& lin
     mission_ns = std::max(mission_ns, r.last_stamp_ns);
     linked += r.linked;
   }
-  for (const GlobalObject& o : objects) {
+  std::vector<const GlobalObject*> objects;  // placed, then unplaced (in their robot's own frame)
+  for (const auto* list : {&merged.objects, &merged.unplaced_objects}) {
+    for (const GlobalObject& o : *list) objects.push_back(&o);
+  }
+  std::vector<int> unlinked;
+  for (const RobotSummary& r : robots) {
+    if (!r.linked) unlinked.push_back(r.id.value);
+  }
+  for (const GlobalObject* object : objects) {
+    const GlobalObject& o = *object;
     const std::string key = object_key(o.id);
-    s.objects.push_back(object_json(o));
+    s.objects.push_back(object_json(o, merged));
     if (!o.thumbnail_jpeg.empty()) s.thumbnails[key] = o.thumbnail_jpeg;
     nlohmann::json cloud = nlohmann::json::array();
     for (size_t i : decimate(o.cloud_global, options.max_cloud_points)) {
@@ -150,11 +193,15 @@ ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& lin
               {"robots", robots.size()},
               {"linked_robots", linked},
               {"objects", objects.size()},
+              {"unplaced_objects", merged.unplaced_objects.size()},
+              {"unlinked_robots", unlinked},
               {"pending_objects", merged.data->pending_objects().size()},
               {"version", merged.version},
-              {"alerts", alerts_json(robots, objects)}};
+              {"alerts", alerts_json(merged)}};
   if (plan) s.status["exploration"] = exploration_json(*plan);
   s.map_png = render_map_png(merged, {}, plan);
+  for (const RobotFrameMap& m : merged.robot_frame_maps)
+    s.own_maps[std::to_string(m.robot.value)] = render_robot_frame_png(m);
   return s;
 }
 

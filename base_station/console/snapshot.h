@@ -21,6 +21,7 @@ struct ConsoleSnapshot {
   std::vector<uint8_t> map_png;
   std::map<std::string, std::vector<uint8_t>> thumbnails;  ///< object key ("1-3") -> JPEG
   std::map<std::string, nlohmann::json> clouds;            ///< object key -> [[x,y,z,r,g,b],...]
+  std::map<std::string, std::vector<uint8_t>> own_maps;    ///< unlinked robot id -> its own map (PNG)
 };
 
 struct SnapshotOptions {
@@ -34,6 +35,11 @@ struct SnapshotOptions {
 /// next goal and the map shows it. Must run on the thread that owns the mapper (MergedMap points into it).
 ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& link_stats,
                               const SnapshotOptions& options = {}, const ExplorationPlan* plan = nullptr);
+
+/// One object for the console and the summary: id, frame ("global" or "robotN": its robot is not
+/// placed yet, position_m is in that robot's own frame, and from_entry tells where), aliases, class,
+/// confidence, position and its sigma, robots, reports, thumbnail and cloud URLs.
+nlohmann::json object_json(const GlobalObject& o, const MergedMap& merged);
 
 /// {"frontiers": n, "goals": [{"robot", "x_m", "y_m", "path_m", "frontier_m"}], "idle": [robot ids]}
 nlohmann::json exploration_json(const ExplorationPlan& plan);

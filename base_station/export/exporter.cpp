@@ -52,38 +52,84 @@ void run(ExportSummary* summary, const std::string& path, Fn&& fn) {
 
 }  // namespace
 
-bool write_objects_geojson(const std::vector<GlobalObject>& objects, const std::string& path, std::string* error) {
+namespace {
+
+std::string frame_name(RobotId frame) { return frame.valid() ? "robot" + std::to_string(frame.value) : "global"; }
+
+std::string join_ids(const std::vector<ObjectId>& ids) {
+  std::string s;
+  for (size_t i = 0; i < ids.size(); ++i) s += (i ? ";" : "") + object_key(ids[i]);
+  return s;
+}
+
+/// Where an object is in its (first) robot's own frame: for an unplaced object its own position,
+/// for a placed one its global position taken back to that robot's local frame.
+Eigen::Vector2d local_position(const MapperData& data, const GlobalObject& o) {
+  const Eigen::Vector2d p = o.position_m.head<2>();
+  if (o.frame.valid() || o.robots.empty() || !data.linked(o.robots.front())) return p;
+  return data.correction(o.robots.front()).inverse() * p;
+}
+
+}  // namespace
+
+bool write_objects_geojson(const MergedMap& merged, const std::string& path, std::string* error) {
   nlohmann::json features = nlohmann::json::array();
-  for (const GlobalObject& o : objects) {
-    std::vector<int> robots;
-    for (RobotId r : o.robots) robots.push_back(r.value);
-    features.push_back({
-        {"type", "Feature"},
-        {"geometry", {{"type", "Point"}, {"coordinates", {o.position_m.x(), o.position_m.y()}}}},
-        {"properties",
-         {{"id", object_key(o.id)},
-          {"class", o.class_name},
-          {"confidence", o.confidence},
-          {"z_m", o.position_m.z()},
-          {"robots", robots},
-          {"observations", o.observations},
-          {"size", {o.size_m.x(), o.size_m.y(), o.size_m.z()}}}},
-    });
+  for (const auto* list : {&merged.objects, &merged.unplaced_objects}) {
+    for (const GlobalObject& o : *list) {
+      std::vector<int> robots;
+      for (RobotId r : o.robots) robots.push_back(r.value);
+      std::vector<std::string> aliases;
+      for (ObjectId a : o.aliases) aliases.push_back(object_key(a));
+      nlohmann::json properties = {{"id", object_key(o.id)},
+                                   {"class", o.class_name},
+                                   {"confidence", o.confidence},
+                                   {"frame", frame_name(o.frame)},
+                                   {"aliases", aliases},
+                                   {"z_m", o.position_m.z()},
+                                   {"robots", robots},
+                                   {"observations", o.observations},
+                                   {"size", {o.size_m.x(), o.size_m.y(), o.size_m.z()}}};
+      nlohmann::json geometry = nullptr;  // GeoJSON: an unlocated feature (its robot is not placed)
+      if (o.frame.valid()) {
+        const FromEntry w = from_entry(*merged.data, o.frame, o.position_m.head<2>());
+        properties["robot_frame_m"] = {o.position_m.x(), o.position_m.y()};
+        properties["where"] = describe(o.frame, w);
+      } else {
+        geometry = {{"type", "Point"}, {"coordinates", {o.position_m.x(), o.position_m.y()}}};
+        if (!o.robots.empty()) {
+          const Eigen::Vector2d local = local_position(*merged.data, o);
+          properties["robot_frame_m"] = {local.x(), local.y()};
+        }
+      }
+      features.push_back({{"type", "Feature"}, {"geometry", geometry}, {"properties", properties}});
+    }
   }
-  const nlohmann::json doc = {{"type", "FeatureCollection"},
-                              {"properties", {{"crs", "cairn global map frame, metres"}}},
-                              {"features", features}};
+  const nlohmann::json doc = {
+      {"type", "FeatureCollection"},
+      {"properties",
+       {{"crs",
+         "cairn global map frame, metres; features without geometry are in their robot's own frame "
+         "(properties.frame, robot_frame_m), the robot not being placed yet"}}},
+      {"features", features}};
   return write_text(path, doc.dump(2) + "\n", error);
 }
 
-bool write_objects_csv(const std::vector<GlobalObject>& objects, const std::string& path, std::string* error) {
+bool write_objects_csv(const MergedMap& merged, const std::string& path, std::string* error) {
   std::ostringstream s;
   s << std::setprecision(9);
-  s << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n";
-  for (const GlobalObject& o : objects) {
-    s << object_key(o.id) << ',' << o.class_name << ',' << o.confidence << ',' << o.position_m.x() << ','
-      << o.position_m.y() << ',' << o.position_m.z() << ',' << join_robots(o.robots, ";") << ',' << o.observations
-      << ',' << o.size_m.x() << ',' << o.size_m.y() << ',' << o.size_m.z() << '\n';
+  // x_m, y_m, z_m are in `frame`: "global", or "robotN" (robot N's own frame, it is not placed yet).
+  // local_*: in the frame of the object's first robot (its own for an unplaced object).
+  s << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m,frame,aliases,"
+       "local_robot,local_x_m,local_y_m\n";
+  for (const auto* list : {&merged.objects, &merged.unplaced_objects}) {
+    for (const GlobalObject& o : *list) {
+      const Eigen::Vector2d local = local_position(*merged.data, o);
+      s << object_key(o.id) << ',' << o.class_name << ',' << o.confidence << ',' << o.position_m.x() << ','
+        << o.position_m.y() << ',' << o.position_m.z() << ',' << join_robots(o.robots, ";") << ',' << o.observations
+        << ',' << o.size_m.x() << ',' << o.size_m.y() << ',' << o.size_m.z() << ',' << frame_name(o.frame) << ','
+        << join_ids(o.aliases) << ',' << (o.robots.empty() ? -1 : o.robots.front().value) << ',' << local.x() << ','
+        << local.y() << '\n';
+    }
   }
   return write_text(path, s.str(), error);
 }
@@ -169,9 +215,13 @@ ExportSummary export_all(const MergedMap& merged, const std::string& out_dir, co
   run(&summary, dir + "map.png",
       [&](const std::string& p, std::string* e) { return write_map_png(merged, p, options, e, plan); });
   run(&summary, dir + "objects.geojson",
-      [&](const std::string& p, std::string* e) { return write_objects_geojson(objects, p, e); });
+      [&](const std::string& p, std::string* e) { return write_objects_geojson(merged, p, e); });
   run(&summary, dir + "objects.csv",
-      [&](const std::string& p, std::string* e) { return write_objects_csv(objects, p, e); });
+      [&](const std::string& p, std::string* e) { return write_objects_csv(merged, p, e); });
+  for (const RobotFrameMap& m : merged.robot_frame_maps) {
+    run(&summary, dir + "robot" + std::to_string(m.robot.value) + "_own_frame.png",
+        [&](const std::string& p, std::string* e) { return write_robot_frame_png(m, p, options, e); });
+  }
   run(&summary, dir + "objects_robot_frame.csv", [&](const std::string& p, std::string* e) {
     return write_text(p, robot_frame_objects_csv(merged.data->keyframes, merged.data->reports), e);
   });

@@ -49,9 +49,15 @@ ExportSummary export_all(const MergedMap& merged, const std::string& out_dir, co
 std::vector<uint8_t> render_map_png(const MergedMap& merged, const ExportOptions& options = {},
                                     const ExplorationPlan* plan = nullptr);
 
+/// An unlinked robot's own map (robot_frame_objects.h) as PNG bytes, with its entry point and a
+/// banner saying it is not placed yet; empty on failure.
+std::vector<uint8_t> render_robot_frame_png(const RobotFrameMap& map, const ExportOptions& options = {});
+
 /// Individual writers (used by export_all); each returns false and sets *error on failure.
-bool write_objects_geojson(const std::vector<GlobalObject>& objects, const std::string& path, std::string* error);
-bool write_objects_csv(const std::vector<GlobalObject>& objects, const std::string& path, std::string* error);
+/// The placed objects (global frame) and the unplaced ones (their robot's own frame, `frame` column /
+/// property; GeoJSON features without geometry), each with its aliases and robot-frame position.
+bool write_objects_geojson(const MergedMap& merged, const std::string& path, std::string* error);
+bool write_objects_csv(const MergedMap& merged, const std::string& path, std::string* error);
 /// VERTEX_SE2 / EDGE_SE2 (information upper triangle) / EDGE_PRIOR_SE2; vertex ids are a dense
 /// index over the nodes in (robot, seq) order, listed in "# KEYFRAME <vertex> <robot> <seq>" lines.
 /// Point nodes follow as VERTEX_XY ("# MARKER <vertex> <id>", "# OBJECT <vertex> <robot> <seq>") with
@@ -59,6 +65,8 @@ bool write_objects_csv(const std::vector<GlobalObject>& objects, const std::stri
 bool write_graph_g2o(const KeyframePoseGraph& graph, const std::string& path, std::string* error);
 bool write_map_png(const MergedMap& merged, const std::string& path, const ExportOptions& options, std::string* error,
                    const ExplorationPlan* plan = nullptr);
+bool write_robot_frame_png(const RobotFrameMap& map, const std::string& path, const ExportOptions& options,
+                           std::string* error);
 /// Any row-major RGB picture (top row first, 3 bytes per pixel) as PNG, e.g. draw_map_consistency's.
 bool write_rgb_png(int width, int height, const std::vector<uint8_t>& rgb, const std::string& path, std::string* error);
 bool write_object_ply(const GlobalObject& object, const std::string& path, std::string* error);

@@ -136,7 +136,55 @@ cv::Mat render(const MergedMap& merged, const ExportOptions& options, const Expl
   return img;
 }
 
+/// A robot's own map: the map image of its frame, its entry point marked, and a banner that says
+/// it is not on the global map yet.
+cv::Mat render_robot_frame(const RobotFrameMap& m, const ExportOptions& options) {
+  MergedMap view;
+  view.grid = &m.grid;
+  view.trajectories[m.robot] = m.trajectory;
+  view.objects = m.objects;
+  cv::Mat img = render(view, options, nullptr);
+  if (m.grid.width() > 0 && m.grid.height() > 0) {
+    const CellBox box = known_box(m.grid, int(std::ceil(0.5 / m.grid.resolution_m())));
+    const int longest = std::max(box.col1 - box.col0 + 1, box.row1 - box.row0 + 1);
+    const int scale =
+        std::clamp((options.png_min_size_px + longest - 1) / longest, 1, std::max(1, options.png_max_scale));
+    const Eigen::Vector2d origin_m = m.grid.origin_m() + m.grid.resolution_m() * Eigen::Vector2d(box.col0, box.row0);
+    const PixelMapper px{origin_m, m.grid.resolution_m(), box.row1 - box.row0 + 1, scale};
+    const cv::Point entry = px(Eigen::Vector2d::Zero());
+    cv::drawMarker(img, entry, robot_colour(m.robot), cv::MARKER_TRIANGLE_UP, 20, 3, cv::LINE_AA);
+    cv::putText(img, "entry", entry + cv::Point(12, 16), cv::FONT_HERSHEY_SIMPLEX, 0.5, robot_colour(m.robot), 1,
+                cv::LINE_AA);
+  }
+  const std::string banner = "robot " + std::to_string(m.robot.value) + ", not yet placed: its own map";
+  cv::Mat framed;  // the banner above the map, not over it
+  cv::copyMakeBorder(img, framed, 28, 0, 0, 0, cv::BORDER_CONSTANT, cv::Scalar(40, 40, 40));
+  cv::putText(framed, banner, {8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.6, {255, 255, 255}, 1, cv::LINE_AA);
+  return framed;
+}
+
 }  // namespace
+
+std::vector<uint8_t> render_robot_frame_png(const RobotFrameMap& map, const ExportOptions& options) {
+  std::vector<uint8_t> png;
+  try {
+    if (!cv::imencode(".png", render_robot_frame(map, options), png)) png.clear();
+  } catch (const cv::Exception&) {
+    png.clear();
+  }
+  return png;
+}
+
+bool write_robot_frame_png(const RobotFrameMap& map, const std::string& path, const ExportOptions& options,
+                           std::string* error) {
+  try {
+    if (cv::imwrite(path, render_robot_frame(map, options))) return true;
+    *error = "cv::imwrite failed";
+  } catch (const cv::Exception& e) {
+    *error = std::string("OpenCV: ") + e.what();
+  }
+  return false;
+}
 
 std::vector<uint8_t> render_map_png(const MergedMap& merged, const ExportOptions& options,
                                     const ExplorationPlan* plan) {

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base_station/core/synthetic_world_test_util.h"
+#include "base_station/core/unlinked_robot_test_util.h"
 #include "common/g2o_io.h"
 
 namespace cairn::base {
@@ -166,6 +167,30 @@ TEST(Exporter, G2oLandmarksAreCartesianPointsWithPropagatedInformation) {
   fs::remove_all(dir);
 }
 
+TEST(Exporter, AnUnlinkedRobotsVictimIsInEveryExportFlaggedInItsOwnFrame) {
+  const testing::UnlinkableRobot u;
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("cairn_unplaced_" + std::to_string(::getpid()))).string();
+  ASSERT_TRUE(export_all(u.mapper.merged(), dir).ok());
+  std::ifstream csv(dir + "/objects.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  EXPECT_NE(header.find(",frame,aliases,local_robot,local_x_m,local_y_m"), std::string::npos) << header;
+  EXPECT_EQ(row.rfind("1-0,victim,", 0), 0u) << row;
+  EXPECT_NE(row.find(",robot1,"), std::string::npos) << row;
+  std::ifstream geo_in(dir + "/objects.geojson");
+  const nlohmann::json geo = nlohmann::json::parse(geo_in);
+  ASSERT_EQ(geo["features"].size(), 1u);
+  const auto& f = geo["features"][0];
+  EXPECT_TRUE(f["geometry"].is_null()) << "not located on the global map";
+  EXPECT_EQ(f["properties"]["frame"], "robot1");
+  EXPECT_NEAR(f["properties"]["robot_frame_m"][0].get<double>(), 4.0, 0.05);
+  EXPECT_NE(f["properties"]["where"].get<std::string>().find("robot 1 entered"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::file_size(dir + "/robot1_own_frame.png") > 100);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Exporter, UnwritableDirectoryIsReportedNotFatal) {
   const std::string file = temp_dir("not_a_dir");
   std::ofstream(file) << "x";
@@ -176,7 +201,7 @@ TEST(Exporter, UnwritableDirectoryIsReportedNotFatal) {
   EXPECT_FALSE(summary.files[0].error.empty());
   // Writing into an existing file path as a directory fails per file too.
   std::string error;
-  EXPECT_FALSE(write_objects_csv({}, file + "/objects.csv", &error));
+  EXPECT_FALSE(write_objects_csv(MultiRobotMapper().merged(), file + "/objects.csv", &error));
   EXPECT_FALSE(error.empty());
   fs::remove_all(file);
 }

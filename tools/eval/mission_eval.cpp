@@ -59,9 +59,16 @@ double number(const std::map<std::string, std::string>& row, const std::string& 
   }
 }
 
-std::vector<PointObject> read_objects(const std::string& path) {
+/// Objects in the global frame; rows of objects only in a robot's own frame (column "frame" other
+/// than "global": the robot was never placed) are counted in *unplaced, not scored.
+std::vector<PointObject> read_objects(const std::string& path, int* unplaced = nullptr) {
   std::vector<PointObject> out;
   for (const auto& row : read_csv(path)) {
+    const auto frame = row.find("frame");
+    if (frame != row.end() && frame->second != "global") {
+      if (unplaced) ++*unplaced;
+      continue;
+    }
     auto cls = row.find("class");
     if (cls == row.end()) throw InputError(path + ": column 'class' is missing");
     out.push_back({cls->second, {number(row, "x_m", path), number(row, "y_m", path), number(row, "z_m", path)}});
@@ -240,7 +247,7 @@ MissionScore evaluate_mission(const std::string& gt_dir, const std::string& resu
   }
   score.map_consistency = map_consistency(estimate_truth);
   const auto truth = read_objects((fs::path(gt_dir) / "gt_objects.csv").string());
-  const auto found = read_objects((fs::path(results_dir) / "objects.csv").string());
+  const auto found = read_objects((fs::path(results_dir) / "objects.csv").string(), &score.unplaced_objects);
   std::vector<std::string> classes;
   for (const auto& o : truth) {
     if (std::find(classes.begin(), classes.end(), o.class_name) == classes.end()) classes.push_back(o.class_name);
@@ -282,6 +289,7 @@ nlohmann::json to_json(const MissionScore& score) {
                           {"mean_error_xyz_m", s.mean_error_xyz_m}};
   };
   j["objects"] = obj(score.objects);
+  j["unplaced_objects"] = score.unplaced_objects;
   j["classes"] = nlohmann::json::array();
   for (const auto& c : score.classes) j["classes"].push_back(obj(c));
   j["robot_frame"] = nlohmann::json::array();
@@ -326,6 +334,10 @@ std::string format_score(const MissionScore& score) {
   };
   for (const auto& c : score.classes) line(c);
   line(score.objects);
+  if (score.unplaced_objects > 0) {
+    s << "  + " << score.unplaced_objects
+      << " object(s) only in the own frame of a robot never placed on the map (not scored above)\n";
+  }
   for (const auto& r : score.robot_frame) {
     s << "  objects in each robot's own frame, placed by its " << r.placement << " (every report on its own):\n";
     auto rline = [&](const ObjectScore& o) {

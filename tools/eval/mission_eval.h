@@ -59,7 +59,9 @@ struct MissionScore {
   std::vector<RobotScore> robots;
   std::optional<MapConsistency> map_consistency;  ///< nullopt when fewer than 2 keyframes are placed
   std::vector<ObjectScore> classes;
-  ObjectScore objects;                       ///< all classes together
+  ObjectScore objects;  ///< all classes together
+  /// Objects reported only in a robot's own frame (never placed on the map): not scored above.
+  int unplaced_objects = 0;
   std::vector<RobotFrameScore> robot_frame;  ///< empty when objects_robot_frame.csv is absent
 };
 

@@ -117,16 +117,38 @@ int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr
     const double kf_bytes = link.value("keyframe_bytes", 0.0), obj_bytes = link.value("object_bytes", 0.0);
     const int obj_msgs = link.value("object_messages", 0);
     const bool linked = r.value("linked", false);
-    s << "robot " << r.value("id", -1) << (linked ? "" : " (NOT LINKED to the map)") << ": " << kf << " keyframes ("
-      << (kf ? kf_bytes / kf : 0) << " B each), " << obj_msgs << " object messages ("
-      << (obj_msgs ? obj_bytes / obj_msgs : 0) << " B each), " << (kf_bytes + obj_bytes) / 1024.0 << " KiB sent\n";
+    const json time_to_link = r.value("time_to_link_s", json());
+    std::ostringstream linked_text;
+    linked_text << std::fixed << std::setprecision(1);
+    if (!linked) {
+      linked_text << " (NOT LINKED to the map)";
+    } else if (time_to_link.is_number()) {
+      linked_text << " (linked " << time_to_link.get<double>() << " s after its first keyframe)";
+    }
+    s << "robot " << r.value("id", -1) << linked_text.str() << ": " << kf << " keyframes (" << (kf ? kf_bytes / kf : 0)
+      << " B each), " << obj_msgs << " object messages (" << (obj_msgs ? obj_bytes / obj_msgs : 0) << " B each), "
+      << (kf_bytes + obj_bytes) / 1024.0 << " KiB sent\n";
     results["robots"].push_back({{"id", r.value("id", -1)},
                                  {"linked", linked},
+                                 {"time_to_link_s", time_to_link},
                                  {"keyframes", kf},
                                  {"inter_robot_closures", r.value("inter_robot_closures", 0)},
                                  {"keyframe_bytes", kf_bytes},
                                  {"object_messages", obj_msgs},
                                  {"object_bytes", obj_bytes}});
+  }
+  // Loud, never quiet: robots the base could not place, and what they found, in their own frames.
+  const json unlinked = summary.value("unlinked_robots", json::array());
+  const json unplaced = summary.value("unplaced_objects", json::array());
+  results["unlinked_robots"] = unlinked;
+  results["unplaced_objects"] = unplaced;
+  if (!unlinked.empty()) {
+    s << "!! NOT ON THE MAP: robot(s) " << unlinked.dump() << " were never linked to the others; " << unplaced.size()
+      << " find(s) are only in their own frame (robot<N>_own_frame.png in map/):\n";
+    for (const json& o : unplaced) {
+      s << "!!   " << o.value("class", std::string("object")) << " " << o.value("id", std::string("?")) << ": "
+        << o.value("from_entry", json::object()).value("text", std::string("position unknown")) << "\n";
+    }
   }
   s << "accuracy against ground truth:\n" << eval::format_score(score);
   s << "peak memory:";

@@ -56,13 +56,26 @@ function renderRobots(robots) {
     return el("tr", {}, [
       el("td", { text: `Robot ${r.id}` }),
       el("td", {}, [el("span", { class: r.linked ? "badge ok" : "badge warn", text: r.linked ? "linked" : "not linked" })]),
+      el("td", { text: r.time_to_link_s === null || r.time_to_link_s === undefined ? "–" : `${r.time_to_link_s.toFixed(0)} s` }),
       el("td", { text: r.missing_keyframes ? `${r.keyframes} (${r.missing_keyframes} missing)` : `${r.keyframes}` }),
       el("td", { text: fmtBytes(link.bytes_rx) }),
       el("td", { class: link.state === "lost" ? "bad" : "", text: linkText }),
       el("td", { text: r.keyframes ? fmtTime(r.last_stamp_s) : "–" }),
     ]);
   });
-  replaceRows(document.getElementById("robots"), rows, "No robots yet", 6);
+  replaceRows(document.getElementById("robots"), rows, "No robots yet", 7);
+  renderOwnMaps(robots.filter((r) => r.own_map));
+}
+
+// Robots the base has not placed yet: their own maps, so that nothing they found is hidden.
+function renderOwnMaps(unlinked) {
+  const panel = document.getElementById("own-maps-panel");
+  panel.hidden = unlinked.length === 0;
+  const box = document.getElementById("own-maps");
+  box.replaceChildren(...unlinked.map((r) => el("figure", { class: "own-map" }, [
+    el("img", { src: `${r.own_map}?t=${Date.now()}`, alt: `Robot ${r.id}'s own map` }),
+    el("figcaption", { text: `Robot ${r.id}, not yet placed on the map: its own map, from where it entered` }),
+  ])));
 }
 
 function renderObjects(objects) {
@@ -72,9 +85,15 @@ function renderObjects(objects) {
       ? el("a", { href: o.thumbnail, target: "_blank" }, [el("img", { class: "thumb", src: o.thumbnail, alt: `${o.class} ${o.id}` })])
       : el("span", { class: "muted", text: "none" });
     const p = o.position_m || [0, 0, 0];
-    return el("tr", {}, [
+    const unplaced = o.frame && o.frame !== "global";
+    const where = unplaced
+      ? el("span", { class: "badge warn", text: `not on the map: ${o.from_entry ? o.from_entry.text : o.frame}` })
+      : el("span", { class: "muted", text: "on the map" });
+    const aliases = (o.aliases || []).length ? ` (was ${o.aliases.join(", ")})` : "";
+    return el("tr", { class: unplaced ? "unplaced" : "" }, [
       el("td", {}, [el("span", { class: "chip", style: `background:${colour}` }), document.createTextNode(o.class)]),
-      el("td", { text: o.id }),
+      el("td", { text: o.id + aliases }),
+      el("td", {}, [where]),
       el("td", { text: `${Math.round(100 * o.confidence)} %` }),
       el("td", { class: "num", text: p[0].toFixed(2) }),
       el("td", { class: "num", text: p[1].toFixed(2) }),
@@ -83,7 +102,7 @@ function renderObjects(objects) {
       el("td", {}, [photo]),
     ]);
   });
-  replaceRows(document.getElementById("objects"), rows, "No objects yet", 8);
+  replaceRows(document.getElementById("objects"), rows, "No objects yet", 9);
 }
 
 function renderGoals(exploration) {
