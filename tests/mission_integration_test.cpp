@@ -182,6 +182,19 @@ TEST(MissionIntegration, DemoFloorMergesEveryRobotAndEveryObjectOnceAndSurvivesA
   EXPECT_GE(score.objects.recall(), 0.85) << eval::format_score(score);
   EXPECT_DOUBLE_EQ(score.objects.precision(), 1.0) << eval::format_score(score);
   EXPECT_GT(wall_agreement(out / "map", source_path(world), 0.20), 0.90);
+  // Every robot's time to link is reported (mission seconds; 0 for the anchor), and nothing is left
+  // only in a robot's own frame.
+  std::ifstream results_in(out / "results.json");
+  const nlohmann::json results = nlohmann::json::parse(results_in, nullptr, false);
+  ASSERT_FALSE(results.is_discarded());
+  ASSERT_EQ(results["robots"].size(), 4u);
+  for (const auto& robot : results["robots"]) {
+    ASSERT_TRUE(robot["time_to_link_s"].is_number()) << robot.dump();
+    EXPECT_GE(robot["time_to_link_s"].get<double>(), 0.0) << robot.dump();
+    if (robot["id"] == 0) EXPECT_EQ(robot["time_to_link_s"].get<double>(), 0.0);
+  }
+  EXPECT_TRUE(results["unlinked_robots"].empty()) << results["unlinked_robots"].dump();
+  EXPECT_TRUE(results["unplaced_objects"].empty()) << results["unplaced_objects"].dump();
 
   // The base station restarted after the mission, with every robot gone: from its journal alone
   // it must rebuild the same merge (all 4 robots linked, every object once, objects included).
