@@ -64,6 +64,15 @@ TEST(ProcessBadInput, BaseRejectsMalformedStartPose) {
   EXPECT_NE(r.output.find("--start '0,1,nan,0'"), std::string::npos) << r.output;
 }
 
+TEST(ProcessBadInput, BaseRejectsMalformedEntryHints) {
+  for (const char* hint : {"1,2,3", "1,2,3,30,0.5,nan", "1,2,3,30,0,10", "1,2,3,30,-0.5,10", "x,2,3,30,0.5,10"}) {
+    const auto r =
+        run_command(bin("cairn_base") + " --out " + ::testing::TempDir() + "/base_hint --start-hint " + hint);
+    EXPECT_EQ(r.exit_code, 2) << hint << ": " << r.output;
+    EXPECT_NE(r.output.find("--start-hint '" + std::string(hint) + "'"), std::string::npos) << r.output;
+  }
+}
+
 TEST(ProcessBadInput, BaseRefusesAJournalThatIsNotOneAndLeavesItAlone) {
   const std::string dir = ::testing::TempDir() + "/base_bad_journal";
   std::filesystem::create_directories(dir);

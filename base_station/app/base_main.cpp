@@ -30,6 +30,23 @@ bool parse_start(const std::string& text, cairn::RobotId* robot, cairn::SE2* pos
   *pose = cairn::SE2(x, y, yaw);
   return true;
 }
+/// "id,x_m,y_m,yaw_deg,sigma_xy_m,sigma_yaw_deg" -> an entry hint; false when malformed.
+bool parse_entry_hint(const std::string& text, cairn::RobotId* robot, cairn::base::EntryHint* hint) {
+  std::istringstream ss(text);
+  int id;
+  double v[5];
+  char c[5];
+  if (!(ss >> id >> c[0] >> v[0] >> c[1] >> v[1] >> c[2] >> v[2] >> c[3] >> v[3] >> c[4] >> v[4]) || id < 0)
+    return false;
+  for (int i = 0; i < 5; ++i) {
+    if (c[i] != ',' || !std::isfinite(v[i])) return false;
+  }
+  if (!(v[3] > 0) || !(v[4] > 0)) return false;
+  constexpr double kRad = M_PI / 180.0;
+  *robot = cairn::RobotId(id);
+  *hint = cairn::base::EntryHint{cairn::SE2(v[0], v[1], v[2] * kRad), v[3], v[4] * kRad};
+  return true;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -44,6 +61,10 @@ int main(int argc, char** argv) {
                  "DDS Security: folder with ca.pem, cert.pem, key.pem (deploy/security/make_certs.sh)");
   app.add_option("--robots", options.expected_robots, "finish when this many robots are done (0 = run until Ctrl-C)");
   app.add_option("--start", starts, "known start pose of a robot: id,x_m,y_m,yaw_rad (repeatable)");
+  std::vector<std::string> hints;
+  app.add_option("--start-hint", hints,
+                 "roughly where a robot entered: id,x_m,y_m,yaw_deg,sigma_xy_m,sigma_yaw_deg (repeatable); bounds its "
+                 "link search, never links it alone");
   app.add_option("--port", options.console.port, "console HTTP port (0 = any free port)");
   app.add_option("--bind", options.console.bind_address, "console bind address");
   bool no_shm = false;
@@ -67,6 +88,18 @@ int main(int argc, char** argv) {
       return 2;
     }
     options.robot_starts[robot] = pose;
+  }
+  for (const auto& h : hints) {
+    cairn::RobotId robot;
+    cairn::base::EntryHint hint;
+    if (!parse_entry_hint(h, &robot, &hint)) {
+      log->error(
+          "--start-hint '{}': expected id,x_m,y_m,yaw_deg,sigma_xy_m,sigma_yaw_deg with finite numbers and "
+          "positive sigmas",
+          h);
+      return 2;
+    }
+    options.entry_hints[robot] = hint;
   }
   std::error_code ec;
   std::filesystem::create_directories(options.out_dir, ec);

@@ -38,6 +38,7 @@ AddResult convert_and_add(const Msg& m, Add&& add) {
 BaseNode::BaseNode(const BaseNodeOptions& options, const MapperOptions& mapper_options)
     : options_(options), mapper_options_(mapper_options), mapper_(mapper_options), log_(make_logger("base")) {
   for (const auto& [robot, start] : options_.robot_starts) mapper_.set_robot_start(robot, start);
+  for (const auto& [robot, hint] : options_.entry_hints) mapper_.set_entry_hint(robot, hint);
 }
 
 std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const MapperOptions& mapper_options,

@@ -33,6 +33,7 @@ struct BaseNodeOptions {
   std::string out_dir = "out";
   int expected_robots = 0;              ///< finish once this many robots reported "finished"; 0 = run until stopped
   std::map<RobotId, SE2> robot_starts;  ///< known start poses (until cross-robot merging lands)
+  std::map<RobotId, EntryHint> entry_hints;  ///< roughly where robots entered (MultiRobotMapper::set_entry_hint)
   double optimize_period_s = 1.0;
   double exploration_period_s = 2.0;  ///< how often the exploration goals are planned anew (when the map changed)
   ConsoleOptions console;

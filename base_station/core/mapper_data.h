@@ -41,12 +41,21 @@ struct OwnFrame {
   std::map<KeyframeId, SE2> poses;
 };
 
+/// Roughly where a robot entered, as the team knows it (the same door, a few metres apart): a
+/// prior that bounds the link search, never a link by itself (RobotLinker).
+struct EntryHint {
+  SE2 T_global_local;  ///< the robot's local frame (where it entered) in the global frame
+  double sigma_xy_m = 1.0;
+  double sigma_yaw_rad = 0.2;
+};
+
 struct MapperData {
   KeyframeMap keyframes;
   std::map<ObjectId, ObjectReport> reports;
   std::map<KeyframeId, SE2> agent_poses;              ///< the agents' loop-closed local poses (add_keyframe_poses)
   std::map<RobotId, SE2> hints;                       ///< set_robot_start: T_global_local pinned by a prior
   std::map<RobotId, SE2> starts;                      ///< linked robots: initial T_global_local
+  std::map<RobotId, EntryHint> entry_hints;           ///< set_entry_hint: uncertain starts, never a link alone
   std::optional<RobotId> anchor;                      ///< the robot whose local frame is the global frame
   std::map<KeyframeId, SE2> optimized;                ///< global poses from the last solve
   std::vector<LoopClosure> loops;                     ///< accepted loop closures (intra and inter-robot), a = older

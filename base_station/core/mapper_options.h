@@ -76,6 +76,11 @@ struct MapperOptions {
   /// place is aliased is the map check's to say. (On both sides, MIT CSAIL's middle robot, which
   /// sees robot 0's corridor junction from 5.9 m of its own path, 0.6 m of robot 0's, never links.)
   double min_link_spread_m = 2.0;
+  /// Entry hints (MultiRobotMapper::set_entry_hint): an inter-robot closure whose implied start of
+  /// the hinted robot is off the hint by more than this chi-square (3 dof, 99 %: 11.34; sigmas from
+  /// the hint) is refused before PCM. A clique that agrees with a hint needs no min_link_spread_m
+  /// (the hint pins the rotation); it still needs min_link_clique closures and the map check.
+  double entry_hint_chi2 = 11.34;
   /// Map-level check of every link hypothesis (map_consistency.h) over all keyframes seen so far;
   /// a refuted clique's closures are dropped. Also applied to an inter-robot closure into an
   /// already linked pair when it disagrees with the current estimate by more than the gate below.

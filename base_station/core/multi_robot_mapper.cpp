@@ -67,6 +67,14 @@ void MultiRobotMapper::set_robot_start(RobotId robot, const SE2& T_global_local)
   ++version_;
 }
 
+bool MultiRobotMapper::set_entry_hint(RobotId robot, const EntryHint& hint) {
+  if (!robot.valid() || !finite(hint.T_global_local) || !(hint.sigma_xy_m > 0) || !(hint.sigma_yaw_rad > 0) ||
+      !std::isfinite(hint.sigma_xy_m) || !std::isfinite(hint.sigma_yaw_rad))
+    return false;
+  data_.entry_hints[robot] = hint;
+  return true;
+}
+
 AddResult MultiRobotMapper::add_keyframe(const Keyframe& kf) {
   const std::string invalid = validate(kf);
   if (!invalid.empty()) return {AddStatus::kRejected, to_string(kf.id) + ": " + invalid};

@@ -34,6 +34,10 @@ class MultiRobotMapper {
   // Ingest: each call only stores (decisions happen in optimize()).
   /// A hint that places a robot directly: its local frame sits at T_global_local (pinned by a prior).
   void set_robot_start(RobotId robot, const SE2& T_global_local);
+  /// Roughly where a robot entered (EntryHint): bounds its link search and, when its closures agree,
+  /// lets it link sooner; never places it by itself. False (nothing stored) when not finite or a
+  /// sigma is not positive.
+  bool set_entry_hint(RobotId robot, const EntryHint& hint);
   AddResult add_keyframe(const Keyframe& keyframe);
   /// The agent's loop-closed estimate of its keyframes (common/keyframe.h): from the next
   /// optimize() the chain between consecutive keyframes follows it instead of the front end's

@@ -99,20 +99,8 @@ TEST(LoopVerifier, ACorridorMatchIsUncertainAlongTheCorridorOnly) {
   EXPECT_LT(std::sqrt(r.covariance(1, 1)), 0.05);
 }
 
-/// Robot 1 retraces robot 0's path in the room, offset and turned: loops between them.
-std::vector<SE2> retrace(const std::vector<SE2>& path) {
-  std::vector<SE2> out;
-  for (size_t i = 0; i < path.size(); ++i)
-    out.push_back(SE2(path[i].x() + 0.25, path[i].y() - 0.2, path[i].yaw() + 0.6));
-  return out;
-}
-
-std::vector<SE2> long_path() {
-  std::vector<SE2> p;
-  for (int i = 0; i < 8; ++i) p.push_back(SE2(1.5 + 0.4 * i, 1.0 + 0.4 * i, 0.2 * i));
-  for (int i = 0; i < 6; ++i) p.push_back(SE2(4.3 - 0.5 * i, 4.5, 2.5 + 0.1 * i));
-  return p;
-}
+using testing::long_path;
+using testing::retrace;
 
 TEST(MultiRobotMapperMerge, LinksRobotsWithoutStartHints) {
   MultiRobotMapper mapper;

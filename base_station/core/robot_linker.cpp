@@ -91,6 +91,8 @@ void RobotLinker::detect_new_loops(MapperData* data, LinkUpdate* update) {
         // Intra-robot: must agree with the robot's own poses up to its drift; a pair already
         // linked: a closure that would move a linked robot must pass the map check first.
         if (accept_linked_pair_closure(*data, c, update)) data->loops.push_back(c);
+      } else if (const auto chi2 = hint_chi2(*data, c); chi2 && *chi2 > options_.entry_hint_chi2) {
+        ++stats_.hint_refused;  // a look-alike place far from where the team says the robot entered
       } else {
         const auto key = std::minmax(c.a.robot, c.b.robot);
         // Orient every candidate of a pair the same way (a = lower robot id) for PCM.
@@ -166,7 +168,9 @@ bool RobotLinker::try_link_pair(MapperData* data, RobotId ra, RobotId rb, std::v
     if (int(clique.size()) < options_.min_link_clique) return false;
     std::vector<LoopClosure> members;
     for (size_t i : clique) members.push_back((*candidates)[i]);
-    const std::string deficit = spread_deficit(*data, members);
+    // A clique that agrees with an entry hint needs no spread: the hint pins the link's rotation.
+    const bool hinted = hint_chi2(*data, members.front()).has_value();
+    const std::string deficit = hinted ? std::string() : spread_deficit(*data, members);
     if (!deficit.empty()) {  // maybe right, but too local to tell aliasing apart: wait
       if (last_verdict_[key] != deficit) {
         last_verdict_[key] = deficit;

@@ -13,6 +13,7 @@
 // add-side calls only store (note_keyframe); every decision happens in update(), which returns
 // what changed. Reads and writes MapperData (starts, loops, own frames), never the pose graph.
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -57,6 +58,7 @@ struct LinkStats {
   int linked_pair_rejected = 0;        ///< of those, refuted and dropped
   int intra_closures = 0;              ///< verified closures within one robot's trajectory
   int intra_rejected = 0;              ///< of those, contradicting the robot's own map beyond its drift
+  int hint_refused = 0;                ///< inter-robot closures off an entry hint (MapperOptions::entry_hint_chi2)
 };
 
 /// What one RobotLinker::update() changed.
@@ -99,6 +101,10 @@ class RobotLinker {
   /// Joins the components of ra and rb; the anchor's component keeps its root.
   void join_components(const MapperData& data, RobotId ra, RobotId rb);
   void detect_new_loops(MapperData* data, LinkUpdate* update);
+  /// The chi-square of an inter-robot closure against the entry hints (robot_linker_checks.cpp):
+  /// the start it implies for an unplaced hinted robot, from the other robot's placement (or hint,
+  /// variances added), against that robot's hint. nullopt when no hint applies.
+  std::optional<double> hint_chi2(const MapperData& data, const LoopClosure& c) const;
   /// Re-solves the own frame of each unlinked robot whose accepted intra-robot closures changed.
   void refresh_own_frames(MapperData* data) const;
   void link_robot_pairs(MapperData* data, LinkUpdate* update);

@@ -149,6 +149,30 @@ double RobotLinker::link_misfit(const MapperData& data, RobotId ra, const SE2& T
                   std::abs(E.yaw()) / options_.linked_closure_gate_rad);
 }
 
+std::optional<double> RobotLinker::hint_chi2(const MapperData& data, const LoopClosure& c) const {
+  // Orient the closure so that b is the unplaced hinted robot.
+  const auto hinted = [&](RobotId r) { return !data.linked(r) && data.entry_hints.count(r) > 0; };
+  const LoopClosure l = hinted(c.b.robot) ? c : hinted(c.a.robot) ? reversed(c) : c;
+  if (!hinted(l.b.robot)) return std::nullopt;
+  const EntryHint& hb = data.entry_hints.at(l.b.robot);
+  double var_xy = hb.sigma_xy_m * hb.sigma_xy_m, var_yaw = hb.sigma_yaw_rad * hb.sigma_yaw_rad;
+  SE2 T_global_a;
+  if (data.linked(l.a.robot)) {
+    T_global_a = *data.global_pose(l.a);
+  } else if (data.entry_hints.count(l.a.robot)) {
+    const EntryHint& ha = data.entry_hints.at(l.a.robot);
+    T_global_a = ha.T_global_local * data.refined_local_pose(l.a);
+    var_xy += ha.sigma_xy_m * ha.sigma_xy_m;
+    var_yaw += ha.sigma_yaw_rad * ha.sigma_yaw_rad;
+  } else {
+    return std::nullopt;  // nothing places the other side
+  }
+  // The start of b this closure implies, against b's hint (error at b's entry).
+  const SE2 implied = T_global_a * l.T_a_b * data.refined_local_pose(l.b).inverse();
+  const SE2 E = hb.T_global_local.between(implied);
+  return E.translation().squaredNorm() / var_xy + E.yaw() * E.yaw() / var_yaw;
+}
+
 bool RobotLinker::accept_intra_robot_closure(const MapperData& data, const LoopClosure& c) {
   ++stats_.intra_closures;
   // Path length between the two keyframes, over the stored ones (a gap counts its straight line).

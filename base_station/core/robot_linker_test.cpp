@@ -9,19 +9,8 @@
 namespace cairn::base {
 namespace {
 
-std::vector<SE2> path() {
-  std::vector<SE2> p;
-  for (int i = 0; i < 8; ++i) p.push_back(SE2(1.5 + 0.4 * i, 1.0 + 0.4 * i, 0.2 * i));
-  for (int i = 0; i < 6; ++i) p.push_back(SE2(4.3 - 0.5 * i, 4.5, 2.5 + 0.1 * i));
-  return p;
-}
-
-/// Robot 1 retraces robot 0's path in the room, offset and turned: loops between them.
-std::vector<SE2> retraced() {
-  std::vector<SE2> out;
-  for (const SE2& p : path()) out.push_back(SE2(p.x() + 0.25, p.y() - 0.2, p.yaw() + 0.6));
-  return out;
-}
+std::vector<SE2> path() { return testing::long_path(); }
+std::vector<SE2> retraced() { return testing::retrace(testing::long_path()); }
 
 void store(const std::vector<Keyframe>& keyframes, RobotLinker* linker, MapperData* data) {
   for (const Keyframe& kf : keyframes) {

@@ -117,6 +117,22 @@ inline ObjectReport make_object(ObjectId id, const std::string& class_name, cons
   return r;
 }
 
+/// A path through the room (14 keyframes, up the diagonal then back along the top).
+inline std::vector<SE2> long_path() {
+  std::vector<SE2> p;
+  for (int i = 0; i < 8; ++i) p.push_back(SE2(1.5 + 0.4 * i, 1.0 + 0.4 * i, 0.2 * i));
+  for (int i = 0; i < 6; ++i) p.push_back(SE2(4.3 - 0.5 * i, 4.5, 2.5 + 0.1 * i));
+  return p;
+}
+
+/// The same path offset by (0.25, -0.2) m and turned by 0.6 rad: a second robot retracing it closes
+/// loops with the first.
+inline std::vector<SE2> retrace(const std::vector<SE2>& path) {
+  std::vector<SE2> out;
+  for (const SE2& p : path) out.push_back(SE2(p.x() + 0.25, p.y() - 0.2, p.yaw() + 0.6));
+  return out;
+}
+
 /// Two paths through the room: robot 0 in the left half, robot 1 in the right half.
 inline std::vector<SE2> left_path() {
   return {{1.5, 1.0, 0.0}, {2.5, 1.2, 0.3}, {3.5, 2.0, 1.0}, {3.5, 3.5, 1.57}, {2.5, 4.5, 2.5}, {1.2, 4.5, 3.1}};

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <thread>
 
 #include "common/errors.h"
@@ -39,6 +40,8 @@ struct Options {
   bool secure = false;
   double timeout_s = 900;
   cairn::mission::LinkOptions link;  ///< emulated radio between robots and base (needs root)
+  /// "SIGMA_XY_M,SIGMA_YAW_DEG": the team's rough guess of where every other robot entered.
+  std::string entry_hints;
 };
 
 std::string fmt_pose(int id, const cairn::SE2& p) {
@@ -60,6 +63,9 @@ int main(int argc, char** argv) {
   app.add_flag("--secure", opt.secure,
                "DDS Security: a fresh mission CA and one certificate per process (out/security); every "
                "participant authenticated (PKI-DH), every message encrypted (AES-GCM)");
+  app.add_option("--entry-hints", opt.entry_hints,
+                 "SIGMA_XY_M,SIGMA_YAW_DEG: tell the base roughly where each other robot entered (its true start "
+                 "moved by about one sigma), as a rescue team would know it");
   app.add_option("--link-loss", opt.link.loss_pct, "emulated radio: % of packets lost each way (needs root)");
   app.add_option("--link-kbit", opt.link.rate_kbit, "emulated radio: rate limit each way in kbit/s (needs root)");
   CLI11_PARSE(app, argc, argv);
@@ -143,6 +149,27 @@ int main(int argc, char** argv) {
   const auto& anchor = wf.world.robots.front();
   base_cmd.push_back("--start");
   base_cmd.push_back(fmt_pose(anchor.id.value, anchor.T_world_start));
+  if (!opt.entry_hints.empty()) {
+    double sigma_xy_m = 0, sigma_yaw_deg = 0;
+    char comma = 0;
+    std::istringstream in(opt.entry_hints);
+    if (!(in >> sigma_xy_m >> comma >> sigma_yaw_deg) || comma != ',' || !(sigma_xy_m > 0) || !(sigma_yaw_deg > 0)) {
+      std::cerr << "cairn_mission: --entry-hints '" << opt.entry_hints
+                << "': expected SIGMA_XY_M,SIGMA_YAW_DEG, both positive\n";
+      return 2;
+    }
+    for (size_t i = 1; i < wf.world.robots.size(); ++i) {
+      // The guess is off by about one sigma, in a different direction for each robot.
+      const double a = 2.0 * M_PI * double(i) / double(wf.world.robots.size());
+      const cairn::SE2 guess =
+          wf.world.robots[i].T_world_start *
+          cairn::SE2(sigma_xy_m * std::cos(a), sigma_xy_m * std::sin(a), 0.5 * sigma_yaw_deg * M_PI / 180.0);
+      std::ostringstream hint;
+      hint << wf.world.robots[i].id.value << ',' << guess.x() << ',' << guess.y() << ',' << guess.yaw() * 180.0 / M_PI
+           << ',' << sigma_xy_m << ',' << sigma_yaw_deg;
+      base_cmd.insert(base_cmd.end(), {"--start-hint", hint.str()});
+    }
+  }
   if (opt.serve) base_cmd.push_back("--serve");
   if (lab) base_cmd.insert(base_cmd.end(), {"--no-shm", "--bind", "0.0.0.0", "--peer", lab->robots_side_address()});
   base_cmd = secured(base_cmd, "base");
