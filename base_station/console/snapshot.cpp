@@ -200,8 +200,9 @@ ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& lin
               {"alerts", alerts_json(merged)}};
   if (plan) s.status["exploration"] = exploration_json(*plan);
   s.map_png = render_map_png(merged, {}, plan);
-  for (const RobotFrameMap& m : merged.robot_frame_maps)
-    s.own_maps[std::to_string(m.robot.value)] = render_robot_frame_png(m);
+  if (merged.robot_frame_maps)
+    for (const RobotFrameMap& m : *merged.robot_frame_maps)
+      s.own_maps[std::to_string(m.robot.value)] = render_robot_frame_png(m);
   return s;
 }
 

@@ -26,8 +26,8 @@ struct MergedMap {
   std::vector<GlobalObject> objects;           ///< merged objects of linked robots, by id
   /// Objects of robots not linked yet, in their robot's own frame (GlobalObject::frame), by id.
   std::vector<GlobalObject> unplaced_objects;
-  std::vector<RobotFrameMap> robot_frame_maps;  ///< each unlinked robot's own map, by robot
-  uint64_t version = 0;                         ///< MultiRobotMapper::version() when made
+  const std::vector<RobotFrameMap>* robot_frame_maps = nullptr;  ///< each unlinked robot's own map, by robot
+  uint64_t version = 0;                                          ///< MultiRobotMapper::version() when made
 
   /// A linked robot's trajectory (empty when it is not linked).
   const Trajectory& trajectory(RobotId robot) const {

@@ -211,6 +211,26 @@ std::vector<RobotSummary> MultiRobotMapper::robots() const {
   return list;
 }
 
+const std::vector<RobotFrameMap>& MultiRobotMapper::robot_frame_maps() const {
+  if (frame_maps_version_ == version_) return frame_maps_;
+  const std::vector<GlobalObject> unplaced = unplaced_objects();
+  std::vector<RobotFrameMap> maps;
+  for (RobotId robot : data_.keyframe_robots()) {
+    if (linked(robot)) {
+      frame_renderers_.erase(robot);  // placed on the global map now
+      continue;
+    }
+    auto renderer = frame_renderers_.find(robot);
+    if (renderer == frame_renderers_.end())
+      renderer = frame_renderers_.emplace(robot, GlobalMapRenderer(options_.grid, map_render_options(options_))).first;
+    maps.emplace_back();
+    update_robot_frame_map(data_, robot, unplaced, &renderer->second, &maps.back());
+  }
+  frame_maps_ = std::move(maps);
+  frame_maps_version_ = version_;
+  return frame_maps_;
+}
+
 MergedMap MultiRobotMapper::merged() const {
   MergedMap m;
   m.grid = &global_map();
@@ -222,12 +242,7 @@ MergedMap MultiRobotMapper::merged() const {
   }
   m.objects = objects();
   m.unplaced_objects = unplaced_objects();
-  for (const RobotSummary& r : m.robots) {
-    if (!r.linked && r.keyframes > 0) {
-      m.robot_frame_maps.push_back(
-          robot_frame_map(data_, r.id, m.unplaced_objects, options_.grid, map_render_options(options_)));
-    }
-  }
+  m.robot_frame_maps = &robot_frame_maps();
   m.version = version_;
   return m;
 }

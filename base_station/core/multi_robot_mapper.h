@@ -23,6 +23,7 @@
 #include "base_station/core/merged_map.h"
 #include "base_station/core/object_constraints.h"
 #include "base_station/core/object_id_registry.h"
+#include "base_station/core/robot_frame_objects.h"
 #include "base_station/core/robot_linker.h"
 
 namespace cairn::base {
@@ -60,6 +61,8 @@ class MultiRobotMapper {
   std::vector<GlobalObject> objects() const;
   /// Objects of robots not linked yet, each in its robot's own frame (robot_frame_objects.h).
   std::vector<GlobalObject> unplaced_objects() const;
+  /// Each unlinked robot's own map (robot_frame_objects.h), redrawn incrementally.
+  const std::vector<RobotFrameMap>& robot_frame_maps() const;
   /// Reports whose anchor keyframe has not arrived yet.
   std::vector<ObjectId> pending_objects() const { return data_.pending_objects(); }
   /// Occupancy grid of every linked keyframe's scan at its current global pose.
@@ -134,6 +137,9 @@ class MultiRobotMapper {
   mutable uint64_t objects_version_ = 0;
   mutable std::vector<GlobalObject> objects_, unplaced_;
   mutable ObjectIdRegistry object_ids_;  ///< ids as first shown, whenever objects are first computed
+  mutable uint64_t frame_maps_version_ = 0;
+  mutable std::vector<RobotFrameMap> frame_maps_;
+  mutable std::map<RobotId, GlobalMapRenderer> frame_renderers_;  ///< one per unlinked robot
 };
 
 }  // namespace cairn::base

@@ -24,20 +24,20 @@ std::vector<GlobalObject> robot_frame_objects(const MapperData& data, const Obje
   return out;
 }
 
-RobotFrameMap robot_frame_map(const MapperData& data, RobotId robot, const std::vector<GlobalObject>& unplaced,
-                              const OccupancyGridOptions& grid, const GlobalMapRenderOptions& render) {
-  GlobalMapRenderer renderer(grid, render);
-  RobotFrameMap m{robot, OccupancyGrid(grid), {}, {}};
+void update_robot_frame_map(const MapperData& data, RobotId robot, const std::vector<GlobalObject>& unplaced,
+                            GlobalMapRenderer* renderer, RobotFrameMap* map) {
+  map->robot = robot;
+  map->trajectory.clear();
   for (const auto& [id, kf] : data.robot_keyframes(robot)) {
     const SE2 pose = data.refined_local_pose(id);
-    renderer.set_pose(kf, pose);
-    m.trajectory.push_back(StampedPose{kf.stamp_ns, pose});
+    renderer->set_pose(kf, pose);
+    map->trajectory.push_back(StampedPose{kf.stamp_ns, pose});
   }
-  m.grid = renderer.render();
+  map->grid = renderer->render();
+  map->objects.clear();
   for (const GlobalObject& o : unplaced) {
-    if (o.frame == robot) m.objects.push_back(o);
+    if (o.frame == robot) map->objects.push_back(o);
   }
-  return m;
 }
 
 FromEntry from_entry(const MapperData& data, RobotId robot, const Eigen::Vector2d& p_local_m) {

@@ -26,9 +26,11 @@ struct RobotFrameMap {
   Trajectory trajectory;              ///< its keyframes in its own frame
   std::vector<GlobalObject> objects;  ///< its objects (GlobalObject::frame == robot)
 };
-/// robot's map drawn as the global map is (GlobalMapRenderer), with its objects from `unplaced`.
-RobotFrameMap robot_frame_map(const MapperData& data, RobotId robot, const std::vector<GlobalObject>& unplaced,
-                              const OccupancyGridOptions& grid, const GlobalMapRenderOptions& render);
+/// Brings robot's own map up to date: its keyframes at their refined local poses handed to
+/// `renderer` (kept per robot by the caller: it redraws only what is new or moved, as the global
+/// map's does), its objects taken from `unplaced`.
+void update_robot_frame_map(const MapperData& data, RobotId robot, const std::vector<GlobalObject>& unplaced,
+                            GlobalMapRenderer* renderer, RobotFrameMap* map);
 
 /// Where a point of a robot's local frame is, told from where the robot entered.
 struct FromEntry {

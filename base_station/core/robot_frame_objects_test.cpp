@@ -34,11 +34,11 @@ TEST(RobotFrameObjects, AnUnlinkedRobotsVictimIsShownInItsOwnFrameToldFromItsEnt
   // The merged view carries it and robot 1's own map.
   const MergedMap merged = u.mapper.merged();
   ASSERT_EQ(merged.unplaced_objects.size(), 1u);
-  ASSERT_EQ(merged.robot_frame_maps.size(), 1u);
-  EXPECT_EQ(merged.robot_frame_maps[0].robot, RobotId(1));
-  EXPECT_GT(merged.robot_frame_maps[0].grid.known_area_m2(), 5.0);
-  EXPECT_EQ(merged.robot_frame_maps[0].trajectory.size(), u.corridor.size());
-  EXPECT_EQ(merged.robot_frame_maps[0].objects.size(), 1u);
+  ASSERT_EQ(merged.robot_frame_maps->size(), 1u);
+  EXPECT_EQ((*merged.robot_frame_maps)[0].robot, RobotId(1));
+  EXPECT_GT((*merged.robot_frame_maps)[0].grid.known_area_m2(), 5.0);
+  EXPECT_EQ((*merged.robot_frame_maps)[0].trajectory.size(), u.corridor.size());
+  EXPECT_EQ((*merged.robot_frame_maps)[0].objects.size(), 1u);
 }
 
 TEST(RobotFrameObjects, TimeToLinkIsKeptPerRobot) {

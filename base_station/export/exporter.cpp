@@ -218,10 +218,11 @@ ExportSummary export_all(const MergedMap& merged, const std::string& out_dir, co
       [&](const std::string& p, std::string* e) { return write_objects_geojson(merged, p, e); });
   run(&summary, dir + "objects.csv",
       [&](const std::string& p, std::string* e) { return write_objects_csv(merged, p, e); });
-  for (const RobotFrameMap& m : merged.robot_frame_maps) {
-    run(&summary, dir + "robot" + std::to_string(m.robot.value) + "_own_frame.png",
-        [&](const std::string& p, std::string* e) { return write_robot_frame_png(m, p, options, e); });
-  }
+  if (merged.robot_frame_maps)
+    for (const RobotFrameMap& m : *merged.robot_frame_maps) {
+      run(&summary, dir + "robot" + std::to_string(m.robot.value) + "_own_frame.png",
+          [&](const std::string& p, std::string* e) { return write_robot_frame_png(m, p, options, e); });
+    }
   run(&summary, dir + "objects_robot_frame.csv", [&](const std::string& p, std::string* e) {
     return write_text(p, robot_frame_objects_csv(merged.data->keyframes, merged.data->reports), e);
   });
