@@ -231,8 +231,9 @@ int main(int argc, char** argv) {
       return 1;
     }
     if (workers_done && base_done) break;
-    std::cout << progress.line(std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count())
-              << std::endl;
+    const auto line =
+        progress.changed_line(std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
+    if (line) std::cout << *line << std::endl;
     std::this_thread::sleep_for(std::chrono::seconds(1));
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

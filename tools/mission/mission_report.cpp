@@ -76,11 +76,21 @@ std::string ProgressPoller::line(double wall_s) const {
     s << "waiting for the base station console";
     return s.str();
   }
-  s << "mission t=" << status->value("mission_time_s", 0.0) << " s | keyframes";
+  s << "mission t=" << status->value("mission_time_s", 0.0) << " s | linked " << status->value("linked_robots", 0)
+    << "/" << status->value("robots", 0) << " | keyframes";
   const json list = robots->is_array() ? *robots : robots->value("robots", json::array());
   for (const auto& r : list) s << " r" << r.value("id", -1) << "=" << r.value("keyframes", 0);
   s << " | objects " << status->value("objects", 0) << " | mapped " << status->value("mapped_area_m2", 0.0) << " m2";
   return s.str();
+}
+
+std::optional<std::string> ProgressPoller::changed_line(double wall_s) {
+  std::string l = line(wall_s);
+  const size_t state = l.find("] ");  // after the wall time
+  const std::string now = state == std::string::npos ? l : l.substr(state + 2);
+  if (now == last_state_) return std::nullopt;
+  last_state_ = now;
+  return l;
 }
 
 int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr<ChildProcess>>& procs,
@@ -161,6 +171,25 @@ int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr
     << "objects.bt, graph.g2o in map/; logs in logs/)\n";
   results["peak_rss_kb"] = memory;
   results["evaluation"] = eval::to_json(score);
+  // One line that says how it went, last.
+  const int robot_count = int(score.robots.size());
+  const int placed = robot_count - int(unlinked.size());
+  double worst_rmse_m = 0;
+  for (const auto& r : score.robots) {
+    if (r.global) worst_rmse_m = std::max(worst_rmse_m, r.global->ate_rmse_m);
+  }
+  std::ostringstream verdict;
+  verdict << std::fixed << std::setprecision(2);
+  if (unlinked.empty()) {
+    verdict << "Verdict: mission mapped: all " << robot_count << " robots on one map (worst " << worst_rmse_m
+            << " m RMSE), " << score.objects.matched << "/" << score.objects.ground_truth << " objects found";
+  } else {
+    verdict << "Verdict: INCOMPLETE: " << placed << "/" << robot_count << " robots on the map, " << unplaced.size()
+            << " find(s) only in an unplaced robot's own frame, " << score.objects.matched << "/"
+            << score.objects.ground_truth << " objects on the map";
+  }
+  s << verdict.str() << "\n";
+  results["verdict"] = verdict.str();
   std::ofstream(out / "results.json") << results.dump(2) << "\n";
   std::ofstream(out / "summary.txt") << s.str();
   os << s.str();

@@ -3,6 +3,7 @@
 // report (evaluation against ground truth + transport and process figures).
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -19,11 +20,15 @@ class ProgressPoller {
  public:
   ProgressPoller(std::string host, int port, int robots) : host_(std::move(host)), port_(port), robots_(robots) {}
   std::string line(double wall_s) const;
+  /// line(), or nothing when the mission's state (all but the wall time) is the same as in the
+  /// last line returned: progress is printed only when something changed.
+  std::optional<std::string> changed_line(double wall_s);
 
  private:
   std::string host_;
   int port_;
   int robots_;
+  std::string last_state_;
 };
 
 /// Scores out/map against out/ground_truth, writes results.json and summary.txt into `out`,
