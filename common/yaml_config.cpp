@@ -36,6 +36,10 @@ void YamlConfig::fail(const std::string& key, const std::string& what) const {
 void YamlConfig::allow_only(std::initializer_list<const char*> allowed) const {
   if (!node_.IsMap()) return;
   for (const auto& kv : node_) {
+    if (!kv.first.IsScalar()) {  // e.g. "[k]: 1": a list or map where a name belongs
+      throw InputError(file_ + ": " + (key_path_.empty() ? "the top level" : "key '" + key_path_ + "'") +
+                       " has a key at line " + std::to_string(kv.first.Mark().line + 1) + " that is not a plain name");
+    }
     const std::string key = kv.first.as<std::string>();
     bool known = false;
     std::string list;

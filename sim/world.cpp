@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <set>
 
@@ -24,21 +25,31 @@ std::vector<double> require_numbers(const YamlConfig& cfg, const std::string& ke
   return v;
 }
 
-double positive(const YamlConfig& cfg, const std::string& key, double default_value) {
+std::string shortest(double v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%g", v);
+  return text;
+}
+
+/// A value in (0, max]: every loaded number is bounded, so a typo like 1e300 is named, not run (a huge
+/// dt_s or speed made the simulator loop for ever).
+double positive(const YamlConfig& cfg, const std::string& key, double default_value, double max) {
   const double v = cfg.get<double>(key, default_value);
-  if (!(v > 0.0)) cfg.fail(key, "must be > 0 (got " + std::to_string(v) + ")");
+  if (!(v > 0.0) || !(v <= max)) cfg.fail(key, "must be in (0, " + shortest(max) + "] (got " + shortest(v) + ")");
   return v;
 }
 
-double non_negative(const YamlConfig& cfg, const std::string& key, double default_value) {
+/// A value in [0, max].
+double non_negative(const YamlConfig& cfg, const std::string& key, double default_value, double max) {
   const double v = cfg.get<double>(key, default_value);
-  if (!(v >= 0.0)) cfg.fail(key, "must be >= 0 (got " + std::to_string(v) + ")");
+  if (!(v >= 0.0) || !(v <= max)) cfg.fail(key, "must be in [0, " + shortest(max) + "] (got " + shortest(v) + ")");
   return v;
 }
 
-int positive_int(const YamlConfig& cfg, const std::string& key, int default_value) {
+int positive_int(const YamlConfig& cfg, const std::string& key, int default_value, int max) {
   const int v = cfg.get<int>(key, default_value);
-  if (v <= 0) cfg.fail(key, "must be a positive integer (got " + std::to_string(v) + ")");
+  if (v <= 0 || v > max)
+    cfg.fail(key, "must be an integer in [1, " + std::to_string(max) + "] (got " + std::to_string(v) + ")");
   return v;
 }
 
@@ -50,42 +61,42 @@ void load_sensors(const YamlConfig& root, SimOptions& sim) {
     const YamlConfig o = s["odometry"];
     o.allow_only({"rate_hz", "trans_noise_per_m", "rot_noise_rad_per_m", "rot_noise_per_rad"});
     OdometryOptions& od = sim.odometry;
-    od.rate_hz = positive(o, "rate_hz", od.rate_hz);
-    od.trans_noise_per_m = non_negative(o, "trans_noise_per_m", od.trans_noise_per_m);
-    od.rot_noise_rad_per_m = non_negative(o, "rot_noise_rad_per_m", od.rot_noise_rad_per_m);
-    od.rot_noise_per_rad = non_negative(o, "rot_noise_per_rad", od.rot_noise_per_rad);
+    od.rate_hz = positive(o, "rate_hz", od.rate_hz, 1000);
+    od.trans_noise_per_m = non_negative(o, "trans_noise_per_m", od.trans_noise_per_m, 1);
+    od.rot_noise_rad_per_m = non_negative(o, "rot_noise_rad_per_m", od.rot_noise_rad_per_m, 1);
+    od.rot_noise_per_rad = non_negative(o, "rot_noise_per_rad", od.rot_noise_per_rad, 1);
   }
   if (s.has("laser")) {
     const YamlConfig l = s["laser"];
     l.allow_only({"rate_hz", "beams", "fov_deg", "max_range_m", "min_range_m", "noise_sd_m"});
     LaserOptions& lo = sim.laser;
-    lo.rate_hz = positive(l, "rate_hz", lo.rate_hz);
-    lo.beams = positive_int(l, "beams", lo.beams);
-    lo.fov_deg = positive(l, "fov_deg", lo.fov_deg);
+    lo.rate_hz = positive(l, "rate_hz", lo.rate_hz, 1000);
+    lo.beams = positive_int(l, "beams", lo.beams, 100000);
+    lo.fov_deg = positive(l, "fov_deg", lo.fov_deg, 360);
     if (lo.fov_deg > 360.0) l.fail("fov_deg", "must be <= 360");
-    lo.max_range_m = positive(l, "max_range_m", lo.max_range_m);
-    lo.min_range_m = non_negative(l, "min_range_m", lo.min_range_m);
-    lo.noise_sd_m = non_negative(l, "noise_sd_m", lo.noise_sd_m);
+    lo.max_range_m = positive(l, "max_range_m", lo.max_range_m, 100);
+    lo.min_range_m = non_negative(l, "min_range_m", lo.min_range_m, 10);
+    lo.noise_sd_m = non_negative(l, "noise_sd_m", lo.noise_sd_m, 1);
   }
   if (s.has("camera")) {
     const YamlConfig c = s["camera"];
     c.allow_only({"rate_hz", "width", "height", "hfov_deg", "max_depth_m", "height_m", "pitch_deg", "forward_offset_m",
                   "depth_noise_sd_m", "rgb_noise_sd", "render_range_m"});
     CameraOptions& co = sim.camera;
-    co.rate_hz = positive(c, "rate_hz", co.rate_hz);
-    co.width = positive_int(c, "width", co.width);
-    co.height = positive_int(c, "height", co.height);
-    co.hfov_deg = positive(c, "hfov_deg", co.hfov_deg);
+    co.rate_hz = positive(c, "rate_hz", co.rate_hz, 100);
+    co.width = positive_int(c, "width", co.width, 4096);
+    co.height = positive_int(c, "height", co.height, 4096);
+    co.hfov_deg = positive(c, "hfov_deg", co.hfov_deg, 170);
     if (co.hfov_deg >= 170.0) c.fail("hfov_deg", "must be < 170");
-    co.max_depth_m = positive(c, "max_depth_m", co.max_depth_m);
+    co.max_depth_m = positive(c, "max_depth_m", co.max_depth_m, 50);
     if (co.max_depth_m > 65.0) c.fail("max_depth_m", "must be <= 65 (uint16 millimetres)");
-    co.height_m = positive(c, "height_m", co.height_m);
+    co.height_m = positive(c, "height_m", co.height_m, 5);
     co.pitch_deg = c.get<double>("pitch_deg", co.pitch_deg);
     if (std::abs(co.pitch_deg) >= 80.0) c.fail("pitch_deg", "must be within (-80, 80)");
     co.forward_offset_m = c.get<double>("forward_offset_m", co.forward_offset_m);
-    co.depth_noise_sd_m = non_negative(c, "depth_noise_sd_m", co.depth_noise_sd_m);
-    co.rgb_noise_sd = non_negative(c, "rgb_noise_sd", co.rgb_noise_sd);
-    co.render_range_m = positive(c, "render_range_m", co.render_range_m);
+    co.depth_noise_sd_m = non_negative(c, "depth_noise_sd_m", co.depth_noise_sd_m, 1);
+    co.rgb_noise_sd = non_negative(c, "rgb_noise_sd", co.rgb_noise_sd, 255);
+    co.render_range_m = positive(c, "render_range_m", co.render_range_m, 100);
   }
 }
 
@@ -96,9 +107,9 @@ void load_sim(const YamlConfig& root, SimOptions& sim) {
     const long long seed = s.get<long long>("seed", (long long)sim.seed);
     if (seed < 0) s.fail("seed", "must be >= 0");
     sim.seed = uint64_t(seed);
-    sim.dt_s = positive(s, "dt_s", sim.dt_s);
-    sim.duration_s = positive(s, "duration_s", sim.duration_s);
-    sim.settle_time_s = non_negative(s, "settle_time_s", sim.settle_time_s);
+    sim.dt_s = positive(s, "dt_s", sim.dt_s, 1);
+    sim.duration_s = positive(s, "duration_s", sim.duration_s, 86400);
+    sim.settle_time_s = non_negative(s, "settle_time_s", sim.settle_time_s, 3600);
   }
   load_sensors(root, sim);
 }
@@ -115,8 +126,8 @@ RobotSpec load_robot(const YamlConfig& r, const FloorPlan& plan, const WorldLoad
     r.fail("start",
            "is off the map, inside a wall or closer than " + std::to_string(options.robot_radius_m) + " m to one");
   }
-  spec.max_speed_mps = positive(r, "max_speed_mps", spec.max_speed_mps);
-  spec.max_turn_radps = positive(r, "max_turn_radps", spec.max_turn_radps);
+  spec.max_speed_mps = positive(r, "max_speed_mps", spec.max_speed_mps, 5);
+  spec.max_turn_radps = positive(r, "max_turn_radps", spec.max_turn_radps, 10);
   if (r.has("waypoints")) {
     for (const YamlConfig& w : r.sequence("waypoints")) {
       const auto v = w.as<std::vector<double>>();
@@ -201,9 +212,9 @@ WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& 
   const YamlConfig map = root["map"];
   map.allow_only({"image", "resolution_m", "origin_m", "wall_height_m"});
   const std::string image = map.require<std::string>("image");
-  const double resolution_m = positive(map, "resolution_m", 0.05);
+  const double resolution_m = positive(map, "resolution_m", 0.05, 1);
   const auto origin = map.has("origin_m") ? require_numbers(map, "origin_m", 2) : std::vector<double>{0.0, 0.0};
-  world.wall_height_m = positive(map, "wall_height_m", world.wall_height_m);
+  world.wall_height_m = positive(map, "wall_height_m", world.wall_height_m, 20);
   std::filesystem::path image_path(image);
   if (image_path.is_relative()) image_path = std::filesystem::path(yaml_path).parent_path() / image_path;
   try {

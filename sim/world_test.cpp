@@ -168,5 +168,17 @@ TEST_F(BadInput, InvalidValues) {
   expect_error(yaml(good_map_, good_robot_) + "sensors: {laser: {beams: -3}}\n", "sensors.laser.beams");
 }
 
+// Found by fuzzing world files: each aborted or hung every binary that reads worlds.
+TEST_F(BadInput, FuzzedWorldsAreNamedNotCrashedOrRun) {
+  expect_error("name: x\n[k]: 1\n", "not a plain name");  // threw an uncaught yaml-cpp exception
+  expect_error(yaml(good_map_, good_robot_) + "{a: 1}: 2\n", "not a plain name");
+  expect_error(yaml(good_map_, good_robot_) + "sim: {dt_s: 1e300}\n", "sim.dt_s");  // looped for ever
+  expect_error(yaml(good_map_, "id: 0, start: [1, 1, 0], max_speed_mps: 1e300"), "robots[0].max_speed_mps");
+  expect_error(yaml(good_map_, "id: 0, start: [1, 1, 0], max_turn_radps: 1e308"), "robots[0].max_turn_radps");
+  expect_error(yaml(good_map_, good_robot_) + "sim: {duration_s: 1e20}\n", "sim.duration_s");
+  expect_error(yaml(good_map_, good_robot_) + "sensors: {laser: {max_range_m: 1e9}}\n", "sensors.laser.max_range_m");
+  expect_error(yaml(good_map_, good_robot_) + "sensors: {camera: {width: 1000000}}\n", "sensors.camera.width");
+}
+
 }  // namespace
 }  // namespace cairn::sim
