@@ -302,6 +302,14 @@ PoseGraphSolveResult KeyframePoseGraph::solve(const PoseGraphSolveOptions& optio
   return result;
 }
 
+double KeyframePoseGraph::evaluate_cost() {
+  if (nodes_.empty()) return 0.0;
+  sync_problem();
+  double cost = 0.0;
+  problem_->problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
+  return cost;
+}
+
 void KeyframePoseGraph::sync_landmarks() {
   if (landmarks_need_init_) initialize_landmarks();
   Problem& p = *problem_;

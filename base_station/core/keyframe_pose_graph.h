@@ -168,6 +168,8 @@ class KeyframePoseGraph {
   /// Solves from the current estimates and stores the result. With no prior the gauge is fixed
   /// by holding the first node constant. An empty graph "converges" trivially.
   PoseGraphSolveResult solve(const PoseGraphSolveOptions& options = {});
+  /// The cost of the graph at its current estimates (as PoseGraphSolveResult::final_cost), without solving.
+  double evaluate_cost();
 
  private:
   struct NodeState {

@@ -178,6 +178,7 @@ void MultiRobotMapper::solve(bool full_resolve, std::vector<KeyframeId> active, 
   } else if (!refine_now) {
     result->solve.converged = true;
     result->solve.reason = "nothing new";
+    result->solve.initial_cost = result->solve.final_cost = graph_.evaluate_cost();  // not 0: the graph's cost
   }
   if (refine_now) {
     updates_since_refine_ = 0;

@@ -125,6 +125,13 @@ TEST(MultiRobotMapperMerge, LinksRobotsWithoutStartHints) {
   const auto robots = mapper.robots();
   EXPECT_TRUE(robots[0].anchor);
   EXPECT_GT(robots[1].inter_robot_closures, 0);
+  // Converged, an update with nothing new reports the graph's cost, not 0 (summary.json's final_cost).
+  OptimizeResult last = r;
+  for (int i = 0; i < 20 && mapper.refinement_pending(); ++i) last = mapper.optimize();
+  ASSERT_GT(last.solve.final_cost, 0.0);
+  const OptimizeResult idle = mapper.optimize();
+  EXPECT_EQ(idle.solve.reason, "nothing new");
+  EXPECT_NEAR(idle.solve.final_cost, last.solve.final_cost, 1e-6 * last.solve.final_cost);
 }
 
 TEST(MultiRobotMapperMerge, RobotInAnotherBuildingStaysUnlinked) {
