@@ -9,6 +9,8 @@
 #include <fstream>
 
 #include "base_station/store/journal.h"
+#include "cairn_msgsPubSubTypes.h"
+#include "dds/cdr.h"
 #include "dds/domain_lease.h"
 #include "run_command.h"
 
@@ -111,6 +113,39 @@ TEST(ProcessBadInput, BaseSkipsAndNamesDamagedJournalRecordsAndKeepsThem) {
   const auto summary = nlohmann::json::parse(in);
   EXPECT_EQ(summary["journal"]["skipped_records"], 1) << summary.dump();
   EXPECT_EQ(summary["journal"]["records"], 1) << summary.dump();  // still there for a later look
+}
+
+// Not bad input, but the same journal path: a robot the base knows only from its statuses (none of
+// its data got through) is in the summary, flagged not linked, not left out.
+TEST(ProcessBadInput, ARobotKnownOnlyFromItsStatusesIsInTheSummary) {
+  const std::string dir = ::testing::TempDir() + "/base_status_only_" + std::to_string(getpid());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::string error;
+  {
+    auto journal = base::Journal::open(dir + "/journal.sqlite", {}, &error);
+    ASSERT_TRUE(journal) << error;
+    cairn_msgs::RobotStatus status;
+    status.robot_id(5);
+    status.finished(true);
+    base::JournalRecord record;
+    record.kind = base::JournalKind::kStatus;
+    record.robot = RobotId(5);
+    record.payload = dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(status);
+    ASSERT_TRUE(journal->append({record}, &error)) << error;
+  }
+  const auto lease = dds::DomainLease::claim({}, &error);
+  ASSERT_TRUE(lease) << error;
+  const auto r = run_command("timeout 30 " + bin("cairn_base") + " --domain " + std::to_string(lease->domain_id()) +
+                             " --out " + dir + " --port 0 --robots 1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(dir + "/summary.json");
+  const auto summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["robots"].size(), 1u) << summary.dump();
+  EXPECT_EQ(summary["robots"][0]["id"], 5);
+  EXPECT_EQ(summary["robots"][0]["linked"], false);
+  EXPECT_EQ(summary["robots"][0]["keyframes"], 0);
+  EXPECT_EQ(summary["unlinked_robots"], nlohmann::json::array({5}));
 }
 
 TEST(ProcessBadInput, EveryProcessNamesTheSecurityFileItCannotRead) {

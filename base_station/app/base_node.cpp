@@ -1,5 +1,6 @@
 #include "base_station/app/base_node.h"
 
+#include <algorithm>
 #include <fstream>
 #include <thread>
 
@@ -305,7 +306,17 @@ int BaseNode::finish() {
   nlohmann::json summary;
   summary["robots"] = nlohmann::json::array();
   const nlohmann::json links = link_stats();
-  for (const RobotSummary& rs : mapper_.robots()) {
+  // Every robot the base heard of: from its data, or only from its statuses (none of its data arrived).
+  std::vector<RobotSummary> robots = mapper_.robots();
+  for (const auto& [id, link] : links_) {
+    if (std::none_of(robots.begin(), robots.end(), [&](const RobotSummary& r) { return r.id == id; })) {
+      RobotSummary r;
+      r.id = id;
+      robots.push_back(r);
+    }
+  }
+  std::sort(robots.begin(), robots.end(), [](const RobotSummary& a, const RobotSummary& b) { return a.id < b.id; });
+  for (const RobotSummary& rs : robots) {
     nlohmann::json j;
     j["id"] = rs.id.value;
     j["linked"] = rs.linked;
@@ -324,7 +335,7 @@ int BaseNode::finish() {
   summary["objects"] = merged.objects.size();
   // Never quiet about what is not on the map: the robots not placed and their finds, in their own frame.
   summary["unlinked_robots"] = nlohmann::json::array();
-  for (const RobotSummary& rs : merged.robots) {
+  for (const RobotSummary& rs : robots) {
     if (!rs.linked) summary["unlinked_robots"].push_back(rs.id.value);
   }
   summary["unplaced_objects"] = nlohmann::json::array();
