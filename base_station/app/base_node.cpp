@@ -299,7 +299,8 @@ int BaseNode::finish() {
   for (int i = 0; i < 50 && mapper_.refinement_pending(); ++i) r = mapper_.optimize();
   plan_and_publish_goals();  // where to search next, on the final map
   refresh_snapshot();
-  const ExportSummary exported = export_all(mapper_.merged(), options_.out_dir, {}, &plan_);
+  const MergedMap merged = mapper_.merged();
+  const ExportSummary exported = export_all(merged, options_.out_dir, {}, &plan_);
   for (const auto& f : exported.files) {
     if (!f.ok) log_->error("export of {} failed: {}", f.path, f.error);
   }
@@ -331,7 +332,6 @@ int BaseNode::finish() {
     j["link"] = links.contains(key) ? links[key] : nlohmann::json::object();
     summary["robots"].push_back(j);
   }
-  const MergedMap merged = mapper_.merged();
   summary["objects"] = merged.objects.size();
   // Never quiet about what is not on the map: the robots not placed and their finds, in their own frame.
   summary["unlinked_robots"] = nlohmann::json::array();

@@ -78,7 +78,7 @@ nlohmann::json object_json(const GlobalObject& o, const MergedMap& merged) {
              {"text", describe(o.frame, w)}};
   }
   return {{"id", key},
-          {"frame", o.frame.valid() ? "robot" + std::to_string(o.frame.value) : "global"},
+          {"frame", frame_name(o.frame)},
           {"aliases", aliases},
           {"from_entry", where},
           {"class", o.class_name},
@@ -101,11 +101,7 @@ namespace {
 nlohmann::json alerts_json(const MergedMap& merged) {
   const std::vector<RobotSummary>& robots = merged.robots;
   nlohmann::json alerts = nlohmann::json::array();
-  std::vector<const GlobalObject*> objects;
-  for (const auto* list : {&merged.objects, &merged.unplaced_objects}) {
-    for (const GlobalObject& o : *list) objects.push_back(&o);
-  }
-  for (const GlobalObject* object : objects) {
+  for (const GlobalObject* object : merged.all_objects()) {
     const GlobalObject& o = *object;
     const char* level = o.class_name == "victim" ? "critical" : o.class_name == "hazard" ? "warning" : "info";
     char at[64];
@@ -119,7 +115,7 @@ nlohmann::json alerts_json(const MergedMap& merged) {
     alerts.push_back({{"level", level},
                       {"object", object_key(o.id)},
                       {"stamp_s", ns_to_sec(o.last_stamp_ns)},
-                      {"frame", o.frame.valid() ? "robot" + std::to_string(o.frame.value) : "global"},
+                      {"frame", frame_name(o.frame)},
                       {"text", what + " found by " + robots_text(o.robots) + where}});
   }
   for (const RobotSummary& r : robots) {
@@ -168,10 +164,7 @@ ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& lin
     mission_ns = std::max(mission_ns, r.last_stamp_ns);
     linked += r.linked;
   }
-  std::vector<const GlobalObject*> objects;  // placed, then unplaced (in their robot's own frame)
-  for (const auto* list : {&merged.objects, &merged.unplaced_objects}) {
-    for (const GlobalObject& o : *list) objects.push_back(&o);
-  }
+  const std::vector<const GlobalObject*> objects = merged.all_objects();  // placed, then unplaced
   std::vector<int> unlinked;
   for (const RobotSummary& r : robots) {
     if (!r.linked) unlinked.push_back(r.id.value);

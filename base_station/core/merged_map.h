@@ -29,6 +29,14 @@ struct MergedMap {
   const std::vector<RobotFrameMap>* robot_frame_maps = nullptr;  ///< each unlinked robot's own map, by robot
   uint64_t version = 0;                                          ///< MultiRobotMapper::version() when made
 
+  /// Every object the team is shown: the placed ones, then the unplaced ones.
+  std::vector<const GlobalObject*> all_objects() const {
+    std::vector<const GlobalObject*> all;
+    for (const GlobalObject& o : objects) all.push_back(&o);
+    for (const GlobalObject& o : unplaced_objects) all.push_back(&o);
+    return all;
+  }
+
   /// A linked robot's trajectory (empty when it is not linked).
   const Trajectory& trajectory(RobotId robot) const {
     static const Trajectory kNone;

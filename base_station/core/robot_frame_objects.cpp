@@ -40,6 +40,8 @@ void update_robot_frame_map(const MapperData& data, RobotId robot, const std::ve
   }
 }
 
+std::string frame_name(RobotId frame) { return frame.valid() ? "robot" + std::to_string(frame.value) : "global"; }
+
 FromEntry from_entry(const MapperData& data, RobotId robot, const Eigen::Vector2d& p_local_m) {
   FromEntry w;
   w.distance_m = p_local_m.norm();

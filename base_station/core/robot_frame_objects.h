@@ -32,6 +32,9 @@ struct RobotFrameMap {
 void update_robot_frame_map(const MapperData& data, RobotId robot, const std::vector<GlobalObject>& unplaced,
                             GlobalMapRenderer* renderer, RobotFrameMap* map);
 
+/// "global", or "robotN" for an object in robot N's own frame (GlobalObject::frame).
+std::string frame_name(RobotId frame);
+
 /// Where a point of a robot's local frame is, told from where the robot entered.
 struct FromEntry {
   double distance_m = 0;   ///< straight line from the entry point

@@ -54,8 +54,6 @@ void run(ExportSummary* summary, const std::string& path, Fn&& fn) {
 
 namespace {
 
-std::string frame_name(RobotId frame) { return frame.valid() ? "robot" + std::to_string(frame.value) : "global"; }
-
 std::string join_ids(const std::vector<ObjectId>& ids) {
   std::string s;
   for (size_t i = 0; i < ids.size(); ++i) s += (i ? ";" : "") + object_key(ids[i]);
@@ -74,35 +72,34 @@ Eigen::Vector2d local_position(const MapperData& data, const GlobalObject& o) {
 
 bool write_objects_geojson(const MergedMap& merged, const std::string& path, std::string* error) {
   nlohmann::json features = nlohmann::json::array();
-  for (const auto* list : {&merged.objects, &merged.unplaced_objects}) {
-    for (const GlobalObject& o : *list) {
-      std::vector<int> robots;
-      for (RobotId r : o.robots) robots.push_back(r.value);
-      std::vector<std::string> aliases;
-      for (ObjectId a : o.aliases) aliases.push_back(object_key(a));
-      nlohmann::json properties = {{"id", object_key(o.id)},
-                                   {"class", o.class_name},
-                                   {"confidence", o.confidence},
-                                   {"frame", frame_name(o.frame)},
-                                   {"aliases", aliases},
-                                   {"z_m", o.position_m.z()},
-                                   {"robots", robots},
-                                   {"observations", o.observations},
-                                   {"size", {o.size_m.x(), o.size_m.y(), o.size_m.z()}}};
-      nlohmann::json geometry = nullptr;  // GeoJSON: an unlocated feature (its robot is not placed)
-      if (o.frame.valid()) {
-        const FromEntry w = from_entry(*merged.data, o.frame, o.position_m.head<2>());
-        properties["robot_frame_m"] = {o.position_m.x(), o.position_m.y()};
-        properties["where"] = describe(o.frame, w);
-      } else {
-        geometry = {{"type", "Point"}, {"coordinates", {o.position_m.x(), o.position_m.y()}}};
-        if (!o.robots.empty()) {
-          const Eigen::Vector2d local = local_position(*merged.data, o);
-          properties["robot_frame_m"] = {local.x(), local.y()};
-        }
+  for (const GlobalObject* object : merged.all_objects()) {
+    const GlobalObject& o = *object;
+    std::vector<int> robots;
+    for (RobotId r : o.robots) robots.push_back(r.value);
+    std::vector<std::string> aliases;
+    for (ObjectId a : o.aliases) aliases.push_back(object_key(a));
+    nlohmann::json properties = {{"id", object_key(o.id)},
+                                 {"class", o.class_name},
+                                 {"confidence", o.confidence},
+                                 {"frame", frame_name(o.frame)},
+                                 {"aliases", aliases},
+                                 {"z_m", o.position_m.z()},
+                                 {"robots", robots},
+                                 {"observations", o.observations},
+                                 {"size", {o.size_m.x(), o.size_m.y(), o.size_m.z()}}};
+    nlohmann::json geometry = nullptr;  // GeoJSON: an unlocated feature (its robot is not placed)
+    if (o.frame.valid()) {
+      const FromEntry w = from_entry(*merged.data, o.frame, o.position_m.head<2>());
+      properties["robot_frame_m"] = {o.position_m.x(), o.position_m.y()};
+      properties["where"] = describe(o.frame, w);
+    } else {
+      geometry = {{"type", "Point"}, {"coordinates", {o.position_m.x(), o.position_m.y()}}};
+      if (!o.robots.empty()) {
+        const Eigen::Vector2d local = local_position(*merged.data, o);
+        properties["robot_frame_m"] = {local.x(), local.y()};
       }
-      features.push_back({{"type", "Feature"}, {"geometry", geometry}, {"properties", properties}});
     }
+    features.push_back({{"type", "Feature"}, {"geometry", geometry}, {"properties", properties}});
   }
   const nlohmann::json doc = {
       {"type", "FeatureCollection"},
@@ -121,15 +118,14 @@ bool write_objects_csv(const MergedMap& merged, const std::string& path, std::st
   // local_*: in the frame of the object's first robot (its own for an unplaced object).
   s << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m,frame,aliases,"
        "local_robot,local_x_m,local_y_m\n";
-  for (const auto* list : {&merged.objects, &merged.unplaced_objects}) {
-    for (const GlobalObject& o : *list) {
-      const Eigen::Vector2d local = local_position(*merged.data, o);
-      s << object_key(o.id) << ',' << o.class_name << ',' << o.confidence << ',' << o.position_m.x() << ','
-        << o.position_m.y() << ',' << o.position_m.z() << ',' << join_robots(o.robots, ";") << ',' << o.observations
-        << ',' << o.size_m.x() << ',' << o.size_m.y() << ',' << o.size_m.z() << ',' << frame_name(o.frame) << ','
-        << join_ids(o.aliases) << ',' << (o.robots.empty() ? -1 : o.robots.front().value) << ',' << local.x() << ','
-        << local.y() << '\n';
-    }
+  for (const GlobalObject* object : merged.all_objects()) {
+    const GlobalObject& o = *object;
+    const Eigen::Vector2d local = local_position(*merged.data, o);
+    s << object_key(o.id) << ',' << o.class_name << ',' << o.confidence << ',' << o.position_m.x() << ','
+      << o.position_m.y() << ',' << o.position_m.z() << ',' << join_robots(o.robots, ";") << ',' << o.observations
+      << ',' << o.size_m.x() << ',' << o.size_m.y() << ',' << o.size_m.z() << ',' << frame_name(o.frame) << ','
+      << join_ids(o.aliases) << ',' << (o.robots.empty() ? -1 : o.robots.front().value) << ',' << local.x() << ','
+      << local.y() << '\n';
   }
   return write_text(path, s.str(), error);
 }

@@ -6,6 +6,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
+#include <utility>
 
 #include "base_station/export/exporter.h"
 
@@ -116,20 +118,27 @@ void draw_goals(const MergedMap& merged, const ExplorationPlan& plan, const Pixe
   }
 }
 
-cv::Mat render(const MergedMap& merged, const ExportOptions& options, const ExplorationPlan* plan) {
-  const OccupancyGrid& grid = *merged.grid;
-  if (grid.width() == 0 || grid.height() == 0) {
-    cv::Mat blank(240, 320, CV_8UC3, cv::Scalar(205, 205, 205));
-    cv::putText(blank, "no map yet", {90, 125}, cv::FONT_HERSHEY_SIMPLEX, 0.8, {60, 60, 60}, 2, cv::LINE_AA);
-    return blank;
-  }
+/// Where the known part of `grid` lands in the image (scaled up to about png_min_size_px); nullopt for
+/// an empty grid.
+std::optional<std::pair<CellBox, PixelMapper>> image_frame(const OccupancyGrid& grid, const ExportOptions& options) {
+  if (grid.width() == 0 || grid.height() == 0) return std::nullopt;
   const CellBox box = known_box(grid, int(std::ceil(0.5 / grid.resolution_m())));
   const int longest = std::max(box.col1 - box.col0 + 1, box.row1 - box.row0 + 1);
   const int scale =
       std::clamp((options.png_min_size_px + longest - 1) / longest, 1, std::max(1, options.png_max_scale));
-  cv::Mat img = grid_image(grid, box, scale);
   const Eigen::Vector2d origin_m = grid.origin_m() + grid.resolution_m() * Eigen::Vector2d(box.col0, box.row0);
-  const PixelMapper px{origin_m, grid.resolution_m(), box.row1 - box.row0 + 1, scale};
+  return std::make_pair(box, PixelMapper{origin_m, grid.resolution_m(), box.row1 - box.row0 + 1, scale});
+}
+
+cv::Mat render(const MergedMap& merged, const ExportOptions& options, const ExplorationPlan* plan) {
+  const auto frame = image_frame(*merged.grid, options);
+  if (!frame) {
+    cv::Mat blank(240, 320, CV_8UC3, cv::Scalar(205, 205, 205));
+    cv::putText(blank, "no map yet", {90, 125}, cv::FONT_HERSHEY_SIMPLEX, 0.8, {60, 60, 60}, 2, cv::LINE_AA);
+    return blank;
+  }
+  const auto& [box, px] = *frame;
+  cv::Mat img = grid_image(*merged.grid, box, px.scale);
   draw_trajectories(merged, px, &img);
   draw_objects(merged.objects, px, &img);
   if (plan) draw_goals(merged, *plan, px, &img);
@@ -144,14 +153,8 @@ cv::Mat render_robot_frame(const RobotFrameMap& m, const ExportOptions& options)
   view.trajectories[m.robot] = m.trajectory;
   view.objects = m.objects;
   cv::Mat img = render(view, options, nullptr);
-  if (m.grid.width() > 0 && m.grid.height() > 0) {
-    const CellBox box = known_box(m.grid, int(std::ceil(0.5 / m.grid.resolution_m())));
-    const int longest = std::max(box.col1 - box.col0 + 1, box.row1 - box.row0 + 1);
-    const int scale =
-        std::clamp((options.png_min_size_px + longest - 1) / longest, 1, std::max(1, options.png_max_scale));
-    const Eigen::Vector2d origin_m = m.grid.origin_m() + m.grid.resolution_m() * Eigen::Vector2d(box.col0, box.row0);
-    const PixelMapper px{origin_m, m.grid.resolution_m(), box.row1 - box.row0 + 1, scale};
-    const cv::Point entry = px(Eigen::Vector2d::Zero());
+  if (const auto frame = image_frame(m.grid, options)) {
+    const cv::Point entry = frame->second(Eigen::Vector2d::Zero());
     cv::drawMarker(img, entry, robot_colour(m.robot), cv::MARKER_TRIANGLE_UP, 20, 3, cv::LINE_AA);
     cv::putText(img, "entry", entry + cv::Point(12, 16), cv::FONT_HERSHEY_SIMPLEX, 0.5, robot_colour(m.robot), 1,
                 cv::LINE_AA);
