@@ -72,11 +72,12 @@ DataWriterQos writer_qos(TopicKind kind, const QosOptions& options) {
       q.history().depth = 1;
       break;
     case TopicKind::kAck:
+    case TopicKind::kCommand:
     case TopicKind::kCorrection:
     case TopicKind::kKeyframePoses:
     case TopicKind::kGoal:
       reliable_common(q);
-      if (kind != TopicKind::kAck) q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+      if (kind != TopicKind::kAck && kind != TopicKind::kCommand) q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
       q.history().kind = KEEP_LAST_HISTORY_QOS;
       q.history().depth = 1;
       set_limits(q, kMaxRobots, 1);  // one instance per robot
@@ -115,6 +116,7 @@ DataReaderQos reader_qos(TopicKind kind) {
       break;
     case TopicKind::kStatus:
     case TopicKind::kAck:
+    case TopicKind::kCommand:
       q.history().kind = KEEP_LAST_HISTORY_QOS;
       q.history().depth = 1;
       set_limits(q, kMaxRobots, 1);

@@ -15,6 +15,7 @@ enum class TopicKind {
   kCorrection,     ///< reliable, transient local, keep last 1 per robot
   kKeyframePoses,  ///< like kCorrection, agent -> base: only the newest estimate matters
   kGoal,           ///< like kCorrection: each robot's newest exploration goal
+  kCommand,        ///< velocity command: reliable, volatile, keep last 1 (only the newest counts)
 };
 
 struct QosOptions {

@@ -37,6 +37,13 @@ struct RgbdTopic {
   static constexpr TopicKind kKind = TopicKind::kSensor;
   static constexpr bool kPerRobot = true;
 };
+struct CmdVelTopic {
+  using Msg = cairn_msgs::VelocityCommand;
+  using PubSub = cairn_msgs::VelocityCommandPubSubType;
+  static constexpr const char* kName = "cairn/robot<N>/cmd_vel";
+  static constexpr TopicKind kKind = TopicKind::kCommand;
+  static constexpr bool kPerRobot = true;
+};
 
 // Shared topics, keyed by robot id where several robots write.
 struct ClockTopic {
@@ -100,8 +107,8 @@ template <typename... Topics>
 struct TopicList {};
 
 /// Every topic, in the order of the architecture doc's table.
-using AllTopics = TopicList<OdometryTopic, LaserScanTopic, RgbdTopic, ClockTopic, KeyframeTopic, ObjectTopic,
-                            StatusTopic, AckTopic, CorrectionTopic, GoalTopic, KeyframePosesTopic>;
+using AllTopics = TopicList<OdometryTopic, LaserScanTopic, RgbdTopic, CmdVelTopic, ClockTopic, KeyframeTopic,
+                            ObjectTopic, StatusTopic, AckTopic, CorrectionTopic, GoalTopic, KeyframePosesTopic>;
 
 namespace detail {
 

@@ -1,0 +1,89 @@
+#pragma once
+// Which goal each robot drives: the base's exploration decisions over time (exploration.h makes one
+// plan; this keeps the orders, their ids and what the robots said of them). A goal a robot found
+// unreachable or got stuck on is blacklisted for blacklist_s of mission time, so it is never sent
+// again at once (the failure explore_lite's users keep reporting: robots that spin at an unreachable
+// frontier for ever); a goal reached is blacklisted briefly, as its frontier may linger a moment.
+// Robots the base cannot place yet are told to explore their own maps (GoalKind::kOwn); when no
+// linked robot has a reachable frontier left, every linked robot is sent home.
+// Pure: plans and statuses in, orders out.
+#include <Eigen/Core>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "base_station/core/exploration.h"
+#include "common/ids.h"
+#include "common/navigation.h"
+#include "common/se2.h"
+#include "common/time.h"
+
+namespace cairn::base {
+
+struct GoalAllocatorOptions {
+  double blacklist_s = 120.0;         ///< a failed goal is not sent again for this long
+  double reached_blacklist_s = 20.0;  ///< nor a reached one, briefly
+  double blacklist_radius_m = 1.0;    ///< frontier cells this close to a blacklisted goal are skipped
+  double same_goal_m = 1.0;           ///< a new plan's goal this close to the current one keeps its id
+};
+
+/// What a robot's newest status says of its navigation.
+struct RobotNavReport {
+  RobotId robot;
+  uint32_t goal_id = 0;
+  NavState state = NavState::kIdle;
+  RobotActivity activity = RobotActivity::kWaiting;
+};
+
+/// One robot's order, sent on cairn/goal in its own frame.
+struct GoalOrder {
+  RobotId robot;
+  uint32_t goal_id = 0;
+  GoalKind kind = GoalKind::kOwn;
+  Eigen::Vector2d goal_global_m{0, 0};  ///< for kExplore and kHome
+  Eigen::Vector2d goal_local_m{0, 0};
+  double path_m = 0;
+  double frontier_m = 0;
+};
+
+struct BlacklistedGoal {
+  Eigen::Vector2d position_m{0, 0};  ///< global frame
+  StampNs until_ns = 0;
+  RobotId robot;
+  NavState why = NavState::kUnreachable;
+};
+
+class GoalAllocator {
+ public:
+  explicit GoalAllocator(const GoalAllocatorOptions& options = {}) : options_(options) {}
+
+  /// A robot's newest status. A goal of ours it reports unreachable or stuck is blacklisted;
+  /// reached or failed, the order is over and the next assign() gives a new one.
+  void report(const RobotNavReport& report, StampNs now_ns);
+
+  /// Frontier points the next plan must skip (blacklisted now).
+  std::vector<Eigen::Vector2d> blacklist_m(StampNs now_ns) const;
+  /// The explore goals being driven (global frame), for the planner's hysteresis.
+  std::map<RobotId, Eigen::Vector2d> current_goals_m() const;
+
+  /// New orders from `plan` for every robot: `placements` has every robot the base knows, with
+  /// T_global_local for the linked ones. Returns only the orders that changed.
+  std::vector<GoalOrder> assign(const ExplorationPlan& plan, const std::map<RobotId, std::optional<SE2>>& placements,
+                                StampNs now_ns);
+
+  const std::map<RobotId, GoalOrder>& orders() const { return orders_; }
+  const std::vector<BlacklistedGoal>& blacklisted() const { return blacklisted_; }
+  int goals_blacklisted() const { return goals_blacklisted_; }
+  bool sent_home() const { return sent_home_; }
+
+ private:
+  GoalAllocatorOptions options_;
+  std::map<RobotId, GoalOrder> orders_;
+  std::map<RobotId, bool> order_open_;  ///< false once the robot said the order ended
+  std::vector<BlacklistedGoal> blacklisted_;
+  uint32_t next_goal_id_ = 1;
+  int goals_blacklisted_ = 0;
+  bool sent_home_ = false;
+};
+
+}  // namespace cairn::base

@@ -1,0 +1,84 @@
+#include "base_station/core/goal_allocator.h"
+
+#include <gtest/gtest.h>
+
+namespace cairn::base {
+namespace {
+
+StampNs at(double s) { return sec_to_ns(s); }
+
+ExplorationPlan plan_with(std::vector<std::pair<RobotId, Eigen::Vector2d>> goals) {
+  ExplorationPlan plan;
+  for (const auto& [robot, goal] : goals) {
+    plan.frontiers.push_back({goal, 20, 1.0, 1.0});
+    plan.goals.push_back({robot, int(plan.frontiers.size()) - 1, goal, 3.0, 0.25});
+  }
+  return plan;
+}
+
+const RobotId kA(0), kB(1), kC(2);
+
+TEST(GoalAllocator, LinkedRobotsGetTheirGoalInTheirOwnFrameUnplacedOnesExploreOnTheirOwn) {
+  GoalAllocator g;
+  const SE2 T_b(2.0, 1.0, M_PI / 2);
+  const auto orders =
+      g.assign(plan_with({{kA, {5, 0}}, {kB, {2, 4}}}), {{kA, SE2()}, {kB, T_b}, {kC, std::nullopt}}, at(1));
+  ASSERT_EQ(orders.size(), 3u);
+  EXPECT_EQ(orders[0].kind, GoalKind::kExplore);
+  EXPECT_TRUE(orders[1].goal_local_m.isApprox(Eigen::Vector2d(3, 0))) << orders[1].goal_local_m.transpose();
+  EXPECT_EQ(orders[2].kind, GoalKind::kOwn);
+  EXPECT_NE(orders[0].goal_id, orders[1].goal_id);
+  // The same plan again changes nothing; a goal moved by less than same_goal_m keeps its id.
+  EXPECT_TRUE(
+      g.assign(plan_with({{kA, {5.5, 0}}, {kB, {2, 4}}}), {{kA, SE2()}, {kB, T_b}, {kC, std::nullopt}}, at(3)).empty());
+  const auto moved = g.assign(plan_with({{kA, {9, 0}}, {kB, {2, 4}}}), {{kA, SE2()}, {kB, T_b}}, at(5));
+  ASSERT_EQ(moved.size(), 1u);
+  EXPECT_EQ(moved[0].robot, kA);
+  EXPECT_GT(moved[0].goal_id, orders[2].goal_id);
+}
+
+TEST(GoalAllocator, AFailedGoalIsBlacklistedForAWhileAndReplaced) {
+  GoalAllocator g;
+  const auto first = g.assign(plan_with({{kA, {5, 0}}}), {{kA, SE2()}}, at(1));
+  ASSERT_EQ(first.size(), 1u);
+  g.report({kA, first[0].goal_id + 7, NavState::kUnreachable, RobotActivity::kExploring}, at(2));  // not ours
+  EXPECT_TRUE(g.blacklist_m(at(2)).empty());
+  g.report({kA, first[0].goal_id, NavState::kUnreachable, RobotActivity::kExploring}, at(2));
+  g.report({kA, first[0].goal_id, NavState::kUnreachable, RobotActivity::kExploring}, at(2.5));  // repeated status
+  ASSERT_EQ(g.blacklist_m(at(3)).size(), 1u);
+  EXPECT_EQ(g.goals_blacklisted(), 1);
+  EXPECT_TRUE(g.current_goals_m().empty());
+  // The planner skips it; the next goal gets a new id.
+  const auto next = g.assign(plan_with({{kA, {0, 6}}}), {{kA, SE2()}}, at(3));
+  ASSERT_EQ(next.size(), 1u);
+  EXPECT_GT(next[0].goal_id, first[0].goal_id);
+  EXPECT_TRUE(g.blacklist_m(at(200)).empty()) << "the blacklist expires";
+}
+
+TEST(GoalAllocator, NoReachableFrontierSendsEveryPlacedRobotHomeOnce) {
+  GoalAllocator g;
+  const SE2 T_b(4.0, 0.0, 0.0);
+  g.assign(plan_with({{kA, {5, 0}}}), {{kA, SE2()}, {kB, T_b}}, at(1));
+  const auto home = g.assign(ExplorationPlan{}, {{kA, SE2()}, {kB, T_b}, {kC, std::nullopt}}, at(9));
+  EXPECT_TRUE(g.sent_home());
+  ASSERT_EQ(home.size(), 3u);
+  EXPECT_EQ(home[0].kind, GoalKind::kHome);
+  EXPECT_EQ(home[1].kind, GoalKind::kHome);
+  EXPECT_TRUE(home[1].goal_global_m.isApprox(Eigen::Vector2d(4, 0)));
+  EXPECT_TRUE(home[1].goal_local_m.isZero());
+  EXPECT_EQ(home[2].kind, GoalKind::kOwn) << "an unplaced robot finds its own way home";
+  g.report({kA, home[0].goal_id, NavState::kReached, RobotActivity::kHome}, at(20));
+  EXPECT_TRUE(g.assign(ExplorationPlan{}, {{kA, SE2()}, {kB, T_b}, {kC, std::nullopt}}, at(21)).empty());
+  EXPECT_TRUE(g.blacklist_m(at(21)).empty()) << "home is never blacklisted";
+}
+
+TEST(GoalAllocator, NoPlacedRobotMeansNobodyIsSentHome) {
+  GoalAllocator g;
+  const auto orders = g.assign(ExplorationPlan{}, {{kA, std::nullopt}}, at(1));
+  EXPECT_FALSE(g.sent_home());
+  ASSERT_EQ(orders.size(), 1u);
+  EXPECT_EQ(orders[0].kind, GoalKind::kOwn);
+}
+
+}  // namespace
+}  // namespace cairn::base

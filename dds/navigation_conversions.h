@@ -1,0 +1,24 @@
+#pragma once
+// IDL <-> plain C++ for the navigation messages (common/navigation.h): velocity commands, the
+// base's goals and the navigation part of a robot's status. from_msg() validates like
+// dds/conversions.h: a NaN, an unknown enum value or an out-of-range robot id gives std::nullopt
+// and an error naming the field.
+#include <optional>
+#include <string>
+
+#include "cairn_msgs.h"
+#include "common/navigation.h"
+
+namespace cairn::dds {
+
+cairn_msgs::VelocityCommand to_msg(const StampedCommand& command);
+std::optional<StampedCommand> from_msg(const cairn_msgs::VelocityCommand& msg, std::string* error);
+
+cairn_msgs::ExplorationGoal to_msg(const GoalMessage& goal);
+std::optional<GoalMessage> from_msg(const cairn_msgs::ExplorationGoal& msg, std::string* error);
+
+/// Fills the navigation fields of a status message.
+void set_nav_status(const NavStatus& nav, cairn_msgs::RobotStatus* msg);
+std::optional<NavStatus> nav_status_from(const cairn_msgs::RobotStatus& msg, std::string* error);
+
+}  // namespace cairn::dds

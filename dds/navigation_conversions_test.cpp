@@ -1,0 +1,78 @@
+#include "dds/navigation_conversions.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace cairn::dds {
+namespace {
+
+TEST(NavigationConversions, CommandRoundTripsAndNaNIsRefusedByName) {
+  const StampedCommand c{RobotId(3), 1500000000, {0.4, -0.7}, true};
+  std::string error;
+  const auto back = from_msg(to_msg(c), &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_EQ(back->robot, RobotId(3));
+  EXPECT_EQ(back->stamp_ns, c.stamp_ns);
+  EXPECT_DOUBLE_EQ(back->command.angular_radps, -0.7);
+  EXPECT_TRUE(back->done);
+  cairn_msgs::VelocityCommand bad = to_msg(c);
+  bad.linear_mps(std::nan(""));
+  EXPECT_FALSE(from_msg(bad, &error));
+  EXPECT_NE(error.find("non-finite"), std::string::npos) << error;
+  bad = to_msg(c);
+  bad.robot_id(-2);
+  EXPECT_FALSE(from_msg(bad, &error));
+  EXPECT_NE(error.find("robot_id -2"), std::string::npos) << error;
+}
+
+TEST(NavigationConversions, GoalRoundTripsAndUnknownKindOrNaNIsRefused) {
+  GoalMessage g;
+  g.robot = RobotId(1);
+  g.goal_id = 42;
+  g.kind = GoalKind::kHome;
+  g.has_goal = true;
+  g.goal_m = {3.5, -2};
+  std::string error;
+  const auto back = from_msg(to_msg(g), &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_EQ(back->goal_id, 42u);
+  EXPECT_EQ(back->kind, GoalKind::kHome);
+  EXPECT_EQ(back->goal_m, Eigen::Vector2d(3.5, -2));
+  cairn_msgs::ExplorationGoal bad = to_msg(g);
+  bad.kind(9);
+  EXPECT_FALSE(from_msg(bad, &error));
+  EXPECT_NE(error.find("unknown kind 9"), std::string::npos) << error;
+  bad = to_msg(g);
+  bad.y_m(INFINITY);
+  EXPECT_FALSE(from_msg(bad, &error));
+  bad = to_msg(g);
+  bad.x_m(1e9);
+  EXPECT_FALSE(from_msg(bad, &error));
+  EXPECT_NE(error.find("100 km"), std::string::npos) << error;
+}
+
+TEST(NavigationConversions, StatusNavigationPartRoundTrips) {
+  NavStatus n;
+  n.pose = SE2(1, 2, 0.5);
+  n.activity = RobotActivity::kReturningToContact;
+  n.goal_id = 7;
+  n.goal_kind = GoalKind::kExplore;
+  n.nav_state = NavState::kStuck;
+  n.goal_m = {4, 5};
+  n.distance_m = 12.5;
+  cairn_msgs::RobotStatus m;
+  set_nav_status(n, &m);
+  std::string error;
+  const auto back = nav_status_from(m, &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_EQ(back->activity, RobotActivity::kReturningToContact);
+  EXPECT_EQ(back->nav_state, NavState::kStuck);
+  EXPECT_NEAR(back->pose.yaw(), 0.5, 1e-12);
+  EXPECT_DOUBLE_EQ(back->distance_m, 12.5);
+  m.nav_state(77);
+  EXPECT_FALSE(nav_status_from(m, &error));
+}
+
+}  // namespace
+}  // namespace cairn::dds
