@@ -123,6 +123,7 @@ void BaseNode::ingest(const cairn_msgs::RobotStatus& m, bool live) {
   }
   link.last_status = m;
   link.has_status = true;
+  note_navigation(m, live);
   link.last_heard_s = live ? now_s() : -1.0;  // restored: not heard since this base started
 }
 
@@ -172,27 +173,6 @@ void BaseNode::publish_acks_and_corrections() {
     c.linked(r.linked);
     c.T_global_local(dds::to_msg(r.T_global_local));
     correction_out_->write(c);
-  }
-}
-
-void BaseNode::plan_and_publish_goals() {
-  plan_ = plan_exploration(mapper_.merged());
-  planned_version_ = mapper_.version();
-  for (const RobotSummary& r : mapper_.robots()) {
-    if (!r.linked) continue;  // its goal would be in a frame the base cannot place yet
-    cairn_msgs::ExplorationGoal msg;
-    msg.robot_id(r.id.value);
-    msg.has_goal(false);
-    for (const ExplorationGoal& g : plan_.goals) {
-      if (g.robot != r.id) continue;
-      const Eigen::Vector2d local = r.T_global_local.inverse() * g.goal_m;
-      msg.has_goal(true);
-      msg.x_m(local.x());
-      msg.y_m(local.y());
-      msg.path_m(g.path_m);
-      msg.frontier_m(plan_.frontiers[size_t(g.frontier)].length_m);
-    }
-    goal_out_->write(msg);
   }
 }
 
@@ -280,7 +260,7 @@ int BaseNode::run() {
         report_linking(r);
       }
       publish_acks_and_corrections();
-      if (Clock::now() >= next_plan && mapper_.version() != planned_version_) {
+      if ((Clock::now() >= next_plan && mapper_.version() != planned_version_) || replan_now_) {
         plan_and_publish_goals();
         next_plan = Clock::now() + plan_period;
       }

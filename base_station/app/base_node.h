@@ -17,6 +17,7 @@
 #include "base_station/console/console_server.h"
 #include "base_station/console/snapshot.h"
 #include "base_station/core/exploration.h"
+#include "base_station/core/goal_allocator.h"
 #include "base_station/core/multi_robot_mapper.h"
 #include "base_station/store/journal.h"
 #include "cairn_msgsPubSubTypes.h"
@@ -72,6 +73,8 @@ class BaseNode {
   void flush_journal();
   bool poll_inputs();
   void publish_acks_and_corrections();
+  // Exploration (base_node_exploration.cpp): the robots' navigation states in, goals out.
+  void note_navigation(const cairn_msgs::RobotStatus& m, bool live);
   void plan_and_publish_goals();
   void refresh_snapshot();
   void report_linking(const OptimizeResult& result);
@@ -95,7 +98,10 @@ class BaseNode {
   std::unique_ptr<ConsoleServer> console_;
   std::unique_ptr<Journal> journal_;
   ExplorationPlan plan_;                    ///< the newest exploration plan (console, goal topic, final export)
+  GoalAllocator goals_;                     ///< each robot's order, the blacklist of failed goals
+  std::map<RobotId, NavStatus> navigation_;  ///< each robot's newest navigation state
   uint64_t planned_version_ = 0;            ///< mapper_.version() plan_ was made for
+  bool replan_now_ = false;                 ///< a robot's order ended: plan without waiting for the period
   std::vector<JournalRecord> unjournaled_;  ///< stored in the mapper, not yet in the journal: no ack
   std::map<RobotId, cairn_msgs::RobotStatus> unjournaled_status_;  ///< newest status per robot, not yet journaled
   bool status_urgent_ = false;  ///< a robot's first status or a change of "finished": journal now

@@ -4,19 +4,20 @@
 
 namespace cairn::base {
 
-void GoalAllocator::report(const RobotNavReport& report, StampNs now_ns) {
+bool GoalAllocator::report(const RobotNavReport& report, StampNs now_ns) {
   auto it = orders_.find(report.robot);
-  if (it == orders_.end() || it->second.goal_id != report.goal_id || !order_open_[report.robot]) return;
+  if (it == orders_.end() || it->second.goal_id != report.goal_id || !order_open_[report.robot]) return false;
   const bool ended =
       report.state == NavState::kReached || report.state == NavState::kUnreachable || report.state == NavState::kStuck;
-  if (!ended) return;
+  if (!ended) return false;
   order_open_[report.robot] = false;
   const GoalOrder& order = it->second;
-  if (order.kind != GoalKind::kExplore) return;
+  if (order.kind != GoalKind::kExplore) return true;
   const bool failed = report.state != NavState::kReached;
   const double hold_s = failed ? options_.blacklist_s : options_.reached_blacklist_s;
   blacklisted_.push_back({order.goal_global_m, now_ns + sec_to_ns(hold_s), report.robot, report.state});
   goals_blacklisted_ += failed;
+  return true;
 }
 
 std::vector<Eigen::Vector2d> GoalAllocator::blacklist_m(StampNs now_ns) const {

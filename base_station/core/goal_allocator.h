@@ -58,8 +58,8 @@ class GoalAllocator {
   explicit GoalAllocator(const GoalAllocatorOptions& options = {}) : options_(options) {}
 
   /// A robot's newest status. A goal of ours it reports unreachable or stuck is blacklisted;
-  /// reached or failed, the order is over and the next assign() gives a new one.
-  void report(const RobotNavReport& report, StampNs now_ns);
+  /// reached or failed, the order is over and the next assign() gives a new one (returns true then).
+  bool report(const RobotNavReport& report, StampNs now_ns);
 
   /// Frontier points the next plan must skip (blacklisted now).
   std::vector<Eigen::Vector2d> blacklist_m(StampNs now_ns) const;

@@ -1,0 +1,72 @@
+// BaseNode's exploration part: the robots' navigation states in (cairn/status), the team's plan
+// (plan_exploration) and each robot's order (GoalAllocator) out on cairn/goal, in its own frame.
+#include "base_station/app/base_node.h"
+#include "base_station/core/merged_map.h"
+#include "dds/navigation_conversions.h"
+
+namespace cairn::base {
+
+void BaseNode::note_navigation(const cairn_msgs::RobotStatus& m, bool live) {
+  std::string error;
+  const auto nav = dds::nav_status_from(m, &error);
+  if (!nav) {
+    count_rejected(m.robot_id());
+    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "robot{}'s status: {}", m.robot_id(), error);
+    return;
+  }
+  const RobotId robot(m.robot_id());
+  const auto before = navigation_.find(robot);
+  if (live && (before == navigation_.end() || before->second.activity != nav->activity)) {
+    log_->info("{} is {}", to_string(robot), to_string(nav->activity));
+  }
+  navigation_[robot] = *nav;
+  const int blacklisted = goals_.goals_blacklisted();
+  if (goals_.report({robot, nav->goal_id, nav->nav_state, nav->activity}, mapper_.data().latest_stamp_ns)) {
+    replan_now_ = true;  // its order is over: plan again at the next optimise tick
+  }
+  if (live && goals_.goals_blacklisted() > blacklisted) {
+    log_->info("{} could not reach goal {} ({}): not sent again for a while", to_string(robot), nav->goal_id,
+               to_string(nav->nav_state));
+  }
+}
+
+void BaseNode::plan_and_publish_goals() {
+  const MergedMap merged = mapper_.merged();
+  const StampNs now_ns = merged.data->latest_stamp_ns;
+  // Where the linked robots are: their newest reported pose, else their newest keyframe.
+  std::map<RobotId, Eigen::Vector2d> robots_m;
+  std::map<RobotId, std::optional<SE2>> placements;
+  for (const RobotSummary& r : merged.robots) {
+    placements[r.id] = r.linked ? std::optional<SE2>(r.T_global_local) : std::nullopt;
+    if (!r.linked) continue;
+    const auto nav = navigation_.find(r.id);
+    const Trajectory& trajectory = merged.trajectory(r.id);
+    if (nav != navigation_.end()) {
+      robots_m[r.id] = r.T_global_local * nav->second.pose.translation();
+    } else if (!trajectory.empty()) {
+      robots_m[r.id] = trajectory.back().pose.translation();
+    }
+  }
+  std::vector<Eigen::Vector2d> victims_m;
+  for (const GlobalObject& o : merged.objects) {
+    if (o.class_name == "victim") victims_m.push_back(o.position_m.head<2>());
+  }
+  plan_ = plan_exploration(*merged.grid, robots_m, victims_m);
+  planned_version_ = mapper_.version();
+  replan_now_ = false;
+  const bool was_home = goals_.sent_home();
+  for (const GoalOrder& order : goals_.assign(plan_, placements, now_ns)) {
+    GoalMessage msg;
+    msg.robot = order.robot;
+    msg.goal_id = order.goal_id;
+    msg.kind = order.kind;
+    msg.has_goal = order.kind != GoalKind::kOwn;
+    msg.goal_m = order.goal_local_m;
+    msg.path_m = order.path_m;
+    msg.frontier_m = order.frontier_m;
+    goal_out_->write(dds::to_msg(msg));
+  }
+  if (goals_.sent_home() && !was_home) log_->info("no reachable frontier left: every placed robot is sent home");
+}
+
+}  // namespace cairn::base
