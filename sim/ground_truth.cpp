@@ -5,6 +5,7 @@
 #include <iomanip>
 
 #include "common/trajectory.h"
+#include "sim/reachable_area.h"
 
 namespace cairn::sim {
 namespace {
@@ -35,6 +36,27 @@ bool write_robots(const Simulator& sim, const std::string& path) {
   return bool(out);
 }
 
+/// gt_reachable.pgm (255: a free cell connected to a robot's start, top row first as map_server
+/// images) and gt_reachable.yaml (resolution, origin): the explorable area, for coverage scores.
+bool write_reachable(const Simulator& sim, const std::filesystem::path& base) {
+  const FloorPlan& plan = sim.world().floor_plan;
+  std::vector<Eigen::Vector2d> starts;
+  for (RobotId id : sim.robot_ids()) starts.push_back(sim.T_world_start(id).translation());
+  const std::vector<uint8_t> reached = reachable_free_cells(plan, starts);
+  std::ofstream pgm(base / "gt_reachable.pgm", std::ios::binary);
+  pgm << "P5\n" << plan.width() << ' ' << plan.height() << "\n255\n";
+  for (int r = plan.height() - 1; r >= 0; --r) {
+    for (int c = 0; c < plan.width(); ++c)
+      pgm.put(reached[size_t(r) * size_t(plan.width()) + size_t(c)] ? char(255) : 0);
+  }
+  pgm.flush();
+  std::ofstream yaml(base / "gt_reachable.yaml");
+  yaml << std::setprecision(12) << "image: gt_reachable.pgm\nresolution: " << plan.resolution_m() << "\norigin: ["
+       << plan.origin_m().x() << ", " << plan.origin_m().y() << ", 0.0]\n";
+  yaml.flush();
+  return bool(pgm) && bool(yaml);
+}
+
 }  // namespace
 
 bool write_ground_truth(const Simulator& sim, const std::string& dir) {
@@ -47,7 +69,7 @@ bool write_ground_truth(const Simulator& sim, const std::string& dir) {
     if (!write_trajectory_csv(path, sim.ground_truth(id))) return false;
   }
   return write_objects(sim.objects(), (base / "gt_objects.csv").string()) &&
-         write_robots(sim, (base / "gt_robots.csv").string());
+         write_robots(sim, (base / "gt_robots.csv").string()) && write_reachable(sim, base);
 }
 
 }  // namespace cairn::sim

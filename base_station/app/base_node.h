@@ -97,12 +97,12 @@ class BaseNode {
   std::unique_ptr<dds::Writer<dds::GoalTopic>> goal_out_;
   std::unique_ptr<ConsoleServer> console_;
   std::unique_ptr<Journal> journal_;
-  ExplorationPlan plan_;                    ///< the newest exploration plan (console, goal topic, final export)
-  GoalAllocator goals_;                     ///< each robot's order, the blacklist of failed goals
+  ExplorationPlan plan_;                     ///< the newest exploration plan (console, goal topic, final export)
+  GoalAllocator goals_;                      ///< each robot's order, the blacklist of failed goals
   std::map<RobotId, NavStatus> navigation_;  ///< each robot's newest navigation state
-  uint64_t planned_version_ = 0;            ///< mapper_.version() plan_ was made for
-  bool replan_now_ = false;                 ///< a robot's order ended: plan without waiting for the period
-  std::vector<JournalRecord> unjournaled_;  ///< stored in the mapper, not yet in the journal: no ack
+  uint64_t planned_version_ = 0;             ///< mapper_.version() plan_ was made for
+  bool replan_now_ = false;                  ///< a robot's order ended: plan without waiting for the period
+  std::vector<JournalRecord> unjournaled_;   ///< stored in the mapper, not yet in the journal: no ack
   std::map<RobotId, cairn_msgs::RobotStatus> unjournaled_status_;  ///< newest status per robot, not yet journaled
   bool status_urgent_ = false;  ///< a robot's first status or a change of "finished": journal now
   int restored_records_ = 0;

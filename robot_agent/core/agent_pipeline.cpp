@@ -105,7 +105,10 @@ void AgentPipeline::process_scan(AgentOutputs* out) {
       ++stats_.scans_odometry_stalled;
       break;
   }
-  if (r.status != S::kTooFewPoints || !tracked_.empty()) tracked_.push_back({scan.stamp_ns, r.pose});
+  if (r.status != S::kTooFewPoints || !tracked_.empty()) {
+    tracked_.push_back({scan.stamp_ns, r.pose});
+    out->scans.push_back({scan, r.pose});
+  }
   if (!r.matched()) return;
   trajectory_.push_back({scan.stamp_ns, r.pose});
   if (auto kf = keyframer_.add(scan, r.pose, r.covariance)) {

@@ -22,7 +22,14 @@
 
 namespace cairn::agent {
 
+/// A processed scan at its tracked pose in the local frame (what navigation maps and steers by).
+struct PosedScan {
+  LaserScan scan;
+  SE2 T_local_base;
+};
+
 struct AgentOutputs {
+  std::vector<PosedScan> scans;  ///< every scan processed by this call, in stamp order
   std::vector<Keyframe> keyframes;
   std::vector<ObjectReport> objects;
   /// Every emitted keyframe's pose after the agent's own loop closing, when that moved them

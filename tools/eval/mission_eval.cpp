@@ -259,6 +259,7 @@ MissionScore evaluate_mission(const std::string& gt_dir, const std::string& resu
   for (const auto& c : classes) score.classes.push_back(score_class(c, truth, found, options.object_match_distance_m));
   score.objects = score_class("all", truth, found, options.object_match_distance_m);
   score.robot_frame = score_robot_frame(gt_dir, results_dir, truth, classes, options.object_match_distance_m);
+  score.coverage = evaluate_coverage(gt_dir, results_dir);
   return score;
 }
 
@@ -307,6 +308,11 @@ nlohmann::json to_json(const MissionScore& score) {
     }
     j["robot_frame"].push_back(rj);
   }
+  if (score.coverage) {
+    j["coverage"] = {{"reachable_m2", score.coverage->reachable_m2},
+                     {"covered_m2", score.coverage->covered_m2},
+                     {"fraction", score.coverage->fraction()}};
+  }
   return j;
 }
 
@@ -334,6 +340,12 @@ std::string format_score(const MissionScore& score) {
   };
   for (const auto& c : score.classes) line(c);
   line(score.objects);
+  if (const auto& c = score.coverage) {
+    s.precision(1);
+    s << "  explored: " << c->covered_m2 << " of " << c->reachable_m2 << " m2 reachable (" << 100.0 * c->fraction()
+      << " %)\n";
+    s.precision(3);
+  }
   if (score.unplaced_objects > 0) {
     s << "  + " << score.unplaced_objects
       << " object(s) only in the own frame of a robot never placed on the map (not scored above)\n";

@@ -10,6 +10,7 @@
 
 #include "common/ids.h"
 #include "common/trajectory.h"
+#include "tools/eval/coverage_eval.h"
 
 namespace cairn::eval {
 
@@ -63,6 +64,7 @@ struct MissionScore {
   /// Objects reported only in a robot's own frame (never placed on the map): not scored above.
   int unplaced_objects = 0;
   std::vector<RobotFrameScore> robot_frame;  ///< empty when objects_robot_frame.csv is absent
+  std::optional<CoverageScore> coverage;     ///< of the explorable area (coverage_eval.h)
 };
 
 /// Reads gt_robot<N>.csv / gt_objects.csv from `ground_truth_dir` and trajectory_robot<N>.csv /

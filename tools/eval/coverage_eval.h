@@ -1,0 +1,38 @@
+#pragma once
+// Exploration coverage scored against the truth: the share of the explorable area (the
+// simulator's gt_reachable.pgm: free cells connected to the robots' starts) that the base's final
+// merged map (map.pgm, map_server format, global frame = world frame) shows as known free.
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cairn::eval {
+
+/// A map_server image (PGM P5, top row first) with its YAML (resolution, origin).
+struct MapImage {
+  int width = 0, height = 0;
+  double resolution_m = 0;
+  Eigen::Vector2d origin_m{0, 0};
+  std::vector<uint8_t> pixels;  ///< top row first
+  /// The pixel under world point p, or nullopt off the image.
+  std::optional<uint8_t> at(const Eigen::Vector2d& p_m) const;
+  /// World centre of the pixel at (col, row counted from the bottom).
+  Eigen::Vector2d centre_m(int col, int row_from_bottom) const;
+};
+
+/// Reads `<stem>.yaml` and the image it names; throws InputError naming the file and what is wrong.
+MapImage read_map_image(const std::string& yaml_path);
+
+struct CoverageScore {
+  double reachable_m2 = 0;  ///< the explorable area
+  double covered_m2 = 0;    ///< of it, known free on the final map
+  double fraction() const { return reachable_m2 > 0 ? covered_m2 / reachable_m2 : 0.0; }
+};
+
+/// nullopt when the ground truth has no gt_reachable.yaml (an older recording); throws InputError
+/// for a malformed file or a missing map.yaml.
+std::optional<CoverageScore> evaluate_coverage(const std::string& ground_truth_dir, const std::string& results_dir);
+
+}  // namespace cairn::eval
