@@ -200,6 +200,7 @@ nlohmann::json BaseNode::link_stats() const {
     j["bytes_rx"] = link.has_status ? link.last_status.bytes_sent() : 0;
     j["bad_samples"] = link.bad_samples;
     j["keyframe_pose_updates"] = link.keyframe_pose_updates;
+    add_navigation_json(robot, &j);
     links[std::to_string(robot.value)] = j;
   }
   return links;
@@ -329,6 +330,9 @@ int BaseNode::finish() {
                       {"converged", r.solve.converged},
                       {"final_cost", r.solve.final_cost}};
   summary["exploration"] = exploration_json(plan_);
+  summary["exploration"]["goals_blacklisted"] = goals_.goals_blacklisted();
+  summary["exploration"]["sent_home"] = goals_.sent_home();
+  summary["coverage_series"] = coverage_series_;
   summary["rejected_samples"] = rejected_samples_;
   summary["journal"] = {{"path", journal_->path()},
                         {"records", journal_->size()},

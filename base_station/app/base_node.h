@@ -76,6 +76,9 @@ class BaseNode {
   // Exploration (base_node_exploration.cpp): the robots' navigation states in, goals out.
   void note_navigation(const cairn_msgs::RobotStatus& m, bool live);
   void plan_and_publish_goals();
+  void add_navigation_json(RobotId robot, nlohmann::json* link) const;
+  /// Explored area, open frontier and victims at the newest mission time (summary, console).
+  void record_coverage(const MergedMap& merged);
   void refresh_snapshot();
   void report_linking(const OptimizeResult& result);
   nlohmann::json link_stats() const;
@@ -100,9 +103,10 @@ class BaseNode {
   ExplorationPlan plan_;                     ///< the newest exploration plan (console, goal topic, final export)
   GoalAllocator goals_;                      ///< each robot's order, the blacklist of failed goals
   std::map<RobotId, NavStatus> navigation_;  ///< each robot's newest navigation state
-  uint64_t planned_version_ = 0;             ///< mapper_.version() plan_ was made for
-  bool replan_now_ = false;                  ///< a robot's order ended: plan without waiting for the period
-  std::vector<JournalRecord> unjournaled_;   ///< stored in the mapper, not yet in the journal: no ack
+  nlohmann::json coverage_series_ = nlohmann::json::array();  ///< [{t_s, free_m2, frontier_m, victims}]
+  uint64_t planned_version_ = 0;                              ///< mapper_.version() plan_ was made for
+  bool replan_now_ = false;                 ///< a robot's order ended: plan without waiting for the period
+  std::vector<JournalRecord> unjournaled_;  ///< stored in the mapper, not yet in the journal: no ack
   std::map<RobotId, cairn_msgs::RobotStatus> unjournaled_status_;  ///< newest status per robot, not yet journaled
   bool status_urgent_ = false;  ///< a robot's first status or a change of "finished": journal now
   int restored_records_ = 0;

@@ -52,6 +52,7 @@ void BaseNode::plan_and_publish_goals() {
     if (o.class_name == "victim") victims_m.push_back(o.position_m.head<2>());
   }
   plan_ = plan_exploration(*merged.grid, robots_m, victims_m);
+  record_coverage(merged);
   planned_version_ = mapper_.version();
   replan_now_ = false;
   const bool was_home = goals_.sent_home();
@@ -67,6 +68,41 @@ void BaseNode::plan_and_publish_goals() {
     goal_out_->write(dds::to_msg(msg));
   }
   if (goals_.sent_home() && !was_home) log_->info("no reachable frontier left: every placed robot is sent home");
+}
+
+}  // namespace cairn::base
+
+namespace cairn::base {
+
+void BaseNode::record_coverage(const MergedMap& merged) {
+  const OccupancyGrid& grid = *merged.grid;
+  int free_cells = 0;
+  for (int r = 0; r < grid.height(); ++r) {
+    for (int c = 0; c < grid.width(); ++c) free_cells += grid.known(c, r) && grid.probability(c, r) < 0.25;
+  }
+  double frontier_m = 0;
+  for (const Frontier& f : plan_.frontiers) frontier_m += f.length_m;
+  int victims = 0;
+  for (const GlobalObject* o : merged.all_objects()) victims += o->class_name == "victim";
+  const double t_s = ns_to_sec(merged.data->latest_stamp_ns);
+  if (!coverage_series_.empty() && coverage_series_.back()["t_s"].get<double>() >= t_s)
+    coverage_series_.erase(coverage_series_.size() - 1);
+  coverage_series_.push_back({{"t_s", t_s},
+                              {"free_m2", free_cells * grid.resolution_m() * grid.resolution_m()},
+                              {"frontier_m", frontier_m},
+                              {"victims", victims}});
+}
+
+void BaseNode::add_navigation_json(RobotId robot, nlohmann::json* link) const {
+  const auto it = navigation_.find(robot);
+  if (it == navigation_.end()) return;
+  const NavStatus& n = it->second;
+  (*link)["activity"] = to_string(n.activity);
+  (*link)["nav_state"] = to_string(n.nav_state);
+  (*link)["goal_id"] = n.goal_id;
+  (*link)["goal_kind"] = to_string(n.goal_kind);
+  (*link)["distance_m"] = n.distance_m;
+  (*link)["pose_local"] = {n.pose.x(), n.pose.y(), n.pose.yaw()};
 }
 
 }  // namespace cairn::base
