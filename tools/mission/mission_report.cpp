@@ -4,6 +4,7 @@
 #include "common/errors.h"
 #include "common/trajectory.h"
 #include "tools/eval/mission_eval.h"
+#include "tools/mission/exploration_report.h"
 
 #include <httplib.h>
 #include <netinet/in.h>
@@ -161,6 +162,30 @@ int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr
     }
   }
   s << "accuracy against ground truth:\n" << eval::format_score(score);
+  if (score.coverage) {
+    int victims = 0;
+    for (const auto& c : score.classes) victims += c.class_name == "victim" ? c.ground_truth : 0;
+    const ExplorationFigures f = exploration_figures(summary.value("coverage_series", json::array()),
+                                                     score.coverage->reachable_m2, victims, sim_s);
+    auto at = [](const std::optional<double>& t) { return t ? json(*t) : json(); };
+    auto text = [](const std::optional<double>& t) {
+      return t ? std::to_string(int(*t)) + " s" : std::string("never");
+    };
+    const json exploration = summary.value("exploration", json::object());
+    results["exploration"] = {{"coverage_per_second", f.per_second},
+                              {"t50_s", at(f.t50_s)},
+                              {"t90_s", at(f.t90_s)},
+                              {"t99_s", at(f.t99_s)},
+                              {"all_victims_s", at(f.all_victims_s)},
+                              {"goals_blacklisted", exploration.value("goals_blacklisted", 0)},
+                              {"sent_home", exploration.value("sent_home", false)}};
+    s << "exploration: 50 % covered at " << text(f.t50_s) << ", 90 % at " << text(f.t90_s) << ", 99 % at "
+      << text(f.t99_s) << "; every victim on the map at " << text(f.all_victims_s) << "; "
+      << exploration.value("goals_blacklisted", 0) << " goal(s) blacklisted (coverage.png)\n";
+    if (!write_coverage_plot(f, victims, "Mission " + out.filename().string(), (out / "coverage.png").string())) {
+      s << "!! could not write " << (out / "coverage.png").string() << "\n";
+    }
+  }
   s << "peak memory:";
   json memory = json::object();
   for (const auto& p : procs) {

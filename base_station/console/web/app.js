@@ -57,13 +57,18 @@ function renderRobots(robots) {
       el("td", { text: `Robot ${r.id}` }),
       el("td", {}, [el("span", { class: r.linked ? "badge ok" : "badge warn", text: r.linked ? "linked" : "not linked" })]),
       el("td", { text: r.time_to_link_s === null || r.time_to_link_s === undefined ? "–" : `${r.time_to_link_s.toFixed(0)} s` }),
+      el("td", {
+        class: link.nav_state === "stuck" || link.nav_state === "unreachable" ? "bad" : "",
+        text: link.activity ? `${link.activity}${link.nav_state && link.nav_state !== "driving" ? ` (goal ${link.nav_state})` : ""}` : "–",
+      }),
+      el("td", { text: link.distance_m === undefined ? "–" : `${link.distance_m.toFixed(0)} m` }),
       el("td", { text: r.missing_keyframes ? `${r.keyframes} (${r.missing_keyframes} missing)` : `${r.keyframes}` }),
       el("td", { text: fmtBytes(link.bytes_rx) }),
       el("td", { class: link.state === "lost" ? "bad" : "", text: linkText }),
       el("td", { text: r.keyframes ? fmtTime(r.last_stamp_s) : "–" }),
     ]);
   });
-  replaceRows(document.getElementById("robots"), rows, "No robots yet", 7);
+  replaceRows(document.getElementById("robots"), rows, "No robots yet", 9);
   renderOwnMaps(robots.filter((r) => r.own_map));
 }
 
