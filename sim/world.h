@@ -1,8 +1,9 @@
 #pragma once
 // The static description of a simulated mission: the floor plan (walls extruded to wall_height_m),
-// the robots with their start poses and waypoint routes, and the objects of interest (victims,
-// hazards, exits) as coloured 3D primitives. Loaded from a YAML file plus a floor-plan image
-// (PGM or PNG; pixels darker than 128 are walls). See worlds/office.yaml for the format.
+// the robots with their start poses (and, optionally, scripted waypoint routes), and the objects of
+// interest (victims, hazards, exits) as coloured 3D primitives. Loaded from a YAML file plus a
+// floor-plan image (PGM or PNG; pixels darker than 128 are walls). See worlds/office.yaml for the
+// format.
 #include <Eigen/Core>
 #include <array>
 #include <string>
@@ -30,7 +31,7 @@ struct WorldObject {
   double yaw_rad = 0.0;                                ///< rotation about the vertical axis
 };
 
-/// A robot and the route it drives.
+/// A robot and the scripted route it drives in DriveMode::kWaypoints.
 struct RobotSpec {
   RobotId id;
   SE2 T_world_start;
@@ -55,7 +56,9 @@ struct WorldFile {
 
 /// Loads a world YAML (and the image it names, relative to the YAML file). Throws InputError naming
 /// the file and key for a missing/malformed file or an invalid value (non-positive resolution, a
-/// start pose inside or too close to a wall, an unknown object class or shape, NaN, ...).
+/// start pose inside or too close to a wall, overlapping starts, an unknown object class or shape,
+/// NaN, ...). Drive mode: `sim: {drive: commands|waypoints}` when given; otherwise kWaypoints if any
+/// robot has `waypoints`, else kCommands.
 WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& options = {});
 
 /// Loads a floor-plan image (PGM/PNG) into a FloorPlan; throws InputError naming the file.

@@ -97,8 +97,8 @@ class BadInput : public ::testing::Test {
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
-  std::string write(const std::string& text) {
-    const std::string path = (dir_ / "w.yaml").string();
+  std::string write(const std::string& text, const std::string& name = "w.yaml") {
+    const std::string path = (dir_ / name).string();
     std::ofstream(path) << text;
     return path;
   }
@@ -166,6 +166,28 @@ TEST_F(BadInput, InvalidValues) {
                     "objects:\n  - {id: 0, class: exit, color: [1, 2, 3], size_m: [1, 1, 1], pose: [1, .nan, 0, 0]}\n"),
                "objects[0].pose");
   expect_error(yaml(good_map_, good_robot_) + "sensors: {laser: {beams: -3}}\n", "sensors.laser.beams");
+}
+
+TEST_F(BadInput, DriveModeIsWaypointsOnlyWhenARobotHasWaypointsOrTheSimSectionSaysSo) {
+  const std::string still = "id: 0, start: [1, 1, 0]";
+  WorldFile f = load_world_file(write(yaml(good_map_, still)));  // no waypoints: loads, commands
+  EXPECT_EQ(f.sim.drive_mode, DriveMode::kCommands);
+  EXPECT_TRUE(f.world.robots.at(0).waypoints_m.empty());
+  f = load_world_file(write(yaml(good_map_, good_robot_)));
+  EXPECT_EQ(f.sim.drive_mode, DriveMode::kWaypoints);
+  EXPECT_EQ(f.world.robots.at(0).waypoints_m.size(), 1u);
+  f = load_world_file(write(yaml(good_map_, good_robot_) + "sim: {drive: commands}\n"));
+  EXPECT_EQ(f.sim.drive_mode, DriveMode::kCommands);
+  f = load_world_file(write(yaml(good_map_, still) + "sim: {drive: waypoints, robot_radius_m: 0.3}\n"));
+  EXPECT_EQ(f.sim.drive_mode, DriveMode::kWaypoints);
+  EXPECT_EQ(f.sim.robot_radius_m, 0.3);
+  EXPECT_EQ(load_world_file(write(yaml(good_map_, still))).sim.robot_radius_m, 0.2);
+  expect_error(yaml(good_map_, still) + "sim: {drive: fly}\n", "sim.drive");
+  expect_error(yaml(good_map_, still) + "sim: {robot_radius_m: 0}\n", "sim.robot_radius_m");
+  // The sim's robot radius also keeps the starts off the walls (the wall block is 1.1 m away) and
+  // apart from each other.
+  expect_error(yaml(good_map_, still) + "sim: {robot_radius_m: 1.2}\n", "robots[0].start");
+  expect_error(yaml(good_map_, still) + "  - {id: 1, start: [1.3, 1, 0]}\n", "robots[1].start");
 }
 
 // Found by fuzzing world files: each aborted or hung every binary that reads worlds.

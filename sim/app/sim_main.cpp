@@ -43,6 +43,12 @@ int main(int argc, char** argv) {
   if (seed >= 0) wf.sim.seed = uint64_t(seed);
   if (duration_s > 0) wf.sim.duration_s = duration_s;
   cairn::sim::Simulator sim(wf.world, wf.sim);
+  if (wf.sim.drive_mode == cairn::sim::DriveMode::kCommands) {
+    log->warn(
+        "the robots obey velocity commands and cairn_sim takes none yet: they stand still for {} s "
+        "(scripted routes: waypoints in the world file)",
+        wf.sim.duration_s);
+  }
 
   std::string error;
   auto publisher = cairn::sim::SimPublisher::create(participant, sim.robot_ids(), &error);
@@ -50,8 +56,9 @@ int main(int argc, char** argv) {
     log->error("{}", error);
     return 3;
   }
-  log->info("world '{}' with {} robots, {} objects; waiting for agents on domain {}", wf.world.name,
-            sim.robot_ids().size(), wf.world.objects.size(), participant.domain_id);
+  log->info("world '{}' with {} robots (drive: {}), {} objects; waiting for agents on domain {}", wf.world.name,
+            sim.robot_ids().size(), cairn::sim::to_string(wf.sim.drive_mode), wf.world.objects.size(),
+            participant.domain_id);
   if (!publisher->wait_for_agents(wait_agents_s)) {
     log->error("not every robot's agent subscribed within {} s", wait_agents_s);
     return 4;
