@@ -72,6 +72,9 @@ struct WorldLoadOptions {
   /// Start poses closer than this (or than the world's sim.robot_radius_m, whichever is larger) to a
   /// wall are rejected.
   double robot_radius_m = 0.2;
+  /// Scripted routes (YAML `routes: - {robot: 0, waypoints: [[x, y], ...]}`): when not empty, they
+  /// replace every robot's waypoints (a robot not listed gets none) and the drive mode is kWaypoints.
+  std::string routes_path;
 };
 
 }  // namespace cairn::sim

@@ -256,6 +256,7 @@ WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& 
   const bool any_waypoints =
       std::any_of(world.robots.begin(), world.robots.end(), [](const RobotSpec& r) { return !r.waypoints_m.empty(); });
   if (!drive_given) out.sim.drive_mode = any_waypoints ? DriveMode::kWaypoints : DriveMode::kCommands;
+  if (!options.routes_path.empty()) load_routes_file(options.routes_path, &out);
   if (root.has("objects")) {
     std::set<int> object_ids;
     for (const YamlConfig& o : root.sequence("objects")) {
@@ -264,6 +265,31 @@ WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& 
     }
   }
   return out;
+}
+
+void load_routes_file(const std::string& routes_path, WorldFile* file) {
+  const YamlConfig root = YamlConfig::load(routes_path);
+  root.allow_only({"routes"});
+  std::vector<std::vector<Eigen::Vector2d>> routes(file->world.robots.size());
+  std::vector<bool> listed(routes.size(), false);
+  for (const YamlConfig& r : root.sequence("routes")) {
+    r.allow_only({"robot", "waypoints"});
+    const int id = r.require<int>("robot");
+    const auto& robots = file->world.robots;
+    const auto it = std::find_if(robots.begin(), robots.end(), [&](const RobotSpec& s) { return s.id.value == id; });
+    if (it == robots.end()) {
+      std::string ids;
+      for (const RobotSpec& s : robots) ids += (ids.empty() ? "" : ", ") + std::to_string(s.id.value);
+      r.fail("robot",
+             "is " + std::to_string(id) + ": world '" + file->world.name + "' has no such robot (it has " + ids + ")");
+    }
+    const size_t index = size_t(it - robots.begin());
+    if (listed[index]) r.fail("robot", "is " + std::to_string(id) + ", which has a route already");
+    listed[index] = true;
+    routes[index] = load_waypoints(r, "waypoints", file->world.floor_plan);
+  }
+  for (size_t i = 0; i < routes.size(); ++i) file->world.robots[i].waypoints_m = std::move(routes[i]);
+  file->sim.drive_mode = DriveMode::kWaypoints;
 }
 
 }  // namespace cairn::sim

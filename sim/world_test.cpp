@@ -190,6 +190,47 @@ TEST_F(BadInput, DriveModeIsWaypointsOnlyWhenARobotHasWaypointsOrTheSimSectionSa
   expect_error(yaml(good_map_, still) + "  - {id: 1, start: [1.3, 1, 0]}\n", "robots[1].start");
 }
 
+TEST_F(BadInput, RoutesFileFillsTheWaypointsAndSetsWaypointMode) {
+  const std::string world = write(yaml(good_map_, "id: 0, start: [1, 1, 0], waypoints: [[1, 3]]") +
+                                  "  - {id: 4, start: [1, 3, 0]}\nsim: {drive: commands}\n");
+  WorldLoadOptions options;
+  options.routes_path = write("routes:\n  - {robot: 4, waypoints: [[3, 3], [3.5, 0.5]]}\n", "routes.yaml");
+  const WorldFile f = load_world_file(world, options);
+  EXPECT_EQ(f.sim.drive_mode, DriveMode::kWaypoints);
+  EXPECT_TRUE(f.world.robots.at(0).waypoints_m.empty());  // not listed: no route (the world's is replaced)
+  ASSERT_EQ(f.world.robots.at(1).waypoints_m.size(), 2u);
+  EXPECT_EQ(f.world.robots.at(1).waypoints_m[1], Eigen::Vector2d(3.5, 0.5));
+}
+
+TEST_F(BadInput, RoutesFileErrorsNameTheFileAndKey) {
+  const std::string world = write(yaml(good_map_, "id: 0, start: [1, 1, 0]"));
+  const auto expect_routes_error = [&](const std::string& text, const std::string& key) {
+    WorldLoadOptions options;
+    options.routes_path = write(text, "routes.yaml");
+    try {
+      load_world_file(world, options);
+      ADD_FAILURE() << "no error for " << text;
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(options.routes_path), std::string::npos) << msg;
+      EXPECT_NE(msg.find(key), std::string::npos) << msg;
+    }
+  };
+  expect_routes_error("routes:\n  - {robot: 7, waypoints: [[3, 1]]}\n", "routes[0].robot");
+  expect_routes_error("routes:\n  - {robot: 0, waypoints: [[3, x]]}\n", "routes[0].waypoints[0]");
+  expect_routes_error("routes:\n  - {robot: 0, waypoints: [[3, 1, 2]]}\n", "routes[0].waypoints[0]");
+  expect_routes_error("routes:\n  - {robot: 0, waypoints: [[3, .nan]]}\n", "routes[0].waypoints[0]");
+  expect_routes_error("routes:\n  - {robot: 0, waypoints: [[2.2, 2.0]]}\n", "routes[0].waypoints[0]");  // wall
+  expect_routes_error("routes:\n  - {robot: zero, waypoints: []}\n", "routes[0].robot");
+  expect_routes_error("routes:\n  - {robot: 0, wayponts: [[3, 1]]}\n", "routes[0].wayponts");
+  expect_routes_error("routes:\n  - {robot: 0, waypoints: []}\n  - {robot: 0, waypoints: []}\n", "routes[1].robot");
+  expect_routes_error("route: []\n", "route");
+  expect_routes_error("routes: [\n", "line");
+  WorldLoadOptions missing;
+  missing.routes_path = (dir_ / "no_routes.yaml").string();
+  EXPECT_THROW(load_world_file(world, missing), InputError);
+}
+
 // Found by fuzzing world files: each aborted or hung every binary that reads worlds.
 TEST_F(BadInput, FuzzedWorldsAreNamedNotCrashedOrRun) {
   expect_error("name: x\n[k]: 1\n", "not a plain name");  // threw an uncaught yaml-cpp exception

@@ -15,11 +15,14 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"Cairn multi-robot simulator"};
-  std::string world_path, out_dir, log_level = "info";
+  std::string world_path, routes_path, out_dir, log_level = "info";
   cairn::dds::ParticipantOptions participant;
   double speed = 0.0, wait_agents_s = 30.0, duration_s = 0.0;
   int64_t seed = -1;
   app.add_option("--world", world_path, "world YAML file")->required();
+  app.add_option("--routes", routes_path,
+                 "scripted routes YAML (routes: - {robot: N, waypoints: [[x, y], ...]}): the robots drive them "
+                 "instead of obeying velocity commands");
   app.add_option("--out", out_dir, "ground-truth output folder")->required();
   app.add_option("--domain", participant.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--security", participant.security_dir,
@@ -35,7 +38,9 @@ int main(int argc, char** argv) {
 
   cairn::sim::WorldFile wf;
   try {
-    wf = cairn::sim::load_world_file(world_path);
+    cairn::sim::WorldLoadOptions load;
+    load.routes_path = routes_path;
+    wf = cairn::sim::load_world_file(world_path, load);
   } catch (const cairn::InputError& e) {
     log->error("{}", e.what());
     return 2;
@@ -46,7 +51,7 @@ int main(int argc, char** argv) {
   if (wf.sim.drive_mode == cairn::sim::DriveMode::kCommands) {
     log->warn(
         "the robots obey velocity commands and cairn_sim takes none yet: they stand still for {} s "
-        "(scripted routes: waypoints in the world file)",
+        "(scripted routes: --routes FILE)",
         wf.sim.duration_s);
   }
 
