@@ -42,7 +42,10 @@ MissionSummary run_mission(const WorldFile& file) {
   while (!sim.done()) sim.step();
   MissionSummary out;
   out.end_s = ns_to_sec(sim.now_ns());
-  for (RobotId id : sim.robot_ids()) EXPECT_TRUE(sim.robot_finished(id)) << to_string(id);
+  for (RobotId id : sim.robot_ids()) {
+    EXPECT_TRUE(sim.robot_finished(id)) << to_string(id);
+    EXPECT_EQ(sim.collisions(id), 0) << to_string(id) << ": the scripted route touches a wall or a robot";
+  }
   const RgbdRenderer renderer(file.sim.camera, file.world.floor_plan, file.world.wall_height_m, file.world.objects);
   std::mt19937_64 rng(1);
   for (RobotId id : sim.robot_ids()) {
@@ -61,8 +64,16 @@ MissionSummary run_mission(const WorldFile& file) {
 }
 
 void check_shipped_world(const std::string& name, double min_s, double max_s) {
-  const WorldFile file = load_world_file(kWorlds + name + ".yaml");
+  // Without its routes file a shipped world loads with robots that wait for velocity commands.
+  const WorldFile commanded = load_world_file(kWorlds + name + ".yaml");
+  EXPECT_EQ(commanded.sim.drive_mode, DriveMode::kCommands);
+  for (const RobotSpec& r : commanded.world.robots) EXPECT_TRUE(r.waypoints_m.empty()) << to_string(r.id);
+  WorldLoadOptions options;
+  options.routes_path = kWorlds + "routes/" + name + ".yaml";
+  const WorldFile file = load_world_file(kWorlds + name + ".yaml", options);
+  EXPECT_EQ(file.sim.drive_mode, DriveMode::kWaypoints);
   const World& world = file.world;
+  for (const RobotSpec& r : world.robots) EXPECT_GE(r.waypoints_m.size(), 5u) << to_string(r.id);
   EXPECT_EQ(world.name, name);
   EXPECT_GE(world.robots.size(), 3u);
   EXPECT_GE(world.objects.size(), 6u);
