@@ -66,5 +66,28 @@ TEST(LaserSimulator, PartialFieldOfView) {
   EXPECT_NEAR(s.ranges_m[90], 3.95, 1e-4);
 }
 
+TEST(LaserSimulator, OtherRobotsAreCirclesNearerThanTheWalls) {
+  LaserOptions options;
+  options.noise_sd_m = 0.0;
+  const LaserSimulator laser(options);
+  std::mt19937_64 rng(1);
+  // A robot of radius 0.2 m 2 m ahead (+x), one behind a wall (outside the room), one beyond range.
+  const std::vector<Eigen::Vector2d> others = {{4.0, 1.0}, {8.0, 1.0}, {2.0, 30.0}};
+  const LaserScan s = laser.scan(box_room(), SE2(2.0, 1.0, 0.0), 0, rng, others, 0.2);
+  EXPECT_NEAR(s.ranges_m[180], 1.8, 1e-4);        // the near face of the circle
+  EXPECT_NEAR(s.ranges_m[270], 2.95, 1e-4);       // +y: the wall, as without robots
+  EXPECT_NEAR(s.ranges_m[0], 1.95, 1e-4);         // -x: the wall
+  const double off_axis = std::atan2(0.15, 2.0);  // a chord 0.15 m off the centre line
+  const int beam = 180 + int(std::floor(off_axis / (M_PI / 180)));
+  const double a = beam_angle_rad(s, beam);
+  const double b = 2.0 * std::cos(a), expected = b - std::sqrt(b * b - (4.0 - 0.04));
+  EXPECT_NEAR(s.ranges_m[size_t(beam)], expected, 1e-4);                // exact ray-circle intersection
+  EXPECT_NEAR(s.ranges_m[186], 3.95 / std::cos(6 * M_PI / 180), 1e-3);  // misses the circle: the east wall
+  // The robot's own position is never passed: no robot, same scan as before the feature.
+  std::mt19937_64 rng_a(3), rng_b(3);
+  EXPECT_EQ(laser.scan(box_room(), SE2(2.0, 1.0, 0.3), 0, rng_a).ranges_m,
+            laser.scan(box_room(), SE2(2.0, 1.0, 0.3), 0, rng_b, {}, 0.2).ranges_m);
+}
+
 }  // namespace
 }  // namespace cairn::sim

@@ -45,12 +45,20 @@ struct CameraOptions {
   double render_range_m = 25.0;  ///< walls further than this (horizontally) are not drawn
 };
 
+/// How the simulated robots are driven. kCommands: each robot obeys the last velocity command given
+/// to it (Simulator::set_command, the shape of ROS's cmd_vel), zero until told. kWaypoints: each
+/// robot drives its scripted route (RobotSpec::waypoints_m) with the WaypointFollower.
+enum class DriveMode { kCommands, kWaypoints };
+inline const char* to_string(DriveMode mode) { return mode == DriveMode::kCommands ? "commands" : "waypoints"; }
+
 /// Everything the Simulator needs besides the World.
 struct SimOptions {
   uint64_t seed = 7;
   double dt_s = 0.05;
   double duration_s = 120.0;
-  double settle_time_s = 1.0;  ///< mission ends this long after the last robot stopped
+  double settle_time_s = 1.0;  ///< mission ends this long after the last robot finished / was declared done
+  DriveMode drive_mode = DriveMode::kCommands;
+  double robot_radius_m = 0.2;  ///< every robot is a disc: collisions, and what the other robots' lasers see
   bool enable_laser = true;
   bool enable_camera = true;
   OdometryOptions odometry;
@@ -61,7 +69,12 @@ struct SimOptions {
 /// What the loader accepts and checks.
 struct WorldLoadOptions {
   std::vector<std::string> object_classes = {"victim", "hazard", "exit"};
-  double robot_radius_m = 0.2;  ///< start poses closer than this to a wall are rejected
+  /// Start poses closer than this (or than the world's sim.robot_radius_m, whichever is larger) to a
+  /// wall are rejected.
+  double robot_radius_m = 0.2;
+  /// Scripted routes (YAML `routes: - {robot: 0, waypoints: [[x, y], ...]}`): when not empty, they
+  /// replace every robot's waypoints (a robot not listed gets none) and the drive mode is kWaypoints.
+  std::string routes_path;
 };
 
 }  // namespace cairn::sim

@@ -38,7 +38,8 @@ Simulator::Simulator(const World& world, const SimOptions& options)
                                  WaypointFollower(spec.T_world_start.translation(), spec.waypoints_m, follower),
                                  OdometryIntegrator(options_.odometry, stream_seed(options_.seed, id, 0)),
                                  std::mt19937_64(stream_seed(options_.seed, id, 1)),
-                                 std::mt19937_64(stream_seed(options_.seed, id, 2)), Trajectory{}});
+                                 std::mt19937_64(stream_seed(options_.seed, id, 2)), Trajectory{}, VelocityCommand{},
+                                 /*declared_done=*/false, /*blocked=*/false, /*collisions=*/0});
   }
   if (options_.enable_camera) {
     renderer_ =
@@ -47,6 +48,7 @@ Simulator::Simulator(const World& world, const SimOptions& options)
 }
 
 bool Simulator::done() const {
+  // kWaypoints: all_finished_ns_ is set when every route is driven; kCommands: by set_robot_done.
   if (now_ns() > duration_ns_) return true;
   return all_finished_ns_ >= 0 && now_ns() > all_finished_ns_ + sec_to_ns(options_.settle_time_s);
 }
@@ -71,7 +73,8 @@ SimStep Simulator::step() {
   }
   if (options_.enable_laser && due(out.stamp_ns, laser_period_ns_, &next_laser_ns_)) {
     for (RobotState& r : robots_) {
-      out.scans.push_back({r.spec.id, laser_.scan(world_.floor_plan, r.T_world_base, out.stamp_ns, r.laser_rng)});
+      out.scans.push_back({r.spec.id, laser_.scan(world_.floor_plan, r.T_world_base, out.stamp_ns, r.laser_rng,
+                                                  other_robots_m(r), options_.robot_radius_m)});
     }
   }
   if (renderer_ && due(out.stamp_ns, camera_period_ns_, &next_camera_ns_)) {
@@ -85,16 +88,81 @@ SimStep Simulator::step() {
 
 void Simulator::advance() {
   const double dt_s = ns_to_sec(dt_ns_);
+  const bool waypoints = options_.drive_mode == DriveMode::kWaypoints;
   bool all_finished = true;
   for (RobotState& r : robots_) {
-    const VelocityCommand cmd = r.follower.update(r.T_world_base);
+    const VelocityCommand cmd = waypoints ? r.follower.update(r.T_world_base) : r.command;
     const SE2 next = integrate_unicycle(r.T_world_base, cmd.linear_mps, cmd.angular_radps, dt_s);
-    r.odometry.add_step(r.T_world_base.between(next), dt_s);
-    r.T_world_base = next;
+    // Turning in place never changes the disc, so it is never blocked.
+    const bool moves = next.translation() != r.T_world_base.translation();
+    if (moves && blocked(r, next)) {
+      if (!r.blocked) ++r.collisions;
+      r.blocked = true;
+      r.odometry.add_step(SE2(), dt_s);  // the wheels did not turn: odometry stays with the truth
+    } else {
+      if (moves) r.blocked = false;
+      r.odometry.add_step(r.T_world_base.between(next), dt_s);
+      r.T_world_base = next;
+    }
     all_finished = all_finished && r.follower.finished();
   }
   ++step_index_;
-  if (all_finished && all_finished_ns_ < 0) all_finished_ns_ = now_ns();
+  if (waypoints && all_finished && all_finished_ns_ < 0) all_finished_ns_ = now_ns();
+}
+
+bool Simulator::blocked(const RobotState& robot, const SE2& next) const {
+  const double radius_m = options_.robot_radius_m;
+  const Eigen::Vector2d p = next.translation();
+  if (world_.floor_plan.wall_at(p) || !world_.floor_plan.disc_free(p, radius_m)) return true;
+  for (const RobotState& other : robots_) {
+    if (&other == &robot) continue;
+    const Eigen::Vector2d c = other.T_world_base.translation();
+    const double after_m = (p - c).norm();
+    if (after_m < 2.0 * radius_m && after_m < (robot.T_world_base.translation() - c).norm()) return true;
+  }
+  return false;
+}
+
+std::vector<Eigen::Vector2d> Simulator::other_robots_m(const RobotState& robot) const {
+  std::vector<Eigen::Vector2d> out;
+  for (const RobotState& other : robots_) {
+    if (&other != &robot) out.push_back(other.T_world_base.translation());
+  }
+  return out;
+}
+
+bool Simulator::set_command(RobotId robot, const VelocityCommand& command) {
+  RobotState* r = find(robot);
+  if (r == nullptr || options_.drive_mode != DriveMode::kCommands) return false;
+  if (!std::isfinite(command.linear_mps) || !std::isfinite(command.angular_radps)) return false;
+  const double v = r->spec.max_speed_mps, w = r->spec.max_turn_radps;
+  r->command.linear_mps = std::clamp(command.linear_mps, -v, v);
+  r->command.angular_radps = std::clamp(command.angular_radps, -w, w);
+  return true;
+}
+
+VelocityCommand Simulator::command(RobotId robot) const {
+  const RobotState* r = find(robot);
+  return r ? r->command : VelocityCommand{};
+}
+
+void Simulator::set_robot_done(RobotId robot, bool done) {
+  RobotState* r = find(robot);
+  if (r == nullptr) return;
+  r->declared_done = done;
+  if (options_.drive_mode != DriveMode::kCommands) return;
+  const bool all_done =
+      std::all_of(robots_.begin(), robots_.end(), [](const RobotState& s) { return s.declared_done; });
+  if (!all_done) {
+    all_finished_ns_ = -1;
+  } else if (all_finished_ns_ < 0) {
+    all_finished_ns_ = now_ns();
+  }
+}
+
+int Simulator::collisions(RobotId robot) const {
+  const RobotState* r = find(robot);
+  return r ? r->collisions : 0;
 }
 
 std::vector<RobotId> Simulator::robot_ids() const {
@@ -108,6 +176,10 @@ const Simulator::RobotState* Simulator::find(RobotId robot) const {
     if (r.spec.id == robot) return &r;
   }
   return nullptr;
+}
+
+Simulator::RobotState* Simulator::find(RobotId robot) {
+  return const_cast<RobotState*>(static_cast<const Simulator*>(this)->find(robot));
 }
 
 SE2 Simulator::true_pose(RobotId robot) const {
@@ -128,7 +200,8 @@ const Trajectory& Simulator::ground_truth(RobotId robot) const {
 
 bool Simulator::robot_finished(RobotId robot) const {
   const RobotState* r = find(robot);
-  return r == nullptr || r->follower.finished();
+  if (r == nullptr) return true;
+  return options_.drive_mode == DriveMode::kWaypoints ? r->follower.finished() : r->declared_done;
 }
 
 }  // namespace cairn::sim

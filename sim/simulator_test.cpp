@@ -43,6 +43,7 @@ SimOptions fast_options(uint64_t seed) {
   SimOptions o;
   o.seed = seed;
   o.duration_s = 30.0;
+  o.drive_mode = DriveMode::kWaypoints;  // the routes of small_world()
   o.camera.width = 80;
   o.camera.height = 60;
   return o;

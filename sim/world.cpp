@@ -100,21 +100,48 @@ void load_sensors(const YamlConfig& root, SimOptions& sim) {
   }
 }
 
-void load_sim(const YamlConfig& root, SimOptions& sim) {
+DriveMode parse_drive(const YamlConfig& s) {
+  const std::string d = s.require<std::string>("drive");
+  if (d == "commands") return DriveMode::kCommands;
+  if (d == "waypoints") return DriveMode::kWaypoints;
+  s.fail("drive", "must be one of commands, waypoints (got '" + d + "')");
+}
+
+/// Returns whether the drive mode was given.
+bool load_sim(const YamlConfig& root, SimOptions& sim) {
+  bool drive_given = false;
   if (root.has("sim")) {
     const YamlConfig s = root["sim"];
-    s.allow_only({"seed", "dt_s", "duration_s", "settle_time_s"});
+    s.allow_only({"seed", "dt_s", "duration_s", "settle_time_s", "drive", "robot_radius_m"});
     const long long seed = s.get<long long>("seed", (long long)sim.seed);
     if (seed < 0) s.fail("seed", "must be >= 0");
     sim.seed = uint64_t(seed);
     sim.dt_s = positive(s, "dt_s", sim.dt_s, 1);
     sim.duration_s = positive(s, "duration_s", sim.duration_s, 86400);
     sim.settle_time_s = non_negative(s, "settle_time_s", sim.settle_time_s, 3600);
+    sim.robot_radius_m = positive(s, "robot_radius_m", sim.robot_radius_m, 5);
+    if (s.has("drive")) sim.drive_mode = parse_drive(s), drive_given = true;
   }
   load_sensors(root, sim);
+  return drive_given;
 }
 
-RobotSpec load_robot(const YamlConfig& r, const FloorPlan& plan, const WorldLoadOptions& options) {
+/// The waypoints under `key`: each [x, y], finite, on the map and not inside a wall.
+std::vector<Eigen::Vector2d> load_waypoints(const YamlConfig& cfg, const std::string& key, const FloorPlan& plan) {
+  std::vector<Eigen::Vector2d> out;
+  for (const YamlConfig& w : cfg.sequence(key)) {
+    const auto v = w.as<std::vector<double>>();
+    if (v.size() != 2 || !std::isfinite(v[0]) || !std::isfinite(v[1])) {
+      w.fail("", "must be [x, y] with finite numbers");
+    }
+    const Eigen::Vector2d p(v[0], v[1]);
+    if (plan.wall_at(p) || !plan.disc_free(p, 0.0)) w.fail("", "is off the map or inside a wall");
+    out.push_back(p);
+  }
+  return out;
+}
+
+RobotSpec load_robot(const YamlConfig& r, const FloorPlan& plan, double radius_m) {
   RobotSpec spec;
   r.allow_only({"id", "start", "max_speed_mps", "max_turn_radps", "waypoints"});
   const int id = r.require<int>("id");
@@ -122,23 +149,12 @@ RobotSpec load_robot(const YamlConfig& r, const FloorPlan& plan, const WorldLoad
   spec.id = RobotId(id);
   const auto start = require_numbers(r, "start", 3);
   spec.T_world_start = SE2(start[0], start[1], start[2]);
-  if (!plan.disc_free(spec.T_world_start.translation(), options.robot_radius_m)) {
-    r.fail("start",
-           "is off the map, inside a wall or closer than " + std::to_string(options.robot_radius_m) + " m to one");
+  if (!plan.disc_free(spec.T_world_start.translation(), radius_m)) {
+    r.fail("start", "is off the map, inside a wall or closer than " + shortest(radius_m) + " m to one");
   }
   spec.max_speed_mps = positive(r, "max_speed_mps", spec.max_speed_mps, 5);
   spec.max_turn_radps = positive(r, "max_turn_radps", spec.max_turn_radps, 10);
-  if (r.has("waypoints")) {
-    for (const YamlConfig& w : r.sequence("waypoints")) {
-      const auto v = w.as<std::vector<double>>();
-      if (v.size() != 2 || !std::isfinite(v[0]) || !std::isfinite(v[1])) {
-        w.fail("", "must be [x, y] with finite numbers");
-      }
-      const Eigen::Vector2d p(v[0], v[1]);
-      if (plan.wall_at(p) || !plan.disc_free(p, 0.0)) w.fail("", "is off the map or inside a wall");
-      spec.waypoints_m.push_back(p);
-    }
-  }
+  if (r.has("waypoints")) spec.waypoints_m = load_waypoints(r, "waypoints", plan);
   return spec;
 }
 
@@ -222,14 +238,25 @@ WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& 
   } catch (const InputError& e) {
     map.fail("image", std::string("cannot be loaded: ") + e.what());
   }
-  load_sim(root, out.sim);
+  const bool drive_given = load_sim(root, out.sim);
 
+  const double radius_m = out.sim.robot_radius_m;
   std::set<int> robot_ids;
   for (const YamlConfig& r : root.sequence("robots")) {
-    world.robots.push_back(load_robot(r, world.floor_plan, options));
-    if (!robot_ids.insert(world.robots.back().id.value).second) r.fail("id", "is a duplicate");
+    world.robots.push_back(load_robot(r, world.floor_plan, std::max(options.robot_radius_m, radius_m)));
+    const RobotSpec& added = world.robots.back();
+    if (!robot_ids.insert(added.id.value).second) r.fail("id", "is a duplicate");
+    for (size_t i = 0; i + 1 < world.robots.size(); ++i) {
+      if ((world.robots[i].T_world_start.translation() - added.T_world_start.translation()).norm() < 2.0 * radius_m)
+        r.fail("start", "overlaps the start of " + to_string(world.robots[i].id));
+    }
   }
   if (world.robots.empty()) root.fail("robots", "must list at least one robot");
+  // Waypoints written in the world file drive the robots unless `sim: {drive: commands}` says not.
+  const bool any_waypoints =
+      std::any_of(world.robots.begin(), world.robots.end(), [](const RobotSpec& r) { return !r.waypoints_m.empty(); });
+  if (!drive_given) out.sim.drive_mode = any_waypoints ? DriveMode::kWaypoints : DriveMode::kCommands;
+  if (!options.routes_path.empty()) load_routes_file(options.routes_path, &out);
   if (root.has("objects")) {
     std::set<int> object_ids;
     for (const YamlConfig& o : root.sequence("objects")) {
@@ -238,6 +265,31 @@ WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& 
     }
   }
   return out;
+}
+
+void load_routes_file(const std::string& routes_path, WorldFile* file) {
+  const YamlConfig root = YamlConfig::load(routes_path);
+  root.allow_only({"routes"});
+  std::vector<std::vector<Eigen::Vector2d>> routes(file->world.robots.size());
+  std::vector<bool> listed(routes.size(), false);
+  for (const YamlConfig& r : root.sequence("routes")) {
+    r.allow_only({"robot", "waypoints"});
+    const int id = r.require<int>("robot");
+    const auto& robots = file->world.robots;
+    const auto it = std::find_if(robots.begin(), robots.end(), [&](const RobotSpec& s) { return s.id.value == id; });
+    if (it == robots.end()) {
+      std::string ids;
+      for (const RobotSpec& s : robots) ids += (ids.empty() ? "" : ", ") + std::to_string(s.id.value);
+      r.fail("robot",
+             "is " + std::to_string(id) + ": world '" + file->world.name + "' has no such robot (it has " + ids + ")");
+    }
+    const size_t index = size_t(it - robots.begin());
+    if (listed[index]) r.fail("robot", "is " + std::to_string(id) + ", which has a route already");
+    listed[index] = true;
+    routes[index] = load_waypoints(r, "waypoints", file->world.floor_plan);
+  }
+  for (size_t i = 0; i < routes.size(); ++i) file->world.robots[i].waypoints_m = std::move(routes[i]);
+  file->sim.drive_mode = DriveMode::kWaypoints;
 }
 
 }  // namespace cairn::sim

@@ -1,8 +1,9 @@
 #pragma once
 // The static description of a simulated mission: the floor plan (walls extruded to wall_height_m),
-// the robots with their start poses and waypoint routes, and the objects of interest (victims,
-// hazards, exits) as coloured 3D primitives. Loaded from a YAML file plus a floor-plan image
-// (PGM or PNG; pixels darker than 128 are walls). See worlds/office.yaml for the format.
+// the robots with their start poses (and, optionally, scripted waypoint routes), and the objects of
+// interest (victims, hazards, exits) as coloured 3D primitives. Loaded from a YAML file plus a
+// floor-plan image (PGM or PNG; pixels darker than 128 are walls). See worlds/office.yaml for the
+// format; scripted routes live apart in a routes file (worlds/routes/office.yaml).
 #include <Eigen/Core>
 #include <array>
 #include <string>
@@ -30,7 +31,7 @@ struct WorldObject {
   double yaw_rad = 0.0;                                ///< rotation about the vertical axis
 };
 
-/// A robot and the route it drives.
+/// A robot and the scripted route it drives in DriveMode::kWaypoints.
 struct RobotSpec {
   RobotId id;
   SE2 T_world_start;
@@ -55,8 +56,18 @@ struct WorldFile {
 
 /// Loads a world YAML (and the image it names, relative to the YAML file). Throws InputError naming
 /// the file and key for a missing/malformed file or an invalid value (non-positive resolution, a
-/// start pose inside or too close to a wall, an unknown object class or shape, NaN, ...).
+/// start pose inside or too close to a wall, overlapping starts, an unknown object class or shape,
+/// NaN, ...). Drive mode: `sim: {drive: commands|waypoints}` when given; otherwise kWaypoints if any
+/// robot has `waypoints`, else kCommands. options.routes_path, when set, is applied last
+/// (load_routes_file).
 WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& options = {});
+
+/// Reads scripted routes (`routes: - {robot: 0, waypoints: [[x, y], ...]}`) into `file`: they
+/// replace every robot's waypoints (a robot not listed gets none) and set the drive mode to
+/// kWaypoints. Throws InputError naming the routes file and key for a robot the world does not have,
+/// a robot listed twice, or a waypoint that is malformed, off the map or inside a wall; `file` is
+/// unchanged then.
+void load_routes_file(const std::string& routes_path, WorldFile* file);
 
 /// Loads a floor-plan image (PGM/PNG) into a FloorPlan; throws InputError naming the file.
 FloorPlan load_floor_plan_image(const std::string& image_path, double resolution_m, const Eigen::Vector2d& origin_m);

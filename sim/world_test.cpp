@@ -42,7 +42,10 @@ MissionSummary run_mission(const WorldFile& file) {
   while (!sim.done()) sim.step();
   MissionSummary out;
   out.end_s = ns_to_sec(sim.now_ns());
-  for (RobotId id : sim.robot_ids()) EXPECT_TRUE(sim.robot_finished(id)) << to_string(id);
+  for (RobotId id : sim.robot_ids()) {
+    EXPECT_TRUE(sim.robot_finished(id)) << to_string(id);
+    EXPECT_EQ(sim.collisions(id), 0) << to_string(id) << ": the scripted route touches a wall or a robot";
+  }
   const RgbdRenderer renderer(file.sim.camera, file.world.floor_plan, file.world.wall_height_m, file.world.objects);
   std::mt19937_64 rng(1);
   for (RobotId id : sim.robot_ids()) {
@@ -61,8 +64,16 @@ MissionSummary run_mission(const WorldFile& file) {
 }
 
 void check_shipped_world(const std::string& name, double min_s, double max_s) {
-  const WorldFile file = load_world_file(kWorlds + name + ".yaml");
+  // Without its routes file a shipped world loads with robots that wait for velocity commands.
+  const WorldFile commanded = load_world_file(kWorlds + name + ".yaml");
+  EXPECT_EQ(commanded.sim.drive_mode, DriveMode::kCommands);
+  for (const RobotSpec& r : commanded.world.robots) EXPECT_TRUE(r.waypoints_m.empty()) << to_string(r.id);
+  WorldLoadOptions options;
+  options.routes_path = kWorlds + "routes/" + name + ".yaml";
+  const WorldFile file = load_world_file(kWorlds + name + ".yaml", options);
+  EXPECT_EQ(file.sim.drive_mode, DriveMode::kWaypoints);
   const World& world = file.world;
+  for (const RobotSpec& r : world.robots) EXPECT_GE(r.waypoints_m.size(), 5u) << to_string(r.id);
   EXPECT_EQ(world.name, name);
   EXPECT_GE(world.robots.size(), 3u);
   EXPECT_GE(world.objects.size(), 6u);
@@ -97,8 +108,8 @@ class BadInput : public ::testing::Test {
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
-  std::string write(const std::string& text) {
-    const std::string path = (dir_ / "w.yaml").string();
+  std::string write(const std::string& text, const std::string& name = "w.yaml") {
+    const std::string path = (dir_ / name).string();
     std::ofstream(path) << text;
     return path;
   }
@@ -166,6 +177,69 @@ TEST_F(BadInput, InvalidValues) {
                     "objects:\n  - {id: 0, class: exit, color: [1, 2, 3], size_m: [1, 1, 1], pose: [1, .nan, 0, 0]}\n"),
                "objects[0].pose");
   expect_error(yaml(good_map_, good_robot_) + "sensors: {laser: {beams: -3}}\n", "sensors.laser.beams");
+}
+
+TEST_F(BadInput, DriveModeIsWaypointsOnlyWhenARobotHasWaypointsOrTheSimSectionSaysSo) {
+  const std::string still = "id: 0, start: [1, 1, 0]";
+  WorldFile f = load_world_file(write(yaml(good_map_, still)));  // no waypoints: loads, commands
+  EXPECT_EQ(f.sim.drive_mode, DriveMode::kCommands);
+  EXPECT_TRUE(f.world.robots.at(0).waypoints_m.empty());
+  f = load_world_file(write(yaml(good_map_, good_robot_)));
+  EXPECT_EQ(f.sim.drive_mode, DriveMode::kWaypoints);
+  EXPECT_EQ(f.world.robots.at(0).waypoints_m.size(), 1u);
+  f = load_world_file(write(yaml(good_map_, good_robot_) + "sim: {drive: commands}\n"));
+  EXPECT_EQ(f.sim.drive_mode, DriveMode::kCommands);
+  f = load_world_file(write(yaml(good_map_, still) + "sim: {drive: waypoints, robot_radius_m: 0.3}\n"));
+  EXPECT_EQ(f.sim.drive_mode, DriveMode::kWaypoints);
+  EXPECT_EQ(f.sim.robot_radius_m, 0.3);
+  EXPECT_EQ(load_world_file(write(yaml(good_map_, still))).sim.robot_radius_m, 0.2);
+  expect_error(yaml(good_map_, still) + "sim: {drive: fly}\n", "sim.drive");
+  expect_error(yaml(good_map_, still) + "sim: {robot_radius_m: 0}\n", "sim.robot_radius_m");
+  // The sim's robot radius also keeps the starts off the walls (the wall block is 1.1 m away) and
+  // apart from each other.
+  expect_error(yaml(good_map_, still) + "sim: {robot_radius_m: 1.2}\n", "robots[0].start");
+  expect_error(yaml(good_map_, still) + "  - {id: 1, start: [1.3, 1, 0]}\n", "robots[1].start");
+}
+
+TEST_F(BadInput, RoutesFileFillsTheWaypointsAndSetsWaypointMode) {
+  const std::string world = write(yaml(good_map_, "id: 0, start: [1, 1, 0], waypoints: [[1, 3]]") +
+                                  "  - {id: 4, start: [1, 3, 0]}\nsim: {drive: commands}\n");
+  WorldLoadOptions options;
+  options.routes_path = write("routes:\n  - {robot: 4, waypoints: [[3, 3], [3.5, 0.5]]}\n", "routes.yaml");
+  const WorldFile f = load_world_file(world, options);
+  EXPECT_EQ(f.sim.drive_mode, DriveMode::kWaypoints);
+  EXPECT_TRUE(f.world.robots.at(0).waypoints_m.empty());  // not listed: no route (the world's is replaced)
+  ASSERT_EQ(f.world.robots.at(1).waypoints_m.size(), 2u);
+  EXPECT_EQ(f.world.robots.at(1).waypoints_m[1], Eigen::Vector2d(3.5, 0.5));
+}
+
+TEST_F(BadInput, RoutesFileErrorsNameTheFileAndKey) {
+  const std::string world = write(yaml(good_map_, "id: 0, start: [1, 1, 0]"));
+  const auto expect_routes_error = [&](const std::string& text, const std::string& key) {
+    WorldLoadOptions options;
+    options.routes_path = write(text, "routes.yaml");
+    try {
+      load_world_file(world, options);
+      ADD_FAILURE() << "no error for " << text;
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(options.routes_path), std::string::npos) << msg;
+      EXPECT_NE(msg.find(key), std::string::npos) << msg;
+    }
+  };
+  expect_routes_error("routes:\n  - {robot: 7, waypoints: [[3, 1]]}\n", "routes[0].robot");
+  expect_routes_error("routes:\n  - {robot: 0, waypoints: [[3, x]]}\n", "routes[0].waypoints[0]");
+  expect_routes_error("routes:\n  - {robot: 0, waypoints: [[3, 1, 2]]}\n", "routes[0].waypoints[0]");
+  expect_routes_error("routes:\n  - {robot: 0, waypoints: [[3, .nan]]}\n", "routes[0].waypoints[0]");
+  expect_routes_error("routes:\n  - {robot: 0, waypoints: [[2.2, 2.0]]}\n", "routes[0].waypoints[0]");  // wall
+  expect_routes_error("routes:\n  - {robot: zero, waypoints: []}\n", "routes[0].robot");
+  expect_routes_error("routes:\n  - {robot: 0, wayponts: [[3, 1]]}\n", "routes[0].wayponts");
+  expect_routes_error("routes:\n  - {robot: 0, waypoints: []}\n  - {robot: 0, waypoints: []}\n", "routes[1].robot");
+  expect_routes_error("route: []\n", "route");
+  expect_routes_error("routes: [\n", "line");
+  WorldLoadOptions missing;
+  missing.routes_path = (dir_ / "no_routes.yaml").string();
+  EXPECT_THROW(load_world_file(world, missing), InputError);
 }
 
 // Found by fuzzing world files: each aborted or hung every binary that reads worlds.

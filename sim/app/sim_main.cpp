@@ -15,11 +15,14 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"Cairn multi-robot simulator"};
-  std::string world_path, out_dir, log_level = "info";
+  std::string world_path, routes_path, out_dir, log_level = "info";
   cairn::dds::ParticipantOptions participant;
   double speed = 0.0, wait_agents_s = 30.0, duration_s = 0.0;
   int64_t seed = -1;
   app.add_option("--world", world_path, "world YAML file")->required();
+  app.add_option("--routes", routes_path,
+                 "scripted routes YAML (routes: - {robot: N, waypoints: [[x, y], ...]}): the robots drive them "
+                 "instead of obeying velocity commands");
   app.add_option("--out", out_dir, "ground-truth output folder")->required();
   app.add_option("--domain", participant.domain_id, "DDS domain id")->check(CLI::Range(0, 232));
   app.add_option("--security", participant.security_dir,
@@ -35,7 +38,9 @@ int main(int argc, char** argv) {
 
   cairn::sim::WorldFile wf;
   try {
-    wf = cairn::sim::load_world_file(world_path);
+    cairn::sim::WorldLoadOptions load;
+    load.routes_path = routes_path;
+    wf = cairn::sim::load_world_file(world_path, load);
   } catch (const cairn::InputError& e) {
     log->error("{}", e.what());
     return 2;
@@ -43,6 +48,12 @@ int main(int argc, char** argv) {
   if (seed >= 0) wf.sim.seed = uint64_t(seed);
   if (duration_s > 0) wf.sim.duration_s = duration_s;
   cairn::sim::Simulator sim(wf.world, wf.sim);
+  if (wf.sim.drive_mode == cairn::sim::DriveMode::kCommands) {
+    log->warn(
+        "the robots obey velocity commands and cairn_sim takes none yet: they stand still for {} s "
+        "(scripted routes: --routes FILE)",
+        wf.sim.duration_s);
+  }
 
   std::string error;
   auto publisher = cairn::sim::SimPublisher::create(participant, sim.robot_ids(), &error);
@@ -50,8 +61,9 @@ int main(int argc, char** argv) {
     log->error("{}", error);
     return 3;
   }
-  log->info("world '{}' with {} robots, {} objects; waiting for agents on domain {}", wf.world.name,
-            sim.robot_ids().size(), wf.world.objects.size(), participant.domain_id);
+  log->info("world '{}' with {} robots (drive: {}), {} objects; waiting for agents on domain {}", wf.world.name,
+            sim.robot_ids().size(), cairn::sim::to_string(wf.sim.drive_mode), wf.world.objects.size(),
+            participant.domain_id);
   if (!publisher->wait_for_agents(wait_agents_s)) {
     log->error("not every robot's agent subscribed within {} s", wait_agents_s);
     return 4;

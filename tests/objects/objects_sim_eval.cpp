@@ -66,6 +66,12 @@ ClassScore score(const std::string& cls, const std::vector<sim::WorldObject>& tr
   return s;
 }
 
+sim::WorldFile load_world(const std::string& world_yaml, const SimEvalOptions& options) {
+  sim::WorldLoadOptions load;
+  load.routes_path = options.routes_yaml;
+  return sim::load_world_file(world_yaml, load);
+}
+
 }  // namespace
 
 std::string SimEvalResult::summary() const {
@@ -86,7 +92,7 @@ std::string SimEvalResult::summary() const {
 }
 
 SimEvalResult evaluate_objects_in_world(const std::string& world_yaml, const SimEvalOptions& options) {
-  const sim::WorldFile wf = sim::load_world_file(world_yaml);
+  const sim::WorldFile wf = load_world(world_yaml, options);
   sim::SimOptions so = wf.sim;
   if (options.max_sim_s > 0) so.duration_s = std::min(so.duration_s, options.max_sim_s);
   sim::Simulator sim(wf.world, so);
@@ -149,7 +155,7 @@ SimEvalResult evaluate_objects_in_world(const std::string& world_yaml, const Sim
 }
 
 std::vector<DetectionBias> diagnose_detections_in_world(const std::string& world_yaml, const SimEvalOptions& options) {
-  const sim::WorldFile wf = sim::load_world_file(world_yaml);
+  const sim::WorldFile wf = load_world(world_yaml, options);
   sim::SimOptions so = wf.sim;
   if (options.max_sim_s > 0) so.duration_s = std::min(so.duration_s, options.max_sim_s);
   sim::Simulator sim(wf.world, so);

@@ -24,6 +24,7 @@ struct SimEvalOptions {
   double match_distance_m = 1.0;
   double merge_distance_m = 0.8;
   double max_sim_s = -1.0;  ///< < 0: the world's duration
+  std::string routes_yaml;  ///< the robots' scripted routes (worlds/routes/*.yaml); empty: the world file's
   AgentOptions agent;
 };
 

@@ -9,8 +9,17 @@
 namespace cairn::agent {
 namespace {
 
+const std::string kWorlds = std::string(CAIRN_SOURCE_DIR) + "/worlds/";
+
+// The world driven along its scripted routes (worlds/routes/<name>.yaml).
+SimEvalOptions with_routes(const std::string& name) {
+  SimEvalOptions options;
+  options.routes_yaml = kWorlds + "routes/" + name + ".yaml";
+  return options;
+}
+
 void check_world(const std::string& name) {
-  const SimEvalResult r = evaluate_objects_in_world(std::string(CAIRN_SOURCE_DIR) + "/worlds/" + name + ".yaml");
+  const SimEvalResult r = evaluate_objects_in_world(kWorlds + name + ".yaml", with_routes(name));
   std::printf("%s:\n%s", name.c_str(), r.summary().c_str());
   for (const std::string& line : r.placed) std::printf("  %s\n", line.c_str());
   ASSERT_FALSE(r.classes.empty());
@@ -31,7 +40,7 @@ void check_world(const std::string& name) {
 // yaw, hidden sides completed) lying victims were placed 0.2-0.33 m toward the camera on average.
 TEST(ObjectsSimEval, DetectorBiasWithTruePoses) {
   for (const char* name : {"office", "collapsed"}) {
-    const auto bias = diagnose_detections_in_world(std::string(CAIRN_SOURCE_DIR) + "/worlds/" + name + ".yaml");
+    const auto bias = diagnose_detections_in_world(kWorlds + name + ".yaml", with_routes(name));
     std::printf("%s detector bias:\n%s", name, format_bias(bias).c_str());
     for (const DetectionBias& b : bias) {
       SCOPED_TRACE(std::string(name) + " object " + std::to_string(b.object_id));

@@ -1,6 +1,7 @@
 // cairn_mrlog: converts datasets into the Cairn multi-robot text log (docs/multirobot_log_format.md)
 // and checks logs.
-//   cairn_mrlog from-world --world worlds/office.yaml --out office.mrlog [--robots 0 1] [--featureless]
+//   cairn_mrlog from-world --world worlds/office.yaml --routes worlds/routes/office.yaml --out office.mrlog
+//                          [--robots 0 1] [--featureless]
 //   cairn_mrlog from-carmen --out intel.mrlog --split 2 [--virtual-markers 4] intel.gfs.log
 //   cairn_mrlog check file.mrlog
 //   cairn_mrlog eval --log file.mrlog --results <cairn_base --out folder>   (needs TRUTH / MARKER)
@@ -94,10 +95,11 @@ int evaluate(const cairn::MultiRobotLog& log, const std::string& dir) {
 int main(int argc, char** argv) {
   CLI::App app{"Cairn multi-robot log converter"};
   app.require_subcommand(1);
-  std::string out, world_path;
+  std::string out, world_path, routes_path;
   cairn::mrlog::WorldRecordOptions wo;
   auto* world = app.add_subcommand("from-world", "record a simulated world (odometry, scans, markers = its objects)");
   world->add_option("--world", world_path, "world YAML")->required()->check(CLI::ExistingFile);
+  world->add_option("--routes", routes_path, "scripted routes YAML (default: the world file's own waypoints)");
   world->add_option("--out", out, "output .mrlog")->required();
   world->add_option("--robots", wo.robots, "robot ids to record (default: all)");
   world->add_option("--duration", wo.duration_s, "seconds (default: the world file's)");
@@ -129,7 +131,9 @@ int main(int argc, char** argv) {
 
   try {
     if (world->parsed()) {
-      const cairn::sim::WorldFile wf = cairn::sim::load_world_file(world_path);
+      cairn::sim::WorldLoadOptions load;
+      load.routes_path = routes_path;
+      const cairn::sim::WorldFile wf = cairn::sim::load_world_file(world_path, load);
       const auto log = cairn::mrlog::record_world(wf, wo);
       return write(log, out, "from world " + world_path + (wo.featureless ? " (featureless scans)" : ""));
     }

@@ -41,7 +41,8 @@ for set in $sets; do
       sed -e "s/laser: {[^}]*}/laser: {$laser}/" -e "s/odometry: {[^}]*}/odometry: {$odometry}/" \
           -e "s/seed: [0-9]*/seed: $seed/" "worlds/$world.yaml" >"$yaml"
       # It prints "robot N: ..." per robot recorded.
-      for r in $("$B/cairn_mrlog" from-world --world "$yaml" --out "${yaml%.yaml}.mrlog" |
+      for r in $("$B/cairn_mrlog" from-world --world "$yaml" --routes "worlds/routes/$world.yaml" \
+                   --out "${yaml%.yaml}.mrlog" |
                  sed -n 's/^robot \([0-9]*\):.*/\1/p' | sort -u); do
         runs+=("${yaml%.yaml}.mrlog $r")
       done
