@@ -6,15 +6,11 @@
 #include <random>
 #include <vector>
 
+#include "common/navigation.h"  // VelocityCommand
 #include "common/se2.h"
 #include "sim/sim_options.h"
 
 namespace cairn::sim {
-
-struct VelocityCommand {
-  double linear_mps = 0.0;
-  double angular_radps = 0.0;
-};
 
 struct FollowerOptions {
   double max_speed_mps = 0.6;

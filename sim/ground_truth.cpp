@@ -36,6 +36,21 @@ bool write_robots(const Simulator& sim, const std::string& path) {
   return bool(out);
 }
 
+/// gt_motion.csv: per robot, the distance it drove (from its true trajectory) and its collisions.
+bool write_motion(const Simulator& sim, const std::string& path) {
+  std::ofstream out(path);
+  if (!out) return false;
+  out << "id,distance_m,collisions\n" << std::setprecision(9);
+  for (RobotId id : sim.robot_ids()) {
+    const Trajectory& t = sim.ground_truth(id);
+    double distance_m = 0;
+    for (size_t i = 1; i < t.size(); ++i) distance_m += (t[i].pose.translation() - t[i - 1].pose.translation()).norm();
+    out << id.value << ',' << distance_m << ',' << sim.collisions(id) << '\n';
+  }
+  out.flush();
+  return bool(out);
+}
+
 /// gt_reachable.pgm (255: a free cell connected to a robot's start, top row first as map_server
 /// images) and gt_reachable.yaml (resolution, origin): the explorable area, for coverage scores.
 bool write_reachable(const Simulator& sim, const std::filesystem::path& base) {
@@ -69,7 +84,8 @@ bool write_ground_truth(const Simulator& sim, const std::string& dir) {
     if (!write_trajectory_csv(path, sim.ground_truth(id))) return false;
   }
   return write_objects(sim.objects(), (base / "gt_objects.csv").string()) &&
-         write_robots(sim, (base / "gt_robots.csv").string()) && write_reachable(sim, base);
+         write_robots(sim, (base / "gt_robots.csv").string()) && write_motion(sim, (base / "gt_motion.csv").string()) &&
+         write_reachable(sim, base);
 }
 
 }  // namespace cairn::sim

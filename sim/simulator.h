@@ -6,11 +6,12 @@
 // Driving (SimOptions::drive_mode): in kCommands (the default) each robot obeys the last velocity
 // command given through set_command() (clamped to its limits; zero until told), like a real robot's
 // cmd_vel; in kWaypoints each robot drives its scripted route with the WaypointFollower.
-// Robots are discs of SimOptions::robot_radius_m. A step that would put a disc into a wall cell or
-// onto another robot's disc is not taken (pose and odometry stay; robots move in ascending id order,
-// each against the others' current poses); rotating in place is always allowed. collisions() counts
-// contact episodes: one starts when a robot that was moving freely is blocked, and ends at its next
-// step that moves it. Each robot's laser also sees the other robots (circles of the same radius).
+// Robots are discs of SimOptions::robot_radius_m. A step that would put a disc into a wall cell, or
+// (kCommands only: scripted routes ignore each other) onto another robot's disc, is not taken (pose
+// and odometry stay; robots move in ascending id order, each against the others' current poses);
+// rotating in place is always allowed. collisions() counts contact episodes: one starts when a
+// robot that was moving freely is blocked, and ends at its next step that moves it. Each robot's
+// laser also sees the other robots (circles of the same radius).
 // Timing: step k has stamp k * dt (integer nanoseconds). step() first records ground truth and
 // emits the readings of the state at that stamp, then integrates the motion to the next stamp.
 // A sensor with rate f is due at the first step whose stamp reaches its next due time (multiples

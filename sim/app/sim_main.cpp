@@ -8,6 +8,7 @@
 
 #include "common/errors.h"
 #include "common/logging.h"
+#include "sim/app/sim_commands.h"
 #include "sim/app/sim_publisher.h"
 #include "sim/ground_truth.h"
 #include "sim/simulator.h"
@@ -17,7 +18,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Cairn multi-robot simulator"};
   std::string world_path, routes_path, out_dir, log_level = "info";
   cairn::dds::ParticipantOptions participant;
-  double speed = 0.0, wait_agents_s = 30.0, duration_s = 0.0;
+  double speed = 0.0, wait_agents_s = 30.0, duration_s = 0.0, answer_timeout_s = 10.0;
   int64_t seed = -1;
   app.add_option("--world", world_path, "world YAML file")->required();
   app.add_option("--routes", routes_path,
@@ -31,6 +32,8 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "override the world's random seed");
   app.add_option("--duration", duration_s, "override the mission duration [s]");
   app.add_option("--wait-agents", wait_agents_s, "seconds to wait for every robot's agent");
+  app.add_option("--answer-timeout", answer_timeout_s,
+                 "lock-step (--speed 0, command mode): seconds to wait for an agent's command answering a scan");
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
   cairn::set_log_level(log_level);
@@ -48,12 +51,6 @@ int main(int argc, char** argv) {
   if (seed >= 0) wf.sim.seed = uint64_t(seed);
   if (duration_s > 0) wf.sim.duration_s = duration_s;
   cairn::sim::Simulator sim(wf.world, wf.sim);
-  if (wf.sim.drive_mode == cairn::sim::DriveMode::kCommands) {
-    log->warn(
-        "the robots obey velocity commands and cairn_sim takes none yet: they stand still for {} s "
-        "(scripted routes: --routes FILE)",
-        wf.sim.duration_s);
-  }
 
   std::string error;
   auto publisher = cairn::sim::SimPublisher::create(participant, sim.robot_ids(), &error);
@@ -64,6 +61,17 @@ int main(int argc, char** argv) {
   log->info("world '{}' with {} robots (drive: {}), {} objects; waiting for agents on domain {}", wf.world.name,
             sim.robot_ids().size(), cairn::sim::to_string(wf.sim.drive_mode), wf.world.objects.size(),
             participant.domain_id);
+  // Command mode: each robot obeys its agent's cairn/robot<N>/cmd_vel. With --speed 0 the
+  // simulator runs in lock-step: after each step with laser scans it waits for every agent's
+  // command answering them, so the motion does not depend on how fast the processes run.
+  std::unique_ptr<cairn::sim::SimCommands> commands;
+  if (sim.drive_mode() == cairn::sim::DriveMode::kCommands) {
+    commands = cairn::sim::SimCommands::create(publisher->participant(), sim.robot_ids(), &error);
+    if (!commands) {
+      log->error("{}", error);
+      return 3;
+    }
+  }
   if (!publisher->wait_for_agents(wait_agents_s)) {
     log->error("not every robot's agent subscribed within {} s", wait_agents_s);
     return 4;
@@ -78,6 +86,18 @@ int main(int argc, char** argv) {
     }
     if (speed > 0) {
       std::this_thread::sleep_until(wall_start + std::chrono::nanoseconds(int64_t(step.stamp_ns / speed)));
+    }
+    if (commands) {
+      if (speed <= 0 && !step.scans.empty()) {
+        commands->wait_for_answers(step.stamp_ns, answer_timeout_s);
+      } else {
+        commands->poll();
+      }
+      for (cairn::RobotId robot : sim.robot_ids()) {
+        const cairn::StampedCommand& c = commands->latest(robot);
+        sim.set_command(robot, c.command);  // the simulator clamps it to the robot's limits
+        sim.set_robot_done(robot, c.done);
+      }
     }
     CAIRN_LOG_EVERY_N_SEC(log, spdlog::level::info, 5.0, "t = {:.1f} s", cairn::ns_to_sec(step.stamp_ns));
   }

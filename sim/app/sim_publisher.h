@@ -20,6 +20,7 @@ class SimPublisher {
   bool publish(const SimStep& step, std::string* error);
   /// Waits until the agents acknowledged every reading, then announces the end of the mission.
   bool finish(StampNs final_stamp_ns, std::string* error);
+  dds::Participant& participant() { return *participant_; }
 
  private:
   struct RobotWriters {

@@ -1,0 +1,75 @@
+// AgentNode's navigation part: each processed scan drives the robot. MissionBehaviour decides
+// what to drive to (the base's goals, its own map's frontiers, home), Navigator plans and steers,
+// and the command answering the scan goes out on cairn/robot<N>/cmd_vel, stamped with the scan's
+// stamp (the simulator's lock-step waits for it). Data flow:
+//   AgentOutputs::scans -> MissionBehaviour::update -> Navigator::set_goal / update -> cmd_vel
+//   cairn/goal -> take_goal -> MissionBehaviour::on_base_goal;  cairn/ack -> on_contact
+#include "dds/navigation_conversions.h"
+#include "robot_agent/app/agent_node.h"
+
+namespace cairn::agent {
+
+void AgentNode::take_goal(const cairn_msgs::ExplorationGoal& m) {
+  std::string error;
+  const auto goal = dds::from_msg(m, &error);
+  if (!goal) {
+    ++bad_samples_;
+    log_->warn("dropped a goal from the base: {}", error);
+    return;
+  }
+  behaviour_.on_base_goal({goal->goal_id, goal->kind, goal->has_goal, goal->goal_m}, last_scan_ns_,
+                          pose_.translation());
+}
+
+void AgentNode::heard_from_base() { behaviour_.on_contact(last_scan_ns_, pose_.translation()); }
+
+void AgentNode::drive(const AgentOutputs& outputs) {
+  if (!options_.navigate || outputs.scans.empty()) return;
+  VelocityCommand command;
+  for (const PosedScan& ps : outputs.scans) {
+    if (last_scan_ns_ >= 0) distance_m_ += (ps.T_local_base.translation() - pose_.translation()).norm();
+    pose_ = ps.T_local_base;
+    last_scan_ns_ = ps.scan.stamp_ns;
+    const OwnFrontierSearch own_frontier = [&](const std::vector<Eigen::Vector2d>& blacklist_m) {
+      const auto f = nearest_own_frontier(navigator_.map().grid(), pose_.translation(), blacklist_m, own_options_);
+      return f ? std::optional<Eigen::Vector2d>(f->goal_m) : std::nullopt;
+    };
+    const NavState before = navigator_.state();
+    if (const auto target = behaviour_.update(last_scan_ns_, before, own_frontier)) {
+      navigator_.set_goal({target->goal_id, target->position_m, target->kind, 0.0});
+      reported_goal_ = *target;
+      log_->info("{}: goal ({:.1f}, {:.1f}) m{} ({})", to_string(target->activity), target->position_m.x(),
+                 target->position_m.y(), target->goal_id ? " from the base, id " + std::to_string(target->goal_id) : "",
+                 behaviour_.reason());
+    } else if (!behaviour_.target() && navigator_.goal()) {
+      navigator_.cancel();
+    }
+    if (behaviour_.activity() != last_activity_) {
+      if (behaviour_.done()) log_->info("mission over: {}", behaviour_.reason());
+      last_activity_ = behaviour_.activity();
+    }
+    command = navigator_.update(last_scan_ns_, pose_, ps.scan);
+    if (navigator_.goal()) reported_state_ = navigator_.state();  // an ended goal's state stays until the next
+    if (navigator_.state() != before && navigator_.state() != NavState::kDriving) {
+      log_->info("goal {}: {}", to_string(navigator_.state()), navigator_.reason());
+    }
+    if (behaviour_.done()) command = VelocityCommand{};
+  }
+  cmd_out_->write(dds::to_msg(StampedCommand{robot_, last_scan_ns_, command, behaviour_.done()}));
+}
+
+NavStatus AgentNode::nav_status() const {
+  NavStatus n;
+  n.pose = pose_;
+  n.activity = behaviour_.activity();
+  // The newest goal and its state, also once it ended: the base learns from it that its goal was
+  // reached or failed (and blacklists a failed one).
+  n.nav_state = reported_state_;
+  n.goal_id = reported_goal_.goal_id;
+  n.goal_kind = reported_goal_.kind;
+  n.goal_m = reported_goal_.position_m;
+  n.distance_m = distance_m_;
+  return n;
+}
+
+}  // namespace cairn::agent
