@@ -8,6 +8,7 @@
 #include <map>
 
 #include "common/errors.h"
+#include "sim/reachable_area.h"
 #include "sim/rgbd_renderer.h"
 #include "sim/simulator.h"
 
@@ -93,6 +94,42 @@ void check_shipped_world(const std::string& name, double min_s, double max_s) {
 
 TEST(ShippedWorlds, Office) { check_shipped_world("office", 60.0, 90.0); }
 TEST(ShippedWorlds, Collapsed) { check_shipped_world("collapsed", 120.0, 180.0); }
+
+// The large generated world: no routes at all; big enough, a team of 6+, 12+ objects of every class,
+// and every object next to space a robot can drive to (sim/reachable_area.h).
+TEST(ShippedWorlds, RubbleSiteIsLargeAndEveryObjectCanBeReached) {
+  const WorldFile file = load_world_file(kWorlds + "rubble_site.yaml");
+  EXPECT_EQ(file.sim.drive_mode, DriveMode::kCommands);
+  const World& world = file.world;
+  const Eigen::Vector2d size_m = world.floor_plan.max_m() - world.floor_plan.origin_m();
+  EXPECT_GE(size_m.x(), 60.0);
+  EXPECT_GE(size_m.y(), 40.0);
+  EXPECT_GE(world.robots.size(), 6u);
+  EXPECT_GE(world.objects.size(), 12u);
+  std::map<std::string, int> classes;
+  for (const WorldObject& o : world.objects) ++classes[o.object_class];
+  EXPECT_EQ(classes.size(), 3u);
+  std::vector<Eigen::Vector2d> starts;
+  for (const RobotSpec& r : world.robots) {
+    EXPECT_TRUE(r.waypoints_m.empty());
+    starts.push_back(r.T_world_start.translation());
+  }
+  const FloorPlan& plan = world.floor_plan;
+  const std::vector<uint8_t> explorable = reachable_free_cells(plan, starts);
+  int explorable_cells = 0;
+  for (uint8_t v : explorable) explorable_cells += v;
+  EXPECT_GT(explorable_cells * plan.resolution_m() * plan.resolution_m(), 1500.0);
+  for (const WorldObject& o : world.objects) {
+    bool near = false;
+    const Eigen::Vector2i c = plan.cell_of(o.center_m.head<2>());
+    for (int dr = -30; dr <= 30 && !near; ++dr) {
+      for (int dc = -30; dc <= 30 && !near; ++dc) {
+        near = plan.contains(c.x() + dc, c.y() + dr) && explorable[size_t(c.y() + dr) * plan.width() + c.x() + dc];
+      }
+    }
+    EXPECT_TRUE(near) << "object " << o.id << " (" << o.object_class << ") is out of every robot's reach";
+  }
+}
 
 // Writes a world YAML (and a 4 m x 4 m image with a wall block) into a temp dir.
 class BadInput : public ::testing::Test {

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Generates the shipped Cairn simulator worlds: office.{pgm,yaml} and collapsed.{pgm,yaml}, and the
+"""Generates the shipped Cairn simulator worlds: office.{pgm,yaml}, collapsed.{pgm,yaml} and the large
+rubble_site.{pgm,yaml} (rubble_site.py), and the
 robots' scripted routes apart from them, routes/office.yaml and routes/collapsed.yaml (the world files
 hold no waypoints: their robots obey velocity commands unless cairn_sim is given --routes).
 
@@ -278,7 +279,7 @@ def office():
         obj(5, "exit", "box", GREEN, [1.0, 0.12, 2.0], [0.3, 11.5, 1.0, math.pi / 2]),
         obj(6, "victim", "box", RED, [1.6, 0.5, 0.3], [17.8, 13.6, 0.15, 0.4]),
     ]
-    finish("office", g, robots, objects, 120, 7, "Office floor, 20 m x 15 m", (55, 95))
+    finish("office", g, robots, objects, 300, 7, "Office floor, 20 m x 15 m", (55, 95))
 
 
 def zigzag(x_from, x_to, y_a, y_b, step):
@@ -384,9 +385,20 @@ def collapsed():
     for o in objects:
         g.disc(o["pose"][:2], 0.5 * math.hypot(o["size"][0], o["size"][1]) + 0.2, 0)
         g.clear_segment(o["view_from"], o["pose"][:2], 0.25)
-    finish("collapsed", g, robots, objects, 240, 11, "Collapsed floor, 35 m x 25 m", (110, 185))
+    finish("collapsed", g, robots, objects, 600, 11, "Collapsed floor, 35 m x 25 m", (110, 185))
+
+
+def rubble_site_world():
+    """The large world (rubble_site.py): no routes at all, the robots explore by themselves."""
+    from rubble_site import rubble_site
+    g, robots, objects = rubble_site()
+    g.write_pgm(os.path.join(HERE, "rubble_site.pgm"))
+    write_yaml(os.path.join(HERE, "rubble_site.yaml"), "rubble_site", "rubble_site.pgm", (g.w * RES, g.h * RES),
+               900, 11, robots, objects, "Collapsed building site, 64 m x 40 m, 6 robots")
+    print("rubble_site: %dx%d px, %d robots, %d objects" % (g.w, g.h, len(robots), len(objects)))
 
 
 if __name__ == "__main__":
     office()
     collapsed()
+    rubble_site_world()
