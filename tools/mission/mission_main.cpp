@@ -32,6 +32,7 @@ void on_signal(int) { g_interrupted = 1; }
 
 struct Options {
   std::string world;
+  std::string routes;  ///< scripted routes instead of autonomous exploration
   std::string out;
   double speed = 0.0;
   bool serve = false;
@@ -54,6 +55,8 @@ int main(int argc, char** argv) {
   CLI::App app{"Cairn simulated rescue mission, end to end"};
   Options opt;
   app.add_option("--world", opt.world, "world YAML")->required();
+  app.add_option("--routes", opt.routes,
+                 "scripted routes (worlds/routes/*.yaml): the robots drive them instead of exploring by themselves");
   app.add_option("--out", opt.out, "output folder (default out/<world name>)");
   app.add_option("--speed", opt.speed, "simulator speed, times real time (0 = as fast as possible)");
   app.add_flag("--serve", opt.serve, "keep the console up after the mission (Ctrl-C to stop)");
@@ -72,7 +75,9 @@ int main(int argc, char** argv) {
 
   cairn::sim::WorldFile wf;
   try {
-    wf = cairn::sim::load_world_file(opt.world);
+    cairn::sim::WorldLoadOptions load;
+    load.routes_path = opt.routes;  // checked here too: a bad routes file fails before anything starts
+    wf = cairn::sim::load_world_file(opt.world, load);
   } catch (const cairn::InputError& e) {
     std::cerr << "cairn_mission: " << e.what() << "\n";
     return 2;
@@ -196,12 +201,24 @@ int main(int argc, char** argv) {
         }(),
         (out / ("logs/agent" + id + ".log")).string()));
   }
-  procs.push_back(std::make_unique<ChildProcess>(
-      "sim",
-      secured({(bin / "cairn_sim").string(), "--world", opt.world, "--out", (out / "ground_truth").string(), "--domain",
-               std::to_string(opt.domain), "--speed", std::to_string(opt.speed)},
-              "sim"),
-      (out / "logs/sim.log").string()));
+  procs.push_back(std::make_unique<ChildProcess>("sim",
+                                                 secured(
+                                                     [&] {
+                                                       std::vector<std::string> cmd{(bin / "cairn_sim").string(),
+                                                                                    "--world",
+                                                                                    opt.world,
+                                                                                    "--out",
+                                                                                    (out / "ground_truth").string(),
+                                                                                    "--domain",
+                                                                                    std::to_string(opt.domain),
+                                                                                    "--speed",
+                                                                                    std::to_string(opt.speed)};
+                                                       if (!opt.routes.empty())
+                                                         cmd.insert(cmd.end(), {"--routes", opt.routes});
+                                                       return cmd;
+                                                     }(),
+                                                     "sim"),
+                                                 (out / "logs/sim.log").string()));
   for (const auto& p : procs) {
     if (!p->started()) {
       std::cerr << "cairn_mission: cannot start " << p->name() << "\n";
