@@ -5,6 +5,7 @@
 // Burgard et al. 2005, greedy instead of their iterative assignment), and a frontier near a found
 // victim counts more: in a collapse, space next to one victim is where others are likeliest (the
 // paper's objects of interest steering the search). Pure: a grid and positions in, a plan out.
+// The grid machinery (classification, frontiers, Dijkstra) is common/grid_planning.h.
 #include <Eigen/Core>
 #include <map>
 #include <vector>
