@@ -37,6 +37,7 @@ struct BaseNodeOptions {
   std::map<RobotId, EntryHint> entry_hints;  ///< roughly where robots entered (MultiRobotMapper::set_entry_hint)
   double optimize_period_s = 1.0;
   double exploration_period_s = 2.0;  ///< how often the exploration goals are planned anew (when the map changed)
+  ExplorationOptions exploration;     ///< how goals are chosen (coordination, victims' pull, ...)
   ConsoleOptions console;
   bool serve_after_finish = false;  ///< keep the console up after the mission ended
   std::string journal_path;         ///< default <out_dir>/journal.sqlite

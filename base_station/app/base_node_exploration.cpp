@@ -51,7 +51,10 @@ void BaseNode::plan_and_publish_goals() {
   for (const GlobalObject& o : merged.objects) {
     if (o.class_name == "victim") victims_m.push_back(o.position_m.head<2>());
   }
-  plan_ = plan_exploration(*merged.grid, robots_m, victims_m);
+  ExplorationContext context;
+  context.blacklist_m = goals_.blacklist_m(now_ns);
+  context.current_goals_m = goals_.current_goals_m();
+  plan_ = plan_exploration(*merged.grid, robots_m, victims_m, options_.exploration, context);
   record_coverage(merged);
   planned_version_ = mapper_.version();
   replan_now_ = false;

@@ -10,16 +10,17 @@
 namespace cairn::base {
 namespace {
 
-/// The grid machinery is common/grid_planning.h's, at the map's own resolution: paths only through
-/// known free cells (unknown is not traversable), no inflation, dearer near walls.
+/// The grid machinery is common/grid_planning.h's: paths only through known free cells (unknown is
+/// not traversable) the robot fits in, dearer near walls.
 GridPlanningOptions planning_options(const ExplorationOptions& o) {
   GridPlanningOptions p;
   p.free_below = o.free_below;
   p.occupied_above = o.occupied_above;
   p.clearance_m = o.clearance_m;
   p.near_wall_cost = o.near_wall_cost;
-  p.inflation_m = 0.0;
+  p.inflation_m = o.inflation_m;
   p.unknown_cost = 0.0;
+  p.cell_m = o.cell_m;
   return p;
 }
 
@@ -30,7 +31,8 @@ constexpr double kStartSearchM = 0.5;
 }  // namespace
 
 ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<RobotId, Eigen::Vector2d>& robots_m,
-                                 const std::vector<Eigen::Vector2d>& victims_m, const ExplorationOptions& o) {
+                                 const std::vector<Eigen::Vector2d>& victims_m, const ExplorationOptions& o,
+                                 const ExplorationContext& context) {
   ExplorationPlan plan;
   if (grid.width() == 0 || grid.height() == 0) {
     for (const auto& [robot, p] : robots_m) plan.idle.push_back(robot);
@@ -38,8 +40,23 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
   }
   const PlanningGrid g(grid, planning_options(o));
   std::vector<FrontierPiece> pieces = frontier_pieces(g);
+  // Cells near a goal that failed lately are not offered again.
+  for (FrontierPiece& piece : pieces) {
+    piece.erase(std::remove_if(piece.begin(), piece.end(),
+                               [&](const Eigen::Vector2i& cell) {
+                                 return std::any_of(context.blacklist_m.begin(), context.blacklist_m.end(),
+                                                    [&](const Eigen::Vector2d& b) {
+                                                      return (g.centre_m(cell) - b).norm() < o.blacklist_radius_m;
+                                                    });
+                               }),
+                piece.end());
+  }
+  // min_frontier_cells counts map cells: a planning cell of cell_m stands for (cell_m / map cell)
+  // of them along a frontier.
+  const double map_cells_per_cell = g.resolution_m() / grid.resolution_m();
   pieces.erase(
-      std::remove_if(pieces.begin(), pieces.end(), [&](const auto& p) { return int(p.size()) < o.min_frontier_cells; }),
+      std::remove_if(pieces.begin(), pieces.end(),
+                     [&](const auto& p) { return double(p.size()) * map_cells_per_cell < o.min_frontier_cells; }),
       pieces.end());
   std::sort(pieces.begin(), pieces.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
   for (const auto& piece : pieces) {
@@ -85,13 +102,22 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
       const PieceReach best = nearest_cell_of(pieces[f], g, field);
       if (!std::isfinite(best.path_m)) continue;
       const Frontier& fr = plan.frontiers[f];
-      options.push_back(
-          {robot, int(f), g.centre_m(best.cell), best.path_m, fr.weight * fr.length_m / (best.path_m + 1.0)});
+      double utility = fr.weight * fr.length_m / (best.path_m + 1.0);
+      if (o.coordination == ExplorationOptions::Coordination::kNearestFrontier) utility = 1.0 / (best.path_m + 1.0);
+      const auto current = context.current_goals_m.find(robot);
+      if (current != context.current_goals_m.end() &&
+          std::any_of(pieces[f].begin(), pieces[f].end(),
+                      [&](const Eigen::Vector2i& cell) { return (g.centre_m(cell) - current->second).norm() < 1.0; })) {
+        utility *= 1.0 + o.hysteresis;  // the frontier it already drives to
+      }
+      options.push_back({robot, int(f), g.centre_m(best.cell), best.path_m, utility});
     }
   }
   // Greedy: the best (robot, frontier) pair first; then neither that robot nor any frontier goal
   // within the separation of the chosen one is offered again.
   std::sort(options.begin(), options.end(), [](const Option& a, const Option& b) { return a.utility > b.utility; });
+  // Uncoordinated, every robot simply takes its best option.
+  const bool coordinated = o.coordination == ExplorationOptions::Coordination::kCoordinated;
   std::map<RobotId, bool> assigned;
   for (const Option& opt : options) {
     if (assigned[opt.robot]) continue;
@@ -99,9 +125,16 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
     for (const ExplorationGoal& goal : plan.goals) {
       crowded = crowded || goal.frontier == opt.frontier || (goal.goal_m - opt.goal_m).norm() < o.separation_m;
     }
-    if (crowded) continue;
+    if (crowded && coordinated) continue;
     assigned[opt.robot] = true;
     plan.goals.push_back({opt.robot, opt.frontier, opt.goal_m, opt.path_m, opt.utility});
+  }
+  if (o.share_when_crowded) {
+    for (const Option& opt : options) {  // best first: each robot left over takes its best, shared
+      if (assigned[opt.robot]) continue;
+      assigned[opt.robot] = true;
+      plan.goals.push_back({opt.robot, opt.frontier, opt.goal_m, opt.path_m, opt.utility});
+    }
   }
   for (const auto& [robot, position] : robots_m) {
     if (!assigned[robot]) plan.idle.push_back(robot);

@@ -24,6 +24,29 @@ struct ExplorationOptions {
   double victim_radius_m = 6.0;  ///< frontier cells this close to a victim weigh 1 + victim_weight
   double victim_weight = 2.0;
   double separation_m = 4.0;  ///< no two robots get goals closer than this
+  /// kCoordinated: the greedy allocation above (Burgard et al. 2005). kNearestFrontier: every robot
+  /// takes its own nearest frontier, whatever the others do (explore_lite's behaviour, for
+  /// comparison).
+  enum class Coordination { kCoordinated, kNearestFrontier } coordination = Coordination::kCoordinated;
+  /// A robot left without a goal by the separation rule still gets its best frontier, shared: no
+  /// robot stands idle while a frontier it can reach remains.
+  bool share_when_crowded = true;
+  /// The frontier a robot is already driving to counts this much more (1 + hysteresis): a new plan
+  /// does not swap goals back and forth between nearly equal frontiers.
+  double hysteresis = 0.5;
+  double blacklist_radius_m = 1.0;  ///< frontier cells this close to a blacklisted goal are skipped
+  /// Paths keep the robot's centre this far from walls (its radius and a margin): a frontier
+  /// behind a gap no robot fits through is not reachable.
+  double inflation_m = 0.25;
+  /// Planning cells (m): the map's 0.05 m cells are merged 2 x 2; a 64 m x 40 m map is then 0.26 M
+  /// cells per Dijkstra.
+  double cell_m = 0.1;
+};
+
+/// What the base knows beyond the map when it plans (GoalAllocator).
+struct ExplorationContext {
+  std::vector<Eigen::Vector2d> blacklist_m;            ///< goals that failed lately
+  std::map<RobotId, Eigen::Vector2d> current_goals_m;  ///< the goals being driven
 };
 
 struct Frontier {
@@ -48,7 +71,8 @@ struct ExplorationPlan {
 };
 
 ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<RobotId, Eigen::Vector2d>& robots_m,
-                                 const std::vector<Eigen::Vector2d>& victims_m, const ExplorationOptions& options = {});
+                                 const std::vector<Eigen::Vector2d>& victims_m, const ExplorationOptions& options = {},
+                                 const ExplorationContext& context = {});
 
 struct MergedMap;
 /// The plan for the merged global map, its linked robots at their newest keyframes and the

@@ -65,16 +65,61 @@ TEST(Exploration, EachRobotTakesTheNearestFrontierOfItsOwn) {
   EXPECT_LT(goal_of(swapped, 1)->goal_m.x(), 1.5);
 }
 
-TEST(Exploration, OneFrontierIsNotSharedAndTheOtherRobotIsIdle) {
+TEST(Exploration, OneFrontierGoesToTheNearerRobotAndTheOtherSharesItRatherThanStandIdle) {
   Drawing d;
   d.corridor();
   d.wall(10.8, 2, 11, 4);  // the east end closed
-  const ExplorationPlan plan = plan_exploration(d.grid, {{RobotId(0), {3, 3}}, {RobotId(1), {9, 3}}}, {});
+  ExplorationOptions strict;
+  strict.share_when_crowded = false;
+  const ExplorationPlan plan = plan_exploration(d.grid, {{RobotId(0), {3, 3}}, {RobotId(1), {9, 3}}}, {}, strict);
   ASSERT_EQ(plan.frontiers.size(), 1u);
   ASSERT_EQ(plan.goals.size(), 1u);
   EXPECT_EQ(plan.goals[0].robot, RobotId(0));  // nearer
   ASSERT_EQ(plan.idle.size(), 1u);
   EXPECT_EQ(plan.idle[0], RobotId(1));
+  const ExplorationPlan shared = plan_exploration(d.grid, {{RobotId(0), {3, 3}}, {RobotId(1), {9, 3}}}, {});
+  ASSERT_EQ(shared.goals.size(), 2u);
+  EXPECT_EQ(shared.goals[0].robot, RobotId(0));
+  EXPECT_EQ(shared.goals[1].frontier, shared.goals[0].frontier);
+  EXPECT_TRUE(shared.idle.empty());
+}
+
+TEST(Exploration, UncoordinatedRobotsBothTakeTheNearestFrontier) {
+  Drawing d;
+  d.corridor();  // frontiers at both ends: x = 1 and x = 11
+  ExplorationOptions o;
+  o.coordination = ExplorationOptions::Coordination::kNearestFrontier;
+  // Both robots are nearer the west end: uncoordinated, both go there; coordinated, one goes east.
+  const std::map<RobotId, Eigen::Vector2d> robots{{RobotId(0), {3, 3}}, {RobotId(1), {4, 3}}};
+  const ExplorationPlan alone = plan_exploration(d.grid, robots, {}, o);
+  ASSERT_EQ(alone.goals.size(), 2u);
+  EXPECT_LT(goal_of(alone, 0)->goal_m.x(), 1.5);
+  EXPECT_LT(goal_of(alone, 1)->goal_m.x(), 1.5);
+  const ExplorationPlan together = plan_exploration(d.grid, robots, {});
+  ASSERT_EQ(together.goals.size(), 2u);
+  EXPECT_GT(std::max(goal_of(together, 0)->goal_m.x(), goal_of(together, 1)->goal_m.x()), 10.5);
+}
+
+TEST(Exploration, ABlacklistedGoalIsNotOfferedAgainAndTheCurrentGoalIsKept) {
+  Drawing d;
+  d.corridor();
+  const std::map<RobotId, Eigen::Vector2d> robot{{RobotId(0), {5, 3}}};
+  const ExplorationPlan first = plan_exploration(d.grid, robot, {});
+  ASSERT_EQ(first.goals.size(), 1u);
+  const Eigen::Vector2d west = first.goals[0].goal_m;
+  EXPECT_LT(west.x(), 1.5) << "the nearer end";
+  ExplorationContext failed;
+  failed.blacklist_m = {{1.0, 2.5}, {1.0, 3.5}};
+  const ExplorationPlan next = plan_exploration(d.grid, robot, {}, {}, failed);
+  ASSERT_EQ(next.goals.size(), 1u);
+  EXPECT_GT(next.goals[0].goal_m.x(), 10.5) << "the west end failed: the east one";
+  // Slightly nearer the east end now, the robot keeps driving west (hysteresis)...
+  const std::map<RobotId, Eigen::Vector2d> moved{{RobotId(0), {6.2, 3}}};
+  ExplorationContext driving;
+  driving.current_goals_m[RobotId(0)] = west;
+  EXPECT_LT(plan_exploration(d.grid, moved, {}, {}, driving).goals[0].goal_m.x(), 1.5);
+  // ...which it would not without a current goal.
+  EXPECT_GT(plan_exploration(d.grid, moved, {}, {}).goals[0].goal_m.x(), 10.5);
 }
 
 TEST(Exploration, AClosedRoomLeavesNothingToExplore) {
