@@ -74,9 +74,16 @@ int main(int argc, char** argv) {
       "--journal", options.journal_path,
       "journal of everything received (SQLite; default <out>/journal.sqlite); a restarted base resumes from it");
   app.add_flag("--new-mission", options.new_mission, "move an existing journal aside and start an empty map");
+  std::string coordination = "coordinated";
+  app.add_option("--exploration", coordination,
+                 "how robots get frontiers: coordinated (no two on one area) or nearest (each its own nearest)")
+      ->check(CLI::IsMember({"coordinated", "nearest"}));
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
   options.use_shared_memory = !no_shm;
+  options.exploration.coordination = coordination == "nearest"
+                                         ? cairn::base::ExplorationOptions::Coordination::kNearestFrontier
+                                         : cairn::base::ExplorationOptions::Coordination::kCoordinated;
   cairn::set_log_level(log_level);
   auto log = cairn::make_logger("base");
 

@@ -33,6 +33,7 @@ void on_signal(int) { g_interrupted = 1; }
 struct Options {
   std::string world;
   std::string routes;  ///< scripted routes instead of autonomous exploration
+  std::string exploration = "coordinated";
   std::string out;
   double speed = 0.0;
   bool serve = false;
@@ -57,6 +58,9 @@ int main(int argc, char** argv) {
   app.add_option("--world", opt.world, "world YAML")->required();
   app.add_option("--routes", opt.routes,
                  "scripted routes (worlds/routes/*.yaml): the robots drive them instead of exploring by themselves");
+  app.add_option("--exploration", opt.exploration,
+                 "coordinated: the base spreads the robots over the frontiers; nearest: each robot its own nearest")
+      ->check(CLI::IsMember({"coordinated", "nearest"}));
   app.add_option("--out", opt.out, "output folder (default out/<world name>)");
   app.add_option("--speed", opt.speed, "simulator speed, times real time (0 = as fast as possible)");
   app.add_flag("--serve", opt.serve, "keep the console up after the mission (Ctrl-C to stop)");
@@ -146,9 +150,9 @@ int main(int argc, char** argv) {
       agent_extra.push_back(std::to_string(opt.link.rate_kbit * 1000 / 8 / (2 * robots)));
     }
   }
-  base_cmd.insert(base_cmd.end(),
-                  {(bin / "cairn_base").string(), "--domain", std::to_string(opt.domain), "--out",
-                   (out / "map").string(), "--robots", std::to_string(robots), "--port", std::to_string(opt.port)});
+  base_cmd.insert(base_cmd.end(), {(bin / "cairn_base").string(), "--domain", std::to_string(opt.domain), "--out",
+                                   (out / "map").string(), "--robots", std::to_string(robots), "--port",
+                                   std::to_string(opt.port), "--exploration", opt.exploration});
   // The team knows where the first robot entered (it anchors the map in world coordinates); where
   // the others started is not told: the base links them by cross-robot loop closures.
   const auto& anchor = wf.world.robots.front();
