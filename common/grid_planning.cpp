@@ -4,6 +4,8 @@
 #include <cmath>
 #include <queue>
 
+#include "common/check.h"
+
 namespace cairn {
 namespace {
 
@@ -268,16 +270,19 @@ DistanceField path_lengths(const PlanningGrid& g, const Eigen::Vector2i& start_c
 
 std::vector<Eigen::Vector2d> extract_path_m(const PlanningGrid& g, const DistanceField& field,
                                             const Eigen::Vector2i& goal) {
+  CAIRN_CHECK(field.length_m.size() == g.size() && field.parent.size() == g.size(), "a search of another grid");
   std::vector<Eigen::Vector2d> path;
   if (!g.in(goal) || !field.reached(g.index(goal))) return path;
   for (int32_t i = int32_t(g.index(goal)); i >= 0; i = field.parent[size_t(i)]) {
     path.push_back(g.centre_m(g.cell(size_t(i))));
+    CAIRN_CHECK(path.size() <= g.size(), "the parents of a search form a cycle");
   }
   std::reverse(path.begin(), path.end());
   return path;
 }
 
 PieceReach nearest_cell_of(const FrontierPiece& piece, const PlanningGrid& g, const DistanceField& field) {
+  CAIRN_CHECK(field.length_m.size() == g.size(), "a search of another grid");
   PieceReach best;
   for (const Eigen::Vector2i& cell : piece) {
     const double d = field.length_m[g.index(cell)];
@@ -293,6 +298,7 @@ std::optional<FrontierTarget> nearest_frontier(const PlanningGrid& g, const Dist
                                                const std::vector<FrontierPiece>& pieces,
                                                const NearestFrontierOptions& o,
                                                const std::function<bool(const Eigen::Vector2d&)>& skip) {
+  CAIRN_CHECK(field.length_m.size() == g.size(), "a search of another grid");
   std::optional<FrontierTarget> best;
   for (size_t p = 0; p < pieces.size(); ++p) {
     if (int(pieces[p].size()) < o.min_piece_cells) continue;
