@@ -220,7 +220,9 @@ TEST(GridPlanning, InflationBlocksCellsNearWallsAndNarrowDoors) {
     if (fits) {
       for (const Eigen::Vector2d& p : extract_path_m(g, f, g.cell_of(b))) {
         // In the door's column and its neighbours only rows 2.25 and 2.35 are 0.28 m from both jambs.
-        if (std::abs(p.x() - 5.05) < 0.15) EXPECT_NEAR(p.y(), 2.3, 0.051) << "through the door's middle";
+        if (std::abs(p.x() - 5.05) < 0.15) {
+          EXPECT_NEAR(p.y(), 2.3, 0.051) << "through the door's middle";
+        }
       }
     }
   }
