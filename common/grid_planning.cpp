@@ -4,6 +4,8 @@
 #include <cmath>
 #include <queue>
 
+#include "common/check.h"
+
 namespace cairn {
 namespace {
 
@@ -45,8 +47,29 @@ PlanningGrid::PlanningGrid(const OccupancyGrid& map, const GridPlanningOptions& 
   w_ = (col_hi + margin - col0_) / k_ + 1;
   h_ = (row_hi + margin - row0_) / k_ + 1;
   classify(map, k_);
-  near_wall_ = dilate_square(std::max(0, int(std::ceil(options.clearance_m / res_))));
-  inflated_ = options.inflation_m > 0.0 ? dilate_disc(options.inflation_m) : std::vector<uint8_t>(cells_.size(), 0);
+  if (!options.graded_clearance) near_wall_ = dilate_square(std::max(0, int(std::ceil(options.clearance_m / res_))));
+  inflation_m_ = options.inflation_m > 0.0 ? float(options.inflation_m) : -1.f;
+  wall_distance_m_ =
+      wall_distances(std::max(options.inflation_m, options.graded_clearance ? options.clearance_m : 0.0));
+  summarise();
+}
+
+void PlanningGrid::summarise() {
+  traversable_.assign(cells_.size(), 0);
+  step_factor_.assign(cells_.size(), 1.f);
+  const GridPlanningOptions& o = options_;
+  for (size_t i = 0; i < cells_.size(); ++i) {
+    traversable_[i] =
+        !blocked(i) && (cells_[i] == CellState::kFree || (cells_[i] == CellState::kUnknown && o.unknown_cost > 0.0));
+    double near = 1.0;
+    if (o.graded_clearance) {
+      const double d = wall_distance_m(i);
+      if (d < o.clearance_m) near = 1.0 + (o.near_wall_cost - 1.0) * (1.0 - d / o.clearance_m);
+    } else if (near_wall_[i]) {
+      near = o.near_wall_cost;
+    }
+    step_factor_[i] = float(cells_[i] == CellState::kUnknown ? near * o.unknown_cost : near);
+  }
 }
 
 void PlanningGrid::classify(const OccupancyGrid& map, int k) {
@@ -58,8 +81,8 @@ void PlanningGrid::classify(const OccupancyGrid& map, int k) {
       for (int dr = 0; dr < k && !any_occupied; ++dr) {
         for (int dc = 0; dc < k; ++dc) {
           const int mc = col0_ + c * k + dc, mr = row0_ + r * k + dr;
-          if (!map.known(mc, mr)) continue;  // also what lies outside the map
-          const double lo = map.log_odds(mc, mr);
+          const float lo = map.log_odds(mc, mr);  // 0: unknown, also outside the map
+          if (lo == 0.f) continue;
           any_occupied = any_occupied || lo > occupied_lo;
           any_free = any_free || lo < free_lo;
         }
@@ -99,17 +122,22 @@ std::vector<uint8_t> PlanningGrid::dilate_square(int k) const {
   return out;
 }
 
-std::vector<uint8_t> PlanningGrid::dilate_disc(double radius_m) const {
+std::vector<float> PlanningGrid::wall_distances(double radius_m) const {
+  if (radius_m <= 0.0) return {};
+  std::vector<float> out(cells_.size(), std::numeric_limits<float>::infinity());
   const double radius_cells = radius_m / res_;
   const int k = int(std::floor(radius_cells));
-  std::vector<Eigen::Vector2i> disc;
+  struct Offset {
+    int dc, dr;
+    float distance_m;
+  };
+  std::vector<Offset> disc;
   for (int dr = -k; dr <= k; ++dr) {
     for (int dc = -k; dc <= k; ++dc) {
-      if (dc * dc + dr * dr <= radius_cells * radius_cells) disc.emplace_back(dc, dr);
+      if (dc * dc + dr * dr <= radius_cells * radius_cells) disc.push_back({dc, dr, float(res_ * std::hypot(dc, dr))});
     }
   }
   auto occupied = [&](int c, int r) { return !in(c, r) || cells_[index(c, r)] == CellState::kOccupied; };
-  std::vector<uint8_t> out(cells_.size(), 0);
   for (int r = 0; r < h_; ++r) {
     for (int c = 0; c < w_; ++c) {
       // Only occupied cells with a non-occupied 4-neighbour: the occupied cell nearest to any
@@ -117,8 +145,10 @@ std::vector<uint8_t> PlanningGrid::dilate_disc(double radius_m) const {
       if (!occupied(c, r) || (occupied(c + 1, r) && occupied(c - 1, r) && occupied(c, r + 1) && occupied(c, r - 1))) {
         continue;
       }
-      for (const Eigen::Vector2i& d : disc) {
-        if (in(c + d.x(), r + d.y())) out[index(c + d.x(), r + d.y())] = 1;
+      for (const Offset& d : disc) {
+        if (!in(c + d.dc, r + d.dr)) continue;
+        float& v = out[index(c + d.dc, r + d.dr)];
+        v = std::min(v, d.distance_m);
       }
     }
   }
@@ -203,29 +233,29 @@ DistanceField path_lengths(const PlanningGrid& g, const Eigen::Vector2i& start_c
     start = *found;
   }
   field.start = start;
-  const GridPlanningOptions& o = g.options();
   const double res = g.resolution_m();
   const size_t stop = stop_at && g.in(*stop_at) ? g.index(*stop_at) : g.size();
   std::vector<double>& dist = field.length_m;
   using Item = std::pair<double, size_t>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  int64_t farthest2 = 0;  // squared cells, from the start
   dist[g.index(start)] = 0;
   queue.push({0.0, g.index(start)});
   while (!queue.empty()) {
     const auto [d, i] = queue.top();
     queue.pop();
     if (d > dist[i]) continue;
-    field.farthest_m = std::max(field.farthest_m, d);
     if (i == stop) break;
     const int c = int(i % g.width()), r = int(i / g.width());
+    farthest2 =
+        std::max(farthest2, int64_t(c - start.x()) * (c - start.x()) + int64_t(r - start.y()) * (r - start.y()));
     for (int dr = -1; dr <= 1; ++dr) {
       for (int dc = -1; dc <= 1; ++dc) {
         const int cc = c + dc, rr = r + dr;
         if ((dc == 0 && dr == 0) || !g.in(cc, rr)) continue;
         const size_t j = g.index(cc, rr);
         if (!g.traversable(j)) continue;
-        const double unknown = g.state(j) == CellState::kUnknown ? o.unknown_cost : 1.0;
-        const double step = res * (dc && dr ? M_SQRT2 : 1.0) * (g.near_wall(j) ? o.near_wall_cost : 1.0) * unknown;
+        const double step = res * (dc && dr ? M_SQRT2 : 1.0) * g.step_factor(j);
         if (d + step < dist[j]) {
           dist[j] = d + step;
           field.parent[j] = int32_t(i);
@@ -234,21 +264,25 @@ DistanceField path_lengths(const PlanningGrid& g, const Eigen::Vector2i& start_c
       }
     }
   }
+  field.farthest_m = res * std::sqrt(double(farthest2));
   return field;
 }
 
 std::vector<Eigen::Vector2d> extract_path_m(const PlanningGrid& g, const DistanceField& field,
                                             const Eigen::Vector2i& goal) {
+  CAIRN_CHECK(field.length_m.size() == g.size() && field.parent.size() == g.size(), "a search of another grid");
   std::vector<Eigen::Vector2d> path;
   if (!g.in(goal) || !field.reached(g.index(goal))) return path;
   for (int32_t i = int32_t(g.index(goal)); i >= 0; i = field.parent[size_t(i)]) {
     path.push_back(g.centre_m(g.cell(size_t(i))));
+    CAIRN_CHECK(path.size() <= g.size(), "the parents of a search form a cycle");
   }
   std::reverse(path.begin(), path.end());
   return path;
 }
 
 PieceReach nearest_cell_of(const FrontierPiece& piece, const PlanningGrid& g, const DistanceField& field) {
+  CAIRN_CHECK(field.length_m.size() == g.size(), "a search of another grid");
   PieceReach best;
   for (const Eigen::Vector2i& cell : piece) {
     const double d = field.length_m[g.index(cell)];
@@ -264,6 +298,7 @@ std::optional<FrontierTarget> nearest_frontier(const PlanningGrid& g, const Dist
                                                const std::vector<FrontierPiece>& pieces,
                                                const NearestFrontierOptions& o,
                                                const std::function<bool(const Eigen::Vector2d&)>& skip) {
+  CAIRN_CHECK(field.length_m.size() == g.size(), "a search of another grid");
   std::optional<FrontierTarget> best;
   for (size_t p = 0; p < pieces.size(); ++p) {
     if (int(pieces[p].size()) < o.min_piece_cells) continue;

@@ -31,6 +31,10 @@ struct GridPlanningOptions {
   double cell_m = 0.0;
   double clearance_m = 0.25;    ///< cells within this of an occupied cell (square) are near a wall
   double near_wall_cost = 4.0;  ///< a step into a near-wall cell costs this many times more
+  /// Instead: the cost falls linearly from near_wall_cost at a wall to 1 at clearance_m (Euclidean,
+  /// between cell centres), so paths keep to the middle of doors and corridors narrower than twice
+  /// the clearance.
+  bool graded_clearance = false;
   /// Cells whose centre lies within this distance of an occupied cell's centre are blocked (the
   /// robot's radius plus a margin of at least half a cell's diagonal). 0: only occupied cells block.
   double inflation_m = 0.0;
@@ -69,23 +73,33 @@ class PlanningGrid {
   Eigen::Vector2i cell_of(const Eigen::Vector2d& p_m) const;
 
   CellState state(size_t i) const { return cells_[i]; }
-  bool near_wall(size_t i) const { return near_wall_[i] != 0; }
-  /// Occupied, or within inflation_m of an occupied cell.
-  bool blocked(size_t i) const { return cells_[i] == CellState::kOccupied || inflated_[i] != 0; }
-  /// Not blocked, and free (or unknown when unknown_cost > 0).
-  bool traversable(size_t i) const {
-    return !blocked(i) &&
-           (cells_[i] == CellState::kFree || (cells_[i] == CellState::kUnknown && options_.unknown_cost > 0.0));
+  /// Within the clearance of an occupied cell.
+  bool near_wall(size_t i) const {
+    return options_.graded_clearance ? wall_distance_m(i) < options_.clearance_m : near_wall_[i] != 0;
   }
+  /// Occupied, or within inflation_m of an occupied cell.
+  bool blocked(size_t i) const { return cells_[i] == CellState::kOccupied || wall_distance_m(i) <= inflation_m_; }
+  /// Distance between the cell's centre and the nearest occupied cell's, when within the inflation
+  /// (or graded clearance) radius; +inf beyond.
+  float wall_distance_m(size_t i) const {
+    return wall_distance_m_.empty() ? std::numeric_limits<float>::infinity() : wall_distance_m_[i];
+  }
+  /// Not blocked, and free (or unknown when unknown_cost > 0).
+  bool traversable(size_t i) const { return traversable_[i] != 0; }
   /// A free cell with an unknown 4-neighbour (or one on the box's edge).
   bool is_frontier(int c, int r) const;
+  /// What a step into cell i costs per metre: the near-wall and the unknown factors.
+  double step_factor(size_t i) const { return double(step_factor_[i]); }
 
  private:
   void classify(const OccupancyGrid& map, int k);
   /// Square dilation of the occupied cells by `cells` (separable: rows, then columns).
   std::vector<uint8_t> dilate_square(int cells) const;
-  /// Cells whose centres lie within `radius_m` of an occupied cell's centre.
-  std::vector<uint8_t> dilate_disc(double radius_m) const;
+  /// traversable_ and step_factor_ from the layers (read once per neighbour by Dijkstra).
+  void summarise();
+  /// Per cell, the distance between its centre and the nearest occupied cell's centre when that is
+  /// at most `radius_m`, else +inf.
+  std::vector<float> wall_distances(double radius_m) const;
 
   GridPlanningOptions options_;
   Eigen::Vector2d map_origin_m_{0, 0};
@@ -95,8 +109,11 @@ class PlanningGrid {
   int w_ = 0, h_ = 0;
   double res_ = 0;
   std::vector<CellState> cells_;
-  std::vector<uint8_t> near_wall_;
-  std::vector<uint8_t> inflated_;
+  std::vector<uint8_t> near_wall_;      ///< square marks (not graded_clearance)
+  std::vector<float> wall_distance_m_;  ///< up to the inflation (and graded clearance) radius; or empty
+  float inflation_m_ = -1;              ///< blocked within this (-1: only occupied cells)
+  std::vector<uint8_t> traversable_;
+  std::vector<float> step_factor_;  ///< float: half the memory Dijkstra reads
 };
 
 /// Frontier cells in 8-connected pieces, scan order (row by row).
@@ -109,7 +126,9 @@ struct DistanceField {
   Eigen::Vector2i start{-1, -1};  ///< the cell the search started from; (-1, -1): none
   std::vector<double> length_m;   ///< per cell index; +inf where not reached
   std::vector<int32_t> parent;    ///< per cell index, the previous cell's index; -1 at the start
-  double farthest_m = 0;          ///< the longest length settled (how far the search got)
+  /// How far the search got: the largest straight-line distance from the start cell's centre to a
+  /// settled cell's (an extent, not a path length: costs do not inflate it).
+  double farthest_m = 0;
   bool reached(size_t i) const { return i < length_m.size() && length_m[i] < kUnreached; }
   static constexpr double kUnreached = std::numeric_limits<double>::infinity();
 };

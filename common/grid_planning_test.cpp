@@ -97,8 +97,8 @@ TEST(GridPlanning, DijkstraLengthsCountDiagonalsWallsAndTheirCosts) {
   const DistanceField f = path_lengths(g, g.cell_of({2.05, 2.05}));
   EXPECT_NEAR(length_at(g, f, {5.05, 2.05}), 3.0, 1e-9);
   EXPECT_NEAR(length_at(g, f, {4.05, 4.05}), 2.0 * std::sqrt(2.0), 1e-9);
-  EXPECT_FALSE(f.reached(g.index(g.cell_of({0.95, 2.05}))));    // the wall
-  EXPECT_NEAR(f.farthest_m, 2.9 * std::sqrt(2.0) + 4.0, 1e-9);  // the far corner (8.95, 4.95): 29 diagonal, 40 straight
+  EXPECT_FALSE(f.reached(g.index(g.cell_of({0.95, 2.05}))));  // the wall
+  EXPECT_NEAR(f.farthest_m, std::hypot(6.9, 2.9), 1e-9);      // the far corner (8.95, 4.95), in a straight line
 
   // A wall across the room with a gap at the top: the way round is longer.
   d.wall(5, 1, 5.1, 4.5);
@@ -118,6 +118,33 @@ TEST(GridPlanning, DijkstraLengthsCountDiagonalsWallsAndTheirCosts) {
   // Rows 1.05-1.25 are near the south wall (4 x 0.1 m a step, 4.0 m straight along it): up two
   // rows (0.8), diagonally onto row 1.35 (0.1 sqrt 2), 9 cells along it (0.9), three rows down (1.2).
   EXPECT_NEAR(length_at(g2, f2, {3.05, 1.05}), 2.9 + 0.1 * std::sqrt(2.0), 1e-9);
+}
+
+TEST(GridPlanning, AGradedClearanceKeepsPathsToTheMiddleOfACorridor) {
+  Drawing d;
+  d.free(1, 2, 9, 3);  // a corridor 1 m wide, rows 2.05-2.95
+  d.wall(0.9, 1.9, 9.1, 2);
+  d.wall(0.9, 3, 9.1, 3.1);
+  GridPlanningOptions o;
+  o.clearance_m = 0.5;
+  o.near_wall_cost = 3;
+  o.graded_clearance = true;
+  const PlanningGrid g(d.grid, o);
+  // Steps cost 3x at a wall, falling linearly to 1x at 0.5 m from the wall cells' centres.
+  EXPECT_NEAR(g.step_factor(g.index(g.cell_of({5.05, 2.05}))), 1 + 2 * (1 - 0.1 / 0.5), 1e-6);
+  EXPECT_NEAR(g.step_factor(g.index(g.cell_of({5.05, 2.45}))), 1 + 2 * (1 - 0.5 / 0.5), 1e-6);
+  EXPECT_TRUE(g.near_wall(g.index(g.cell_of({5.05, 2.35}))));
+  EXPECT_FALSE(g.near_wall(g.index(g.cell_of({5.05, 2.45}))));  // 0.5 m from the south wall's cells
+  // From beside one wall to beside the other 5 m on: the path crosses to the middle rows and
+  // keeps there (with square marks every row of this corridor costs the same).
+  const Eigen::Vector2i goal = g.cell_of({7.05, 2.85});
+  const DistanceField f = path_lengths(g, g.cell_of({2.05, 2.15}), 0.5, goal);
+  int middle = 0, steps = 0;
+  for (const Eigen::Vector2d& p : extract_path_m(g, f, goal)) {
+    ++steps;
+    middle += std::abs(p.y() - 2.5) < 0.1;
+  }
+  EXPECT_GT(middle, steps / 2);
 }
 
 TEST(GridPlanning, UnknownCellsAreCrossedOnlyAtTheirCost) {
@@ -193,7 +220,9 @@ TEST(GridPlanning, InflationBlocksCellsNearWallsAndNarrowDoors) {
     if (fits) {
       for (const Eigen::Vector2d& p : extract_path_m(g, f, g.cell_of(b))) {
         // In the door's column and its neighbours only rows 2.25 and 2.35 are 0.28 m from both jambs.
-        if (std::abs(p.x() - 5.05) < 0.15) EXPECT_NEAR(p.y(), 2.3, 0.051) << "through the door's middle";
+        if (std::abs(p.x() - 5.05) < 0.15) {
+          EXPECT_NEAR(p.y(), 2.3, 0.051) << "through the door's middle";
+        }
       }
     }
   }

@@ -1,0 +1,40 @@
+#pragma once
+// The robot's own navigation map: an OccupancyGrid (0.1 m cells) in the robot's local frame into
+// which every processed scan is inserted at its SLAM pose. Coarser than the SLAM submaps (planning
+// needs no more), with log odds clamped tighter so rubble that appears, or an obstacle that
+// leaves, changes a cell within a few scans. Pure: scans in, a grid out.
+#include "common/laser_scan.h"
+#include "common/occupancy_grid.h"
+#include "common/se2.h"
+
+namespace cairn::agent {
+
+struct NavMapOptions {
+  double resolution_m = 0.1;
+  double max_range_m = 8.0;  ///< beams are cut here: far walls seen through gaps matter little to driving
+  /// Beams without a return clear free space this far (0: not at all).
+  double no_return_clear_m = 4.0;
+  /// One hit outweighs a neighbouring beam grazing the cell (a miss) and makes it occupied (p 0.69).
+  float hit_log_odds = 1.2f;
+  float miss_log_odds = -0.4f;
+  float min_log_odds = -2.0f;  ///< ~3 hits turn a well-seen free cell occupied
+  float max_log_odds = 3.5f;
+};
+
+class NavMap {
+ public:
+  explicit NavMap(const NavMapOptions& options = {});
+
+  /// Inserts `scan` taken at `T_local_base` (the laser is at the base's origin, sensors.h).
+  void insert(const SE2& T_local_base, const LaserScan& scan);
+  const OccupancyGrid& grid() const { return grid_; }
+  int scans_inserted() const { return scans_; }
+  const NavMapOptions& options() const { return options_; }
+
+ private:
+  NavMapOptions options_;
+  OccupancyGrid grid_;
+  int scans_ = 0;
+};
+
+}  // namespace cairn::agent

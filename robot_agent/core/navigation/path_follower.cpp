@@ -1,0 +1,124 @@
+#include "robot_agent/core/navigation/path_follower.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cairn::agent {
+namespace {
+
+/// The point of segment [a, b] nearest p.
+Eigen::Vector2d closest_on_segment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d d = b - a;
+  const double len2 = d.squaredNorm();
+  if (len2 <= 0.0) return a;
+  return a + std::clamp((p - a).dot(d) / len2, 0.0, 1.0) * d;
+}
+
+/// Segments ahead of the current one that the projection may jump to in one update (the robot
+/// moves a few centimetres per scan; a path doubling back on itself must not be short-cut).
+constexpr size_t kProjectionWindow = 30;
+
+}  // namespace
+
+double obstacle_ahead_m(const LaserScan& scan, double robot_radius_m, double half_width_m) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector2f& p : scan_to_points(scan)) {
+    if (p.x() > 0.f && std::abs(p.y()) <= half_width_m) nearest = std::min(nearest, double(p.x()) - robot_radius_m);
+  }
+  return nearest;
+}
+
+double nearest_obstacle_m(const LaserScan& scan, double robot_radius_m) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector2f& p : scan_to_points(scan)) nearest = std::min(nearest, double(p.norm()) - robot_radius_m);
+  return nearest;
+}
+
+PathFollower::PathFollower(const PathFollowerOptions& options) : options_(options) {}
+
+void PathFollower::set_path(std::vector<Eigen::Vector2d> path_m) {
+  path_ = std::move(path_m);
+  progress_ = 0;
+}
+
+Eigen::Vector2d PathFollower::project(const Eigen::Vector2d& p) {
+  if (path_.size() < 2) return path_.empty() ? p : path_[0];
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d best_point = path_[progress_];
+  const size_t last = std::min(path_.size() - 1, progress_ + kProjectionWindow);
+  for (size_t i = progress_; i < last; ++i) {
+    const Eigen::Vector2d q = closest_on_segment(path_[i], path_[i + 1], p);
+    const double d = (q - p).squaredNorm();
+    if (d < best) {
+      best = d;
+      best_point = q;
+      progress_ = i;
+    }
+  }
+  return best_point;
+}
+
+Eigen::Vector2d PathFollower::along(const Eigen::Vector2d& from, double distance_m) const {
+  Eigen::Vector2d at = from;
+  for (size_t i = progress_ + 1; i < path_.size(); ++i) {
+    const double step = (path_[i] - at).norm();
+    if (step >= distance_m) return at + (path_[i] - at) * (distance_m / step);
+    distance_m -= step;
+    at = path_[i];
+  }
+  return path_.back();
+}
+
+double PathFollower::remaining_from(const Eigen::Vector2d& from) const {
+  double total = 0;
+  Eigen::Vector2d at = from;
+  for (size_t i = progress_ + 1; i < path_.size(); ++i) {
+    total += (path_[i] - at).norm();
+    at = path_[i];
+  }
+  return total;
+}
+
+FollowerOutput PathFollower::update(const SE2& T_local_base, const LaserScan& scan) {
+  const PathFollowerOptions& o = options_;
+  FollowerOutput out;
+  out.obstacle_ahead_m = obstacle_ahead_m(scan, o.robot_radius_m, o.robot_radius_m + o.side_margin_m);
+  if (path_.empty()) return out;
+  const Eigen::Vector2d position = T_local_base.translation();
+  const Eigen::Vector2d projection = project(position);
+  out.remaining_m = remaining_from(projection);
+  out.lookahead_m = along(projection, o.lookahead_m);
+  const Eigen::Vector2d target = T_local_base.inverse() * out.lookahead_m;  // base frame
+  const double d = target.norm();
+  if (d < o.end_reached_m && out.remaining_m < o.end_reached_m) return out;  // at the end: stop
+  out.heading_error_rad = std::atan2(target.y(), target.x());
+  const double alpha = out.heading_error_rad;
+  const double rotate = std::clamp(o.turn_gain * alpha, -o.max_turn_radps, o.max_turn_radps);
+  if (std::abs(alpha) > o.turn_in_place_rad) {
+    out.command.angular_radps = rotate;
+    return out;
+  }
+  // Speed: the least of the maximum, the ramp towards the end and the ramp towards returns ahead.
+  double v = o.max_speed_mps;
+  v = std::min(v, std::max(o.min_speed_mps, o.max_speed_mps * out.remaining_m / o.goal_slowdown_m));
+  const double ramp_m = std::max(1e-6, o.slow_distance_m - o.safety_distance_m);
+  v = std::min(v, std::max(o.min_speed_mps, o.max_speed_mps * (out.obstacle_ahead_m - o.safety_distance_m) / ramp_m));
+  if (nearest_obstacle_m(scan, o.robot_radius_m) < o.near_obstacle_m) v *= 0.5;
+  if (out.obstacle_ahead_m <= o.safety_distance_m) {
+    out.blocked = true;  // stop; turning towards the path is still allowed
+    out.command.angular_radps = rotate;
+    return out;
+  }
+  // Pure pursuit: the arc through the robot and the target, tangent to the heading.
+  const double curvature = 2.0 * target.y() / (d * d);
+  double w = v * curvature;
+  if (std::abs(w) > o.max_turn_radps) {
+    v = o.max_turn_radps / std::abs(curvature);
+    w = std::copysign(o.max_turn_radps, curvature);
+  }
+  out.command.linear_mps = v;
+  out.command.angular_radps = w;
+  return out;
+}
+
+}  // namespace cairn::agent

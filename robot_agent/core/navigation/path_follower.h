@@ -1,0 +1,75 @@
+#pragma once
+// Follows a planned path with pure pursuit (Coulter 1992): steer along the arc through the path
+// point `lookahead_m` further along it, curvature 2 y / d^2 in the robot's frame; rotate on the
+// spot first when that point lies more than `turn_in_place_rad` off the heading. Speed ramps down
+// over the path's last stretch and as returns ahead come near. The current scan, not the map, is
+// the last word: a return within `safety_distance_m` of the robot's front edge in the forward
+// corridor (the robot's width plus a margin) stops it (it may still rotate) and asks for a re-plan.
+// Pure: a path, a pose and a scan in, a command out.
+#include <Eigen/Core>
+#include <limits>
+#include <vector>
+
+#include "common/laser_scan.h"
+#include "common/se2.h"
+#include "robot_agent/core/navigation/velocity_command.h"
+
+namespace cairn::agent {
+
+struct PathFollowerOptions {
+  double max_speed_mps = 0.5;
+  double min_speed_mps = 0.05;  ///< the ramps never ask for less while moving
+  double max_turn_radps = 1.0;
+  double lookahead_m = 0.6;
+  double turn_in_place_rad = 0.8;  ///< heading error above this: rotate on the spot
+  double turn_gain = 2.0;          ///< on the spot, angular = gain x heading error (clamped)
+  double goal_slowdown_m = 1.0;    ///< speed ramps down linearly over the path's last stretch
+  double robot_radius_m = 0.2;
+  double safety_distance_m = 0.3;  ///< from the robot's edge: returns ahead nearer than this stop it
+  double side_margin_m = 0.05;     ///< the forward corridor's half width is the radius plus this
+  double slow_distance_m = 0.8;    ///< from the edge: returns ahead nearer than this slow it down
+  double near_obstacle_m = 0.15;   ///< from the edge: a return this close on any side halves the speed
+  double end_reached_m = 0.05;     ///< nearer the path's end than this: stop
+};
+
+struct FollowerOutput {
+  VelocityCommand command;
+  /// It wanted to move but a return lies within the safety distance ahead: linear speed 0, re-plan.
+  bool blocked = false;
+  double obstacle_ahead_m = std::numeric_limits<double>::infinity();  ///< from the front edge
+  double remaining_m = 0;  ///< along the path from the robot's projection to its end
+  double heading_error_rad = 0;
+  Eigen::Vector2d lookahead_m{0, 0};  ///< the pursued point (map frame)
+};
+
+/// The nearest return in the corridor of half width `half_width_m` ahead of the robot (x > 0 in
+/// the base frame), as distance from the robot's front edge (x - radius; negative: touching).
+double obstacle_ahead_m(const LaserScan& scan, double robot_radius_m, double half_width_m);
+/// The nearest return in any direction, as distance from the robot's edge.
+double nearest_obstacle_m(const LaserScan& scan, double robot_radius_m);
+
+class PathFollower {
+ public:
+  explicit PathFollower(const PathFollowerOptions& options = {});
+
+  /// A new path (map frame, the robot's position first); progress starts at its beginning.
+  void set_path(std::vector<Eigen::Vector2d> path_m);
+  void clear() { set_path({}); }
+  const std::vector<Eigen::Vector2d>& path() const { return path_; }
+  /// The command for the robot at `T_local_base` seeing `scan` (zero without a path).
+  FollowerOutput update(const SE2& T_local_base, const LaserScan& scan);
+  const PathFollowerOptions& options() const { return options_; }
+
+ private:
+  /// Moves progress_ to the segment nearest the robot (never backwards); returns the projection.
+  Eigen::Vector2d project(const Eigen::Vector2d& p_m);
+  /// The point `distance_m` further along the path from the projection `from` on segment progress_.
+  Eigen::Vector2d along(const Eigen::Vector2d& from, double distance_m) const;
+  double remaining_from(const Eigen::Vector2d& from) const;
+
+  PathFollowerOptions options_;
+  std::vector<Eigen::Vector2d> path_;
+  size_t progress_ = 0;  ///< index of the segment [progress_, progress_ + 1] the robot is on
+};
+
+}  // namespace cairn::agent

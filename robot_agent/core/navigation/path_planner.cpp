@@ -1,0 +1,108 @@
+#include "robot_agent/core/navigation/path_planner.h"
+
+#include <cstdio>
+
+#include "common/grid_planning.h"
+
+namespace cairn::agent {
+namespace {
+
+std::string point(const Eigen::Vector2d& p) {
+  char buf[48];
+  std::snprintf(buf, sizeof(buf), "(%.2f, %.2f)", p.x(), p.y());
+  return buf;
+}
+
+std::string metres(double m) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.2f m", m);
+  return buf;
+}
+
+}  // namespace
+
+const char* to_string(PlanStatus status) {
+  switch (status) {
+    case PlanStatus::kOk:
+      return "ok";
+    case PlanStatus::kEmptyMap:
+      return "empty map";
+    case PlanStatus::kStartBlocked:
+      return "start blocked";
+    case PlanStatus::kGoalBlocked:
+      return "goal blocked";
+    case PlanStatus::kNoPath:
+      return "no path";
+  }
+  return "?";
+}
+
+PathPlanner::PathPlanner(const PathPlannerOptions& options) : options_(options) {}
+
+PlannedPath PathPlanner::plan(const OccupancyGrid& map, const Eigen::Vector2d& from_m, const Eigen::Vector2d& goal_m,
+                              double goal_tolerance_m) const {
+  const PathPlannerOptions& o = options_;
+  GridPlanningOptions gp;
+  gp.free_below = o.free_below;
+  gp.occupied_above = o.occupied_above;
+  gp.cell_m = o.cell_m;
+  gp.clearance_m = o.clearance_m;
+  gp.near_wall_cost = o.near_wall_cost;
+  gp.graded_clearance = true;
+  gp.inflation_m = o.robot_radius_m + o.inflation_margin_m;
+  gp.unknown_cost = o.unknown_cost;
+  gp.margin_m = o.margin_m;
+  const PlanningGrid g(map, gp, {from_m, goal_m});
+  PlannedPath out;
+  out.goal_m = goal_m;
+  if (g.empty()) {
+    out.status = PlanStatus::kEmptyMap;
+    out.reason = "nothing to plan on";
+    return out;
+  }
+  Eigen::Vector2i goal = g.cell_of(goal_m);
+  if (!g.traversable(g.index(goal))) {
+    const std::optional<Eigen::Vector2i> moved = nearest_traversable(g, goal, goal_tolerance_m);
+    if (!moved || (g.centre_m(*moved) - goal_m).norm() > goal_tolerance_m) {
+      out.status = PlanStatus::kGoalBlocked;
+      out.reason = "the goal " + point(goal_m) + " lies within " + metres(gp.inflation_m) +
+                   " of a wall (or in unknown space) and no free cell is within " + metres(goal_tolerance_m);
+      return out;
+    }
+    goal = *moved;
+    out.goal_m = g.centre_m(goal);
+  }
+  const Eigen::Vector2i start = g.cell_of(from_m);
+  const DistanceField field = path_lengths(g, start, o.start_search_m, goal);
+  if (field.start.x() < 0) {
+    out.status = PlanStatus::kStartBlocked;
+    out.boxed_in = true;
+    out.reason = "boxed in: no free cell within " + metres(o.start_search_m) + " of the robot at " + point(from_m);
+    return out;
+  }
+  if (!field.reached(g.index(goal))) {
+    out.status = PlanStatus::kNoPath;
+    out.reachable_m = field.farthest_m;
+    out.boxed_in = field.farthest_m < o.boxed_in_m;
+    out.reason = (out.boxed_in ? "boxed in: " : "") + std::string("no path from ") + point(from_m) + " to " +
+                 point(out.goal_m) + " (the free space reachable from the robot ends " + metres(field.farthest_m) +
+                 " out)";
+    return out;
+  }
+  std::vector<Eigen::Vector2d> cells = extract_path_m(g, field, goal);
+  // The robot's own position first (the search may have started from a nearby cell), then the
+  // cells; the asked goal itself last when its own cell was planned to.
+  out.path_m.reserve(cells.size() + 1);
+  out.path_m.push_back(from_m);
+  out.path_m.insert(out.path_m.end(), cells.begin() + (field.start == start ? 1 : 0), cells.end());
+  if (out.path_m.size() == 1) {
+    out.path_m.push_back(out.goal_m);  // already in the goal's cell
+  } else if (out.goal_m == goal_m) {
+    out.path_m.back() = goal_m;
+  }
+  out.length_m = field.length_m[g.index(goal)];
+  out.status = PlanStatus::kOk;
+  return out;
+}
+
+}  // namespace cairn::agent

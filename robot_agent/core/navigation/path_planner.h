@@ -1,0 +1,68 @@
+#pragma once
+// Plans the robot's path on its NavMap with common/grid_planning: Dijkstra over 8-connected cells
+// of the map (0.1 m; a finer NavMap can be planned on a coarser copy, `cell_m`), cells within the
+// robot's radius (plus a margin) of a wall blocked, cells near walls dearer (paths keep to the
+// middle of corridors), unknown cells crossed at a cost (a goal beyond what the robot has seen is
+// still worth driving towards). A goal cell that is blocked is moved to the nearest traversable
+// cell within the goal's tolerance; a start inside the inflated band (the robot brushed a wall, or
+// rubble appeared beside it) starts from the nearest traversable cell. Pure.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "robot_agent/core/navigation/nav_map.h"
+
+namespace cairn::agent {
+
+struct PathPlannerOptions {
+  double robot_radius_m = 0.2;
+  /// Added to the radius for the blocked band: at least half a cell's diagonal (0.07 m at 0.1 m),
+  /// since a wall may lie anywhere in its cell.
+  double inflation_margin_m = 0.08;
+  /// Within this of a wall a step costs more, from near_wall_cost at the wall down to 1 (graded).
+  double clearance_m = 0.5;
+  double near_wall_cost = 3.0;
+  double unknown_cost = 3.0;    ///< 0: only known free cells
+  double start_search_m = 0.5;  ///< a blocked start cell: the nearest traversable cell within this
+  /// A failed search that got no farther than this (straight line from the robot): boxed in.
+  double boxed_in_m = 1.0;
+  double cell_m = 0.0;    ///< plan on a coarser copy (GridPlanningOptions::cell_m); 0: the map's cells
+  double margin_m = 1.0;  ///< unknown space planned beyond the known cells, start and goal
+  double free_below = 0.25;
+  double occupied_above = 0.65;
+};
+
+enum class PlanStatus { kOk, kEmptyMap, kStartBlocked, kGoalBlocked, kNoPath };
+
+struct PlannedPath {
+  PlanStatus status = PlanStatus::kNoPath;
+  std::string reason;                   ///< why there is no path (empty when ok)
+  std::vector<Eigen::Vector2d> path_m;  ///< the robot's position, then cell centres to the goal
+  double length_m = 0;                  ///< weighted length (near-wall and unknown costs included)
+  Eigen::Vector2d goal_m{0, 0};         ///< the goal planned to (moved when the asked cell was blocked)
+  /// No path, and the robot cannot get farther than boxed_in_m from where it stands.
+  bool boxed_in = false;
+  double reachable_m = 0;  ///< how far the failed search got (straight line from the robot)
+  bool ok() const { return status == PlanStatus::kOk; }
+};
+
+class PathPlanner {
+ public:
+  explicit PathPlanner(const PathPlannerOptions& options = {});
+  /// From `from_m` to `goal_m` (both in the map's frame). The goal counts as reached by any
+  /// traversable cell whose centre is within `goal_tolerance_m` of it.
+  PlannedPath plan(const OccupancyGrid& map, const Eigen::Vector2d& from_m, const Eigen::Vector2d& goal_m,
+                   double goal_tolerance_m) const;
+  PlannedPath plan(const NavMap& map, const Eigen::Vector2d& from_m, const Eigen::Vector2d& goal_m,
+                   double goal_tolerance_m) const {
+    return plan(map.grid(), from_m, goal_m, goal_tolerance_m);
+  }
+  const PathPlannerOptions& options() const { return options_; }
+
+ private:
+  PathPlannerOptions options_;
+};
+
+const char* to_string(PlanStatus status);
+
+}  // namespace cairn::agent
