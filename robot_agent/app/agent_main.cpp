@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
     log->error("{}", e.what());
     return 2;
   }
+  node.navigate = log_path.empty();  // a recorded robot drove already: nothing to steer
   std::string error;
   auto agent = cairn::agent::AgentNode::create(cairn::RobotId(robot), options, node, input, &error);
   if (!agent) {

@@ -5,13 +5,20 @@
 #include <thread>
 
 #include "dds/conversions.h"
+#include "dds/navigation_conversions.h"
 
 namespace cairn::agent {
 
 using Clock = std::chrono::steady_clock;
 
 AgentNode::AgentNode(RobotId robot, const AgentOptions& core_options, const AgentNodeOptions& options)
-    : robot_(robot), options_(options), pipeline_(robot, core_options), log_(make_logger("agent", robot)) {}
+    : robot_(robot),
+      options_(options),
+      pipeline_(robot, core_options),
+      log_(make_logger("agent", robot)),
+      navigator_(options.navigator),
+      behaviour_(options.behaviour),
+      own_options_(options.own_exploration) {}
 
 std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& core_options,
                                              const AgentNodeOptions& options, const SensorInput& input,
@@ -52,9 +59,10 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
   n->object_out_ = std::make_unique<dds::Writer<dds::ObjectTopic>>(p, large);
   n->keyframe_poses_out_ = std::make_unique<dds::Writer<dds::KeyframePosesTopic>>(p);
   n->status_out_ = std::make_unique<dds::Writer<dds::StatusTopic>>(p);
-  if (!n->odometry_in_->ok() || !n->laser_in_->ok() || !n->rgbd_in_->ok() || !n->clock_in_->ok() || !n->ack_in_->ok() ||
-      !n->keyframe_out_->ok() || !n->object_out_->ok() || !n->keyframe_poses_out_->ok() || !n->status_out_->ok() ||
-      !n->goal_in_->ok()) {
+  n->cmd_out_ = std::make_unique<dds::Writer<dds::CmdVelTopic>>(p, robot);
+  if (!n->cmd_out_->ok() || !n->odometry_in_->ok() || !n->laser_in_->ok() || !n->rgbd_in_->ok() ||
+      !n->clock_in_->ok() || !n->ack_in_->ok() || !n->keyframe_out_->ok() || !n->object_out_->ok() ||
+      !n->keyframe_poses_out_->ok() || !n->status_out_->ok() || !n->goal_in_->ok()) {
     *error = "cannot create the agent's DDS readers/writers";
     return nullptr;
   }
@@ -105,30 +113,11 @@ bool AgentNode::poll_inputs() {
   }
   for (const auto& a : ack_in_->take_all()) {
     if (a.robot_id() != robot_.value) continue;
+    heard_from_base();
     acked_keyframe_seq_ = std::max(acked_keyframe_seq_, a.keyframe_seq());
     acked_object_count_ = std::max(acked_object_count_, int(a.object_count()));
   }
   return any;
-}
-
-void AgentNode::take_goal(const cairn_msgs::ExplorationGoal& g) {
-  if (!g.has_goal()) {
-    if (goal_m_) log_->info("the base has no exploration goal left for this robot");
-    goal_m_.reset();
-    return;
-  }
-  if (!std::isfinite(g.x_m()) || !std::isfinite(g.y_m()) || !std::isfinite(g.path_m())) {
-    ++bad_samples_;
-    log_->warn("dropped an exploration goal with non-finite numbers");
-    return;
-  }
-  const Eigen::Vector2d goal(g.x_m(), g.y_m());
-  if (goal_m_ && (goal - *goal_m_).norm() < 1.0) return;  // the same goal, re-planned
-  goal_m_ = goal;
-  log_->info(
-      "exploration goal from the base: ({:.1f}, {:.1f}) m in this robot's frame, {:.1f} m away, {:.1f} m "
-      "of unexplored edge",
-      goal.x(), goal.y(), g.path_m(), g.frontier_m());
 }
 
 void AgentNode::publish(const AgentOutputs& outputs) {
@@ -181,6 +170,7 @@ void AgentNode::publish_status(bool finished) {
   }
   st.collision_risk(s.collision_risk >= 0.5f);  // optical-flow time-to-contact test (objects/optical_flow.h)
   st.finished(finished);
+  dds::set_nav_status(nav_status(), &st);
   status_out_->write(st);
 }
 
@@ -206,14 +196,18 @@ int AgentNode::run() {
     if (input_finished_ && !flushed && !got) {
       // The simulator announces the end only after every reading was acknowledged, so an empty
       // poll after it means the input is complete.
-      publish(pipeline_.process(/*flush=*/true));
+      const AgentOutputs last = pipeline_.process(/*flush=*/true);
+      publish(last);
+      drive(last);
       flushed = true;
       flush_time = Clock::now();
       const AgentStats s = pipeline_.stats();
       log_->info("input ended: {} scans matched, {} keyframes, {} objects; waiting for the base to store them",
                  s.scans_matched, last_keyframe_seq_ + 1, objects_published_.size());
     } else if (!flushed) {
-      publish(pipeline_.process(false));
+      const AgentOutputs outputs = pipeline_.process(false);
+      publish(outputs);
+      drive(outputs);
     }
     if (Clock::now() >= next_status) {
       publish_status(false);

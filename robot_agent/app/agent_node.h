@@ -14,6 +14,9 @@
 #include "dds/endpoints.h"
 #include "robot_agent/app/log_source.h"
 #include "robot_agent/core/agent_pipeline.h"
+#include "robot_agent/core/navigation/mission_behaviour.h"
+#include "robot_agent/core/navigation/navigator.h"
+#include "robot_agent/core/navigation/own_exploration.h"
 
 namespace cairn::agent {
 
@@ -24,6 +27,10 @@ struct AgentNodeOptions {
   double status_period_s = 0.5;
   double ack_timeout_s = 60.0;            ///< how long to wait for the base to store everything at the end
   uint32_t large_data_bytes_per_sec = 0;  ///< flow controller for objects; 0 = unlimited
+  bool navigate = true;                   ///< drive the robot (cmd_vel); off when replaying a log
+  NavigatorOptions navigator;
+  MissionBehaviourOptions behaviour;
+  OwnExplorationOptions own_exploration;
 };
 
 /// Where the sensor readings come from: the robot's DDS sensor topics (simulator or driver), or a
@@ -76,10 +83,21 @@ class AgentNode {
   int acked_object_count_ = 0;
   std::set<int32_t> objects_published_;
   int bad_samples_ = 0;
-  /// The base's newest exploration goal in this robot's frame (logged for the operator and a
-  /// planner; the simulated robots follow their waypoints).
-  std::optional<Eigen::Vector2d> goal_m_;
+  // Navigation (agent_node_navigation.cpp): goals in, cmd_vel out.
   void take_goal(const cairn_msgs::ExplorationGoal& g);
+  void heard_from_base();
+  void drive(const AgentOutputs& outputs);
+  NavStatus nav_status() const;
+  Navigator navigator_;
+  MissionBehaviour behaviour_;
+  OwnExplorationOptions own_options_;
+  std::unique_ptr<dds::Writer<dds::CmdVelTopic>> cmd_out_;
+  SE2 pose_;                  ///< newest processed scan's pose, local frame
+  StampNs last_scan_ns_ = 0;  ///< its stamp: the agent's mission time
+  double distance_m_ = 0;
+  DriveTarget reported_goal_;  ///< the newest goal driven, and its state (also once ended)
+  NavState reported_state_ = NavState::kIdle;
+  RobotActivity last_activity_ = RobotActivity::kWaiting;
   int last_rate_scans_ = 0;     ///< for the scan rate in the status message
   int last_stalled_scans_ = 0;  ///< AgentStats::scans_odometry_stalled at the last warning
   double last_rate_time_s_ = 0.0;

@@ -5,22 +5,6 @@
 
 namespace cairn::agent {
 
-const char* to_string(NavState state) {
-  switch (state) {
-    case NavState::kIdle:
-      return "idle";
-    case NavState::kDriving:
-      return "driving";
-    case NavState::kReached:
-      return "reached";
-    case NavState::kUnreachable:
-      return "unreachable";
-    case NavState::kStuck:
-      return "stuck";
-  }
-  return "?";
-}
-
 GoalTracker::GoalTracker(const GoalTrackerOptions& options) : options_(options) {}
 
 void GoalTracker::change(NavState to, const std::string& reason) {

@@ -16,12 +16,10 @@
 #include <optional>
 #include <string>
 
+#include "common/navigation.h"  // NavState
 #include "common/time.h"
 
 namespace cairn::agent {
-
-enum class NavState { kIdle, kDriving, kReached, kUnreachable, kStuck };
-const char* to_string(NavState state);
 
 struct GoalTrackerOptions {
   double stuck_after_s = 10.0;

@@ -21,22 +21,6 @@ std::string describe(const NavGoal& goal) {
 
 }  // namespace
 
-const char* to_string(GoalKind kind) {
-  switch (kind) {
-    case GoalKind::kExplore:
-      return "explore";
-    case GoalKind::kHome:
-      return "home";
-    case GoalKind::kOperator:
-      return "operator";
-    case GoalKind::kOwnFrontier:
-      return "own frontier";
-    case GoalKind::kReturnToContact:
-      return "return to contact";
-  }
-  return "?";
-}
-
 PathPlannerOptions planner_options(const NavigatorOptions& o) {
   PathPlannerOptions p;
   p.robot_radius_m = o.robot_radius_m;

@@ -13,24 +13,20 @@
 #include <vector>
 
 #include "common/laser_scan.h"
+#include "common/navigation.h"  // VelocityCommand
 #include "common/se2.h"
 #include "common/time.h"
 #include "robot_agent/core/navigation/goal_tracker.h"
 #include "robot_agent/core/navigation/nav_map.h"
 #include "robot_agent/core/navigation/path_follower.h"
 #include "robot_agent/core/navigation/path_planner.h"
-#include "robot_agent/core/navigation/velocity_command.h"
 
 namespace cairn::agent {
-
-/// Who asked for the goal (the state machine treats them alike; the node reports it).
-enum class GoalKind { kExplore, kHome, kOperator, kOwnFrontier, kReturnToContact };
-const char* to_string(GoalKind kind);
 
 struct NavGoal {
   uint32_t id = 0;
   Eigen::Vector2d position_m{0, 0};  ///< in the robot's local frame
-  GoalKind kind = GoalKind::kExplore;
+  GoalKind kind = GoalKind::kExplore;  ///< who asked for it (driven alike; for the log)
   double tolerance_m = 0;  ///< reached within this; <= 0: NavigatorOptions::goal_tolerance_m
 };
 

@@ -21,7 +21,7 @@ using testing::DriveResult;
 using testing::ray_cast;
 using testing::Segment;
 
-NavGoal goal_at(uint32_t id, const Eigen::Vector2d& p, GoalKind kind = GoalKind::kOperator) {
+NavGoal goal_at(uint32_t id, const Eigen::Vector2d& p, GoalKind kind = GoalKind::kExplore) {
   NavGoal g;
   g.id = id;
   g.position_m = p;
@@ -42,7 +42,7 @@ TEST(Navigator, DrivesThroughADoorAndACorridorToItsGoal) {
   const DriveResult r = drive(&nav, world, &pose, &stamp, DriveOptions{});
   EXPECT_EQ(nav.state(), NavState::kReached) << nav.reason();
   EXPECT_LE((pose.translation() - goal).norm(), 0.4);
-  EXPECT_NE(nav.reason().find("goal 7 (operator)"), std::string::npos) << nav.reason();
+  EXPECT_NE(nav.reason().find("goal 7 (explore)"), std::string::npos) << nav.reason();
   EXPECT_GE(r.min_wall_distance_m, 0.2) << "the robot's radius";
   EXPECT_GT(r.min_wall_distance_m, 0.4);  // with room to spare: through the 1 m door's middle
   // About 13 m of path at up to 0.5 m/s: well under a minute, with turns and the door.
@@ -120,7 +120,7 @@ TEST(Navigator, RubbleFallingAcrossTheCorridorAheadMakesReplanningFail) {
   const StampNs fell_ns = stamp;
   drive(&nav, world, &pose, &stamp, DriveOptions{});
   EXPECT_EQ(nav.state(), NavState::kUnreachable);
-  EXPECT_EQ(nav.reason().rfind("re-planning failed 3 times in a row: goal 4 (operator)", 0), 0u) << nav.reason();
+  EXPECT_EQ(nav.reason().rfind("re-planning failed 3 times in a row: goal 4 (explore)", 0), 0u) << nav.reason();
   EXPECT_EQ(nav.counters().plan_failures, 3);
   // The periodic re-plan (within 2 s) finds it, two retries 0.5 s apart confirm it.
   EXPECT_LE(ns_to_sec(nav.last_transition().stamp_ns - fell_ns), 2.0 + 2 * 0.5 + 0.1);
@@ -179,7 +179,7 @@ TEST(Navigator, ANewGoalReplacesTheOldAndCancelStops) {
   nav.set_goal(goal_at(1, {8, 4}));
   drive(&nav, world, &pose, &stamp, {}, [&] { return stamp >= sec_to_ns(1.0); });
   nav.set_goal(goal_at(2, {2, 4}, GoalKind::kHome));
-  EXPECT_EQ(nav.reason(), "goal 2 (home) at (2.00, 4.00) replaces goal 1 (operator) at (8.00, 4.00)");
+  EXPECT_EQ(nav.reason(), "goal 2 (home) at (2.00, 4.00) replaces goal 1 (explore) at (8.00, 4.00)");
   ASSERT_TRUE(nav.goal());
   EXPECT_EQ(nav.goal()->id, 2u);
   drive(&nav, world, &pose, &stamp, DriveOptions{});
@@ -190,7 +190,7 @@ TEST(Navigator, ANewGoalReplacesTheOldAndCancelStops) {
   nav.update(stamp, pose, ray_cast(world, pose, stamp));
   nav.cancel();
   EXPECT_EQ(nav.state(), NavState::kIdle);
-  EXPECT_EQ(nav.reason(), "cancelled goal 3 (operator) at (8.00, 4.00)");
+  EXPECT_EQ(nav.reason(), "cancelled goal 3 (explore) at (8.00, 4.00)");
   EXPECT_FALSE(nav.goal());
   const VelocityCommand c = nav.update(stamp, pose, ray_cast(world, pose, stamp));
   EXPECT_EQ(c.linear_mps, 0.0);

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "common/laser_scan.h"
+#include "common/navigation.h"  // VelocityCommand
 #include "common/se2.h"
-#include "robot_agent/core/navigation/velocity_command.h"
 
 namespace cairn::agent {
 
