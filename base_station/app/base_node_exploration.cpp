@@ -47,6 +47,7 @@ void BaseNode::plan_and_publish_goals() {
       robots_m[r.id] = trajectory.back().pose.translation();
     }
   }
+  if (robots_m.empty()) return;  // nothing placed to plan for (and an empty map has no frontier)
   std::vector<Eigen::Vector2d> victims_m;
   for (const GlobalObject& o : merged.objects) {
     if (o.class_name == "victim") victims_m.push_back(o.position_m.head<2>());
@@ -59,6 +60,8 @@ void BaseNode::plan_and_publish_goals() {
   planned_version_ = mapper_.version();
   replan_now_ = false;
   const bool was_home = goals_.sent_home();
+  CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 10.0, "exploration: {} frontiers, {} goals for {} placed robots",
+                        plan_.frontiers.size(), plan_.goals.size(), robots_m.size());
   for (const GoalOrder& order : goals_.assign(plan_, placements, now_ns)) {
     GoalMessage msg;
     msg.robot = order.robot;

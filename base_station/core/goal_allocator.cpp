@@ -43,7 +43,8 @@ std::vector<GoalOrder> GoalAllocator::assign(const ExplorationPlan& plan,
                      blacklisted_.end());
   const bool any_linked =
       std::any_of(placements.begin(), placements.end(), [](const auto& p) { return p.second.has_value(); });
-  // Nothing reachable left for any placed robot: the search is over, everyone placed goes home.
+  // No frontier left that a placed robot can reach: the search is over, everyone placed goes home.
+  // (Frontiers behind gaps no robot fits through cannot be explored by this team.)
   sent_home_ = any_linked && plan.goals.empty();
   std::vector<GoalOrder> changed;
   for (const auto& [robot, placement] : placements) {

@@ -4,8 +4,9 @@
 // unreachable or got stuck on is blacklisted for blacklist_s of mission time, so it is never sent
 // again at once (the failure explore_lite's users keep reporting: robots that spin at an unreachable
 // frontier for ever); a goal reached is blacklisted briefly, as its frontier may linger a moment.
-// Robots the base cannot place yet are told to explore their own maps (GoalKind::kOwn); when no
-// linked robot has a reachable frontier left, every linked robot is sent home.
+// Robots the base cannot place yet, or with no frontier left for them while others have one, are
+// told to explore their own maps (GoalKind::kOwn); when no linked robot can reach a frontier any
+// more, every linked robot is sent home. The caller plans only once it knows where a placed robot is.
 // Pure: plans and statuses in, orders out.
 #include <Eigen/Core>
 #include <map>

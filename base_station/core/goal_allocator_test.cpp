@@ -58,7 +58,11 @@ TEST(GoalAllocator, AFailedGoalIsBlacklistedForAWhileAndReplaced) {
 TEST(GoalAllocator, NoReachableFrontierSendsEveryPlacedRobotHomeOnce) {
   GoalAllocator g;
   const SE2 T_b(4.0, 0.0, 0.0);
-  g.assign(plan_with({{kA, {5, 0}}}), {{kA, SE2()}, {kB, T_b}}, at(1));
+  // A frontier for robot A only: B explores its own map meanwhile.
+  const auto first = g.assign(plan_with({{kA, {5, 0}}}), {{kA, SE2()}, {kB, T_b}}, at(1));
+  EXPECT_FALSE(g.sent_home());
+  ASSERT_EQ(first.size(), 2u);
+  EXPECT_EQ(first[1].kind, GoalKind::kOwn);
   const auto home = g.assign(ExplorationPlan{}, {{kA, SE2()}, {kB, T_b}, {kC, std::nullopt}}, at(9));
   EXPECT_TRUE(g.sent_home());
   ASSERT_EQ(home.size(), 3u);

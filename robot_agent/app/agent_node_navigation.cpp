@@ -8,6 +8,13 @@
 #include "robot_agent/app/agent_node.h"
 
 namespace cairn::agent {
+namespace {
+
+/// Decisions wait until the robot's own map holds this many scans: on an empty map every robot
+/// would find "no frontier left" and go home.
+constexpr int kScansBeforeDeciding = 5;
+
+}  // namespace
 
 void AgentNode::take_goal(const cairn_msgs::ExplorationGoal& m) {
   std::string error;
@@ -34,24 +41,29 @@ void AgentNode::drive(const AgentOutputs& outputs) {
       const auto f = nearest_own_frontier(navigator_.map().grid(), pose_.translation(), blacklist_m, own_options_);
       return f ? std::optional<Eigen::Vector2d>(f->goal_m) : std::nullopt;
     };
+    // Map and steer first, then decide: the decision sees this scan in the map and the goal's
+    // newest state; a new goal is driven from the next scan on (100 ms later at 10 Hz).
     const NavState before = navigator_.state();
-    if (const auto target = behaviour_.update(last_scan_ns_, before, own_frontier)) {
+    command = navigator_.update(last_scan_ns_, pose_, ps.scan);
+    if (navigator_.goal()) reported_state_ = navigator_.state();  // an ended goal's state stays until the next
+    if (navigator_.state() != before && navigator_.state() != NavState::kDriving) {
+      log_->info("goal {}: {}", to_string(navigator_.state()), navigator_.reason());
+    }
+    if (navigator_.map().scans_inserted() < kScansBeforeDeciding) continue;
+    if (const auto target = behaviour_.update(last_scan_ns_, navigator_.state(), own_frontier)) {
       navigator_.set_goal({target->goal_id, target->position_m, target->kind, 0.0});
       reported_goal_ = *target;
+      reported_state_ = NavState::kDriving;
       log_->info("{}: goal ({:.1f}, {:.1f}) m{} ({})", to_string(target->activity), target->position_m.x(),
                  target->position_m.y(), target->goal_id ? " from the base, id " + std::to_string(target->goal_id) : "",
                  behaviour_.reason());
     } else if (!behaviour_.target() && navigator_.goal()) {
       navigator_.cancel();
+      command = VelocityCommand{};
     }
     if (behaviour_.activity() != last_activity_) {
       if (behaviour_.done()) log_->info("mission over: {}", behaviour_.reason());
       last_activity_ = behaviour_.activity();
-    }
-    command = navigator_.update(last_scan_ns_, pose_, ps.scan);
-    if (navigator_.goal()) reported_state_ = navigator_.state();  // an ended goal's state stays until the next
-    if (navigator_.state() != before && navigator_.state() != NavState::kDriving) {
-      log_->info("goal {}: {}", to_string(navigator_.state()), navigator_.reason());
     }
     if (behaviour_.done()) command = VelocityCommand{};
   }
