@@ -266,6 +266,7 @@ int BaseNode::run() {
         next_plan = Clock::now() + plan_period;
       }
       refresh_snapshot();
+      record_coverage(mapper_.merged());
       next_optimize = Clock::now() + period;
     }
     if (all_finished()) break;

@@ -104,7 +104,7 @@ class BaseNode {
   ExplorationPlan plan_;                     ///< the newest exploration plan (console, goal topic, final export)
   GoalAllocator goals_;                      ///< each robot's order, the blacklist of failed goals
   std::map<RobotId, NavStatus> navigation_;  ///< each robot's newest navigation state
-  nlohmann::json coverage_series_ = nlohmann::json::array();  ///< [{t_s, free_m2, frontier_m, victims}]
+  nlohmann::json coverage_series_ = nlohmann::json::array();  ///< [{t_s, free_m2, known_m2, frontier_m, victims}]
   uint64_t planned_version_ = 0;                              ///< mapper_.version() plan_ was made for
   bool replan_now_ = false;                 ///< a robot's order ended: plan without waiting for the period
   std::vector<JournalRecord> unjournaled_;  ///< stored in the mapper, not yet in the journal: no ack

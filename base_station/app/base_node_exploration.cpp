@@ -56,7 +56,6 @@ void BaseNode::plan_and_publish_goals() {
   context.blacklist_m = goals_.blacklist_m(now_ns);
   context.current_goals_m = goals_.current_goals_m();
   plan_ = plan_exploration(*merged.grid, robots_m, victims_m, options_.exploration, context);
-  record_coverage(merged);
   planned_version_ = mapper_.version();
   replan_now_ = false;
   const bool was_home = goals_.sent_home();
@@ -95,6 +94,7 @@ void BaseNode::record_coverage(const MergedMap& merged) {
     coverage_series_.erase(coverage_series_.size() - 1);
   coverage_series_.push_back({{"t_s", t_s},
                               {"free_m2", free_cells * grid.resolution_m() * grid.resolution_m()},
+                              {"known_m2", grid.known_area_m2()},
                               {"frontier_m", frontier_m},
                               {"victims", victims}});
 }

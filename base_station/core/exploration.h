@@ -18,7 +18,7 @@ namespace cairn::base {
 struct ExplorationOptions {
   double free_below = 0.25;      ///< a known cell below this occupancy probability is free
   double occupied_above = 0.65;  ///< above it, a wall
-  int min_frontier_cells = 10;   ///< smaller pieces are noise (0.5 m of frontier at 5 cm cells)
+  int min_frontier_cells = 15;   ///< smaller pieces are noise (0.75 m of frontier at 5 cm cells)
   double clearance_m = 0.25;     ///< paths within this of a wall cost `near_wall_cost` times more
   double near_wall_cost = 4.0;
   double victim_radius_m = 6.0;  ///< frontier cells this close to a victim weigh 1 + victim_weight

@@ -3,7 +3,7 @@
 // plan; this keeps the orders, their ids and what the robots said of them). A goal a robot found
 // unreachable or got stuck on is blacklisted for blacklist_s of mission time, so it is never sent
 // again at once (the failure explore_lite's users keep reporting: robots that spin at an unreachable
-// frontier for ever); a goal reached is blacklisted briefly, as its frontier may linger a moment.
+// frontier for ever); so is a goal reached, as its frontier, if it is still there, cannot be resolved.
 // Robots the base cannot place yet, or with no frontier left for them while others have one, are
 // told to explore their own maps (GoalKind::kOwn); when no linked robot can reach a frontier any
 // more, every linked robot is sent home. The caller plans only once it knows where a placed robot is.
@@ -22,10 +22,12 @@
 namespace cairn::base {
 
 struct GoalAllocatorOptions {
-  double blacklist_s = 120.0;         ///< a failed goal is not sent again for this long
-  double reached_blacklist_s = 20.0;  ///< nor a reached one, briefly
-  double blacklist_radius_m = 1.0;    ///< frontier cells this close to a blacklisted goal are skipped
-  double same_goal_m = 1.0;           ///< a new plan's goal this close to the current one keeps its id
+  double blacklist_s = 300.0;  ///< a failed goal is not sent again for this long
+  /// Nor a reached one: a frontier still there once a robot stood on it is one the laser cannot
+  /// resolve (a gap in the rubble too small to see through), not worth another trip.
+  double reached_blacklist_s = 300.0;
+  double blacklist_radius_m = 1.0;  ///< frontier cells this close to a blacklisted goal are skipped
+  double same_goal_m = 1.0;         ///< a new plan's goal this close to the current one keeps its id
 };
 
 /// What a robot's newest status says of its navigation.

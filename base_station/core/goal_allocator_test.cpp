@@ -52,7 +52,8 @@ TEST(GoalAllocator, AFailedGoalIsBlacklistedForAWhileAndReplaced) {
   const auto next = g.assign(plan_with({{kA, {0, 6}}}), {{kA, SE2()}}, at(3));
   ASSERT_EQ(next.size(), 1u);
   EXPECT_GT(next[0].goal_id, first[0].goal_id);
-  EXPECT_TRUE(g.blacklist_m(at(200)).empty()) << "the blacklist expires";
+  EXPECT_FALSE(g.blacklist_m(at(200)).empty());
+  EXPECT_TRUE(g.blacklist_m(at(400)).empty()) << "the blacklist expires";
 }
 
 TEST(GoalAllocator, NoReachableFrontierSendsEveryPlacedRobotHomeOnce) {

@@ -10,7 +10,7 @@
 namespace cairn::eval {
 namespace {
 
-constexpr uint8_t kFreePixel = 254;  // OccupancyGrid::to_image
+constexpr uint8_t kUnknownPixel = 205;  // OccupancyGrid::to_image
 
 /// Next header token of a PGM, skipping whitespace and '#' comments.
 std::string token(std::istream& in) {
@@ -84,7 +84,7 @@ std::optional<CoverageScore> evaluate_coverage(const std::string& ground_truth_d
       if (truth.pixels[size_t(truth.height - 1 - r) * size_t(truth.width) + size_t(c)] == 0) continue;
       s.reachable_m2 += cell_m2;
       const auto seen = map.at(truth.centre_m(c, r));
-      if (seen && *seen == kFreePixel) s.covered_m2 += cell_m2;
+      if (seen && *seen != kUnknownPixel) s.covered_m2 += cell_m2;
     }
   }
   return s;

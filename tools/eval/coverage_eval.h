@@ -1,7 +1,9 @@
 #pragma once
 // Exploration coverage scored against the truth: the share of the explorable area (the
-// simulator's gt_reachable.pgm: free cells connected to the robots' starts) that the base's final
-// merged map (map.pgm, map_server format, global frame = world frame) shows as known free.
+// simulator's gt_reachable.pgm, sim/reachable_area.h) that the base's final merged map (map.pgm,
+// map_server format, global frame = world frame) has observed, free or occupied. (Counting only
+// cells it calls free would miss the one-cell band along every wall that a 5 cm map draws
+// thicker than the truth: 3 % of a rubble-strewn floor.)
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
@@ -27,7 +29,7 @@ MapImage read_map_image(const std::string& yaml_path);
 
 struct CoverageScore {
   double reachable_m2 = 0;  ///< the explorable area
-  double covered_m2 = 0;    ///< of it, known free on the final map
+  double covered_m2 = 0;    ///< of it, observed on the final map
   double fraction() const { return reachable_m2 > 0 ? covered_m2 / reachable_m2 : 0.0; }
 };
 

@@ -28,7 +28,7 @@ void write_truth(const fs::path& dir) {
   std::ofstream(dir / "gt_reachable.yaml") << "image: gt_reachable.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n";
 }
 
-TEST(CoverageEval, TheShareOfTheExplorableAreaKnownFreeOnTheMap) {
+TEST(CoverageEval, TheShareOfTheExplorableAreaObservedOnTheMap) {
   const fs::path gt = fresh_dir("gt"), map = fresh_dir("map");
   write_truth(gt);
   // The map saw the left half (x < 2 m) as free: a fan of beams from (1, 1) ending beyond it.

@@ -7,22 +7,24 @@
 
 namespace cairn::mission {
 
-ExplorationFigures exploration_figures(const nlohmann::json& series, double reachable_m2, int victims, double end_s) {
+ExplorationFigures exploration_figures(const nlohmann::json& series, double final_coverage, int victims, double end_s) {
   ExplorationFigures f;
-  if (!(reachable_m2 > 0) || !series.is_array()) return f;
+  if (!series.is_array() || series.empty()) return f;
+  const double known_end_m2 = series.back().value("known_m2", 0.0);
+  if (!(known_end_m2 > 0)) return f;
   size_t next = 0;
-  double free_m2 = 0;
+  double known_m2 = 0;
   int found = 0;
   const int seconds = int(std::ceil(std::max(0.0, end_s)));
   for (int t = 0; t <= seconds; ++t) {
     // The newest sample at or before t (the base samples when it plans, about every 2 s).
     while (next < series.size() && series[next].value("t_s", 0.0) <= t) {
-      free_m2 = series[next].value("free_m2", 0.0);
+      known_m2 = series[next].value("known_m2", 0.0);
       found = series[next].value("victims", 0);
       ++next;
     }
-    const double coverage = std::min(1.0, free_m2 / reachable_m2);
-    f.per_second.push_back({{"t_s", t}, {"free_m2", free_m2}, {"coverage", coverage}, {"victims", found}});
+    const double coverage = std::min(1.0, known_m2 / known_end_m2) * final_coverage;
+    f.per_second.push_back({{"t_s", t}, {"known_m2", known_m2}, {"coverage", coverage}, {"victims", found}});
     if (!f.t50_s && coverage >= 0.5) f.t50_s = t;
     if (!f.t90_s && coverage >= 0.9) f.t90_s = t;
     if (!f.t99_s && coverage >= 0.99) f.t99_s = t;

@@ -166,7 +166,7 @@ int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr
     int victims = 0;
     for (const auto& c : score.classes) victims += c.class_name == "victim" ? c.ground_truth : 0;
     const ExplorationFigures f = exploration_figures(summary.value("coverage_series", json::array()),
-                                                     score.coverage->reachable_m2, victims, sim_s);
+                                                     score.coverage->fraction(), victims, sim_s);
     auto at = [](const std::optional<double>& t) { return t ? json(*t) : json(); };
     auto text = [](const std::optional<double>& t) {
       return t ? std::to_string(int(*t)) + " s" : std::string("never");
