@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/trajectory.h"
 #include "common/yaml_config.h"
 #include "dds/domain_lease.h"
 #include "run_command.h"
@@ -130,7 +131,7 @@ TEST(MissionIntegration, TwoRobotsOverSecureDdsMatchGroundTruth) {
   // The base plans where to search next and sends each linked robot its goal (cairn/goal).
   std::ifstream agent0(out / "logs" / "agent0.log");
   const std::string agent0_log((std::istreambuf_iterator<char>(agent0)), std::istreambuf_iterator<char>());
-  EXPECT_NE(agent0_log.find("exploration goal from the base"), std::string::npos) << agent0_log;
+  EXPECT_NE(agent0_log.find(" from the base, id "), std::string::npos) << agent0_log;
   std::ifstream summary_in(out / "map" / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(summary_in);
   EXPECT_GE(summary["exploration"]["goals"].size(), 1u) << summary["exploration"].dump();
@@ -170,9 +171,10 @@ TEST(MissionIntegration, DemoFloorMergesEveryRobotAndEveryObjectOnceAndSurvivesA
   EXPECT_EQ(r.output.find("NOT LINKED"), std::string::npos) << r.output;
   const eval::MissionScore score = eval::evaluate_mission((out / "ground_truth").string(), (out / "map").string());
   ASSERT_EQ(score.robots.size(), 4u);
-  // Measured 0.086-0.102 m RMSE, max 0.17 m since the agents' loop-closed keyframe poses reach the
-  // base (0.14-0.19 m, max 0.30 m before).
-  expect_every_robot_placed(score, 0.15, 0.30);
+  // The robots explore by themselves. Measured 0.025-0.17 m RMSE, max 0.28 m over runs: nearly all
+  // of it is the whole map turned 0.06-0.45 deg about robot 0's start (the anchor: its first turns
+  // in place leave that much heading error in its own SLAM); the map in itself is 0.011-0.015 m.
+  expect_every_robot_placed(score, 0.20, 0.35);
   // Most of that is the whole map turned ~0.18 deg about robot 0's start (the anchor); in itself,
   // every robot aligned to the truth by one rigid transform, the merged map measured 0.017 m.
   ASSERT_TRUE(score.map_consistency);
@@ -212,12 +214,45 @@ TEST(MissionIntegration, DemoFloorMergesEveryRobotAndEveryObjectOnceAndSurvivesA
   ASSERT_EQ(b.exit_code, 0) << b.output;
   const eval::MissionScore restored = eval::evaluate_mission((out / "ground_truth").string(), again.string());
   ASSERT_EQ(restored.robots.size(), 4u);
-  expect_every_robot_placed(restored, 0.15, 0.30);  // measured 0.095-0.111 m (solved in one batch)
+  expect_every_robot_placed(restored, 0.20, 0.35);  // measured 0.097-0.122 m (solved in one batch)
   ASSERT_TRUE(restored.map_consistency);
   EXPECT_LT(restored.map_consistency->ate_rmse_m, 0.05) << eval::format_score(restored);
   EXPECT_EQ(restored.objects.matched, score.objects.matched) << eval::format_score(restored);
   EXPECT_EQ(restored.objects.detected, score.objects.detected) << eval::format_score(restored);
   EXPECT_DOUBLE_EQ(restored.objects.precision(), 1.0) << eval::format_score(restored);
+}
+
+TEST(MissionIntegration, TwoRobotsExploreTheOfficeByThemselvesFindEverythingAndComeHome) {
+  // No route anywhere: the base plans, the agents navigate, the simulator obeys their cmd_vel in
+  // lock-step. Both robots must cover the floor, find every object and end the mission at home.
+  const std::string world = "tests/worlds/two_robots_explore.yaml";
+  const MissionRun run = run_mission(world, "explore", "--timeout 600");
+  const fs::path& out = run.out;
+  const CommandResult& r = run.result;
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const eval::MissionScore score = eval::evaluate_mission((out / "ground_truth").string(), (out / "map").string());
+  ASSERT_EQ(score.robots.size(), 2u);
+  expect_every_robot_placed(score, 0.20, 0.35);
+  ASSERT_TRUE(score.coverage);
+  EXPECT_GE(score.coverage->fraction(), 0.95) << eval::format_score(score);
+  EXPECT_EQ(score.objects.ground_truth, 7);
+  EXPECT_DOUBLE_EQ(score.objects.recall(), 1.0) << eval::format_score(score);
+  EXPECT_DOUBLE_EQ(score.objects.precision(), 1.0) << eval::format_score(score);
+  // Home: the mission ended before the world's 400 s limit because both robots said so, each
+  // back within a metre of where it entered.
+  std::ifstream results_in(out / "results.json");
+  const nlohmann::json results = nlohmann::json::parse(results_in, nullptr, false);
+  ASSERT_FALSE(results.is_discarded());
+  EXPECT_LT(results["simulated_s"].get<double>(), 399.0) << r.output;
+  EXPECT_TRUE(results["exploration"]["sent_home"].get<bool>());
+  for (int id : {0, 1}) {
+    const Trajectory truth =
+        read_trajectory_csv((out / "ground_truth" / ("gt_robot" + std::to_string(id) + ".csv")).string());
+    ASSERT_FALSE(truth.empty());
+    EXPECT_LT((truth.back().pose.translation() - truth.front().pose.translation()).norm(), 1.0) << "robot " << id;
+  }
+  EXPECT_NE(r.output.find("exploration: 50 % covered at"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(out / "coverage.png"));
 }
 
 TEST(MissionIntegration, LossyRateLimitedRadioLinkLosesNothing) {

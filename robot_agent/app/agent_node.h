@@ -14,6 +14,7 @@
 #include "dds/endpoints.h"
 #include "robot_agent/app/log_source.h"
 #include "robot_agent/core/agent_pipeline.h"
+#include "robot_agent/core/navigation/breadcrumbs.h"
 #include "robot_agent/core/navigation/mission_behaviour.h"
 #include "robot_agent/core/navigation/navigator.h"
 #include "robot_agent/core/navigation/own_exploration.h"
@@ -91,6 +92,7 @@ class AgentNode {
   Navigator navigator_;
   MissionBehaviour behaviour_;
   OwnExplorationOptions own_options_;
+  Breadcrumbs breadcrumbs_;  ///< the way back home if its own map shows none
   std::unique_ptr<dds::Writer<dds::CmdVelTopic>> cmd_out_;
   SE2 pose_;                  ///< newest processed scan's pose, local frame
   StampNs last_scan_ns_ = 0;  ///< its stamp: the agent's mission time

@@ -37,6 +37,7 @@ void AgentNode::drive(const AgentOutputs& outputs) {
     if (last_scan_ns_ >= 0) distance_m_ += (ps.T_local_base.translation() - pose_.translation()).norm();
     pose_ = ps.T_local_base;
     last_scan_ns_ = ps.scan.stamp_ns;
+    breadcrumbs_.add(pose_.translation());
     const OwnFrontierSearch own_frontier = [&](const std::vector<Eigen::Vector2d>& blacklist_m) {
       const auto f = nearest_own_frontier(navigator_.map().grid(), pose_.translation(), blacklist_m, own_options_);
       return f ? std::optional<Eigen::Vector2d>(f->goal_m) : std::nullopt;
@@ -51,7 +52,11 @@ void AgentNode::drive(const AgentOutputs& outputs) {
     }
     if (navigator_.map().scans_inserted() < kScansBeforeDeciding) continue;
     if (const auto target = behaviour_.update(last_scan_ns_, navigator_.state(), own_frontier)) {
-      navigator_.set_goal({target->goal_id, target->position_m, target->kind, 0.0});
+      NavGoal goal{target->goal_id, target->position_m, target->kind, target->tolerance_m, {}};
+      const bool going_back =
+          target->activity == RobotActivity::kGoingHome || target->activity == RobotActivity::kReturningToContact;
+      if (going_back) goal.fallback_path_m = breadcrumbs_.way(pose_.translation(), target->position_m);
+      navigator_.set_goal(goal);
       reported_goal_ = *target;
       reported_state_ = NavState::kDriving;
       log_->info("{}: goal ({:.1f}, {:.1f}) m{} ({})", to_string(target->activity), target->position_m.x(),

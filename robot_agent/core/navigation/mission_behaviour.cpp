@@ -57,7 +57,10 @@ std::optional<DriveTarget> MissionBehaviour::update(StampNs now_ns, NavState nav
           reason_ = nav == NavState::kReached ? "home" : "gave up reaching home";
           return std::nullopt;
         }
-        return set(done, "home not reached yet: trying again");
+        home_retry_ = done;
+        home_retry_at_ns_ = now_ns + sec_to_ns(options_.home_retry_s);
+        reason_ = "home not reached yet: trying again soon";
+        return std::nullopt;
       default:
         break;
     }
@@ -71,11 +74,21 @@ std::optional<DriveTarget> MissionBehaviour::choose(StampNs now_ns, const OwnFro
     base_goal_pending_ = false;
     idle_activity_ = RobotActivity::kWaiting;  // a new goal revives a robot that was home
     home_attempts_ = 0;
+    home_retry_.reset();
     DriveTarget t{base_goal_.goal_id, base_goal_.kind, RobotActivity::kExploring, base_goal_.position_m};
-    if (base_goal_.kind == GoalKind::kHome) t.activity = RobotActivity::kGoingHome;
+    if (base_goal_.kind == GoalKind::kHome) {
+      t.activity = RobotActivity::kGoingHome;
+      t.tolerance_m = options_.home_tolerance_m;
+    }
     return set(t, base_goal_.kind == GoalKind::kHome ? "the base sends it home" : "the base's goal");
   }
   if (idle_activity_ == RobotActivity::kHome) return std::nullopt;  // its mission is over
+  if (home_retry_) {
+    if (now_ns < home_retry_at_ns_) return std::nullopt;  // waits, then tries home again
+    const DriveTarget retry = *home_retry_;
+    home_retry_.reset();
+    return set(retry, "trying home again");
+  }
   const bool lost = last_contact_ns_ >= 0 && ns_to_sec(now_ns - last_contact_ns_) > options_.return_after_s;
   if (lost) {
     if (waiting_at_contact_point_) return std::nullopt;
@@ -93,7 +106,7 @@ std::optional<DriveTarget> MissionBehaviour::choose(StampNs now_ns, const OwnFro
     return set({0, GoalKind::kOwn, RobotActivity::kOwnExploration, *frontier},
                in_contact ? "nearest frontier of its own map" : "out of contact: nearest frontier of its own map");
   }
-  return set({0, GoalKind::kOwn, RobotActivity::kGoingHome, Eigen::Vector2d::Zero()},
+  return set({0, GoalKind::kOwn, RobotActivity::kGoingHome, Eigen::Vector2d::Zero(), options_.home_tolerance_m},
              "no frontier left on its own map: home");
 }
 

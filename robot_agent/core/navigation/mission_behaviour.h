@@ -28,6 +28,8 @@ struct MissionBehaviourOptions {
   double autonomy_after_s = 15.0;  ///< no word from the base this long: explore on its own
   double return_after_s = 90.0;    ///< no word this long: go back to where it last heard the base
   int max_home_attempts = 3;
+  double home_retry_s = 5.0;      ///< a failed drive home is tried again after this (the map may have cleared)
+  double home_tolerance_m = 1.0;  ///< home is where it entered, give or take this
 };
 
 /// A goal for the navigator, in the robot's own frame.
@@ -36,6 +38,7 @@ struct DriveTarget {
   GoalKind kind = GoalKind::kOwn;
   RobotActivity activity = RobotActivity::kWaiting;
   Eigen::Vector2d position_m{0, 0};
+  double tolerance_m = 0;  ///< 0: the navigator's default
 };
 
 /// A goal from the base, already in this robot's frame.
@@ -85,6 +88,8 @@ class MissionBehaviour {
   RobotActivity idle_activity_ = RobotActivity::kWaiting;
   std::vector<Eigen::Vector2d> own_blacklist_m_;
   int home_attempts_ = 0;
+  std::optional<DriveTarget> home_retry_;  ///< a failed drive home, tried again at home_retry_at_ns_
+  StampNs home_retry_at_ns_ = 0;
   bool waiting_at_contact_point_ = false;
   std::string reason_;
 };

@@ -104,11 +104,15 @@ TEST(MissionBehaviour, HomeFromTheBaseIsRetriedThenGivenUp) {
   auto t = b.update(at(0), NavState::kIdle, frontiers({}));
   ASSERT_TRUE(t);
   EXPECT_EQ(t->activity, RobotActivity::kGoingHome);
+  EXPECT_DOUBLE_EQ(t->tolerance_m, 1.0);
   b.on_contact(at(5), kHere);
-  t = b.update(at(5), NavState::kStuck, frontiers({}));
-  ASSERT_TRUE(t) << "one failure: it tries again";
+  EXPECT_FALSE(b.update(at(5), NavState::kStuck, frontiers({}))) << "one failure: it waits...";
+  EXPECT_FALSE(b.update(at(7), NavState::kIdle, frontiers({})));
+  t = b.update(at(10.5), NavState::kIdle, frontiers({}));
+  ASSERT_TRUE(t) << "...then tries again";
   EXPECT_EQ(t->activity, RobotActivity::kGoingHome);
-  EXPECT_FALSE(b.update(at(10), NavState::kStuck, frontiers({})));
+  EXPECT_FALSE(b.done());
+  EXPECT_FALSE(b.update(at(12), NavState::kStuck, frontiers({})));
   EXPECT_TRUE(b.done());
   EXPECT_EQ(b.reason(), "gave up reaching home");
 }

@@ -65,7 +65,7 @@ void Navigator::set_goal(const NavGoal& goal) {
                                  : describe(goal);
   goal_ = goal;
   ++counters_.goals;
-  planned_once_ = have_path_ = blocked_ = false;
+  planned_once_ = have_path_ = blocked_ = on_fallback_ = false;
   follower_.clear();
   last_plan_ = PlannedPath{};
   tracker_.start(reason);
@@ -74,7 +74,7 @@ void Navigator::set_goal(const NavGoal& goal) {
 void Navigator::cancel() {
   if (goal_) tracker_.cancel("cancelled " + describe(*goal_));
   goal_.reset();
-  have_path_ = blocked_ = false;
+  have_path_ = blocked_ = on_fallback_ = false;
   follower_.clear();
 }
 
@@ -87,6 +87,19 @@ bool Navigator::replan(StampNs stamp_ns, const Eigen::Vector2d& position_m) {
   planned_once_ = true;
   last_plan_ns_ = stamp_ns;
   have_path_ = last_plan_.ok();
+  if (!have_path_ && !goal_->fallback_path_m.empty()) {
+    // No way on the map: the fallback (the robot's own steps), kept, not restarted, at each failed
+    // re-plan; the laser's safety stop still guards it, and the stuck timer still ends it.
+    if (!on_fallback_) {
+      follower_.set_path(goal_->fallback_path_m);
+      ++counters_.fallbacks;
+      on_fallback_ = true;
+    }
+    have_path_ = true;
+    tracker_.plan_succeeded();
+    return true;
+  }
+  on_fallback_ = false;
   if (!have_path_) {
     ++counters_.plan_failures;
     follower_.clear();

@@ -25,9 +25,12 @@ namespace cairn::agent {
 
 struct NavGoal {
   uint32_t id = 0;
-  Eigen::Vector2d position_m{0, 0};  ///< in the robot's local frame
+  Eigen::Vector2d position_m{0, 0};    ///< in the robot's local frame
   GoalKind kind = GoalKind::kExplore;  ///< who asked for it (driven alike; for the log)
-  double tolerance_m = 0;  ///< reached within this; <= 0: NavigatorOptions::goal_tolerance_m
+  double tolerance_m = 0;              ///< reached within this; <= 0: NavigatorOptions::goal_tolerance_m
+  /// Followed when the map shows no path (Breadcrumbs::way, the robot's own steps back), from the
+  /// robot's position to the goal; empty: none.
+  std::vector<Eigen::Vector2d> fallback_path_m;
 };
 
 struct NavigatorOptions {
@@ -60,6 +63,7 @@ struct NavCounters {
   int replans = 0;        ///< plans after a goal's first
   int plan_failures = 0;  ///< plans that found no path
   int blocked_stops = 0;  ///< times an obstacle ahead stopped the robot (each stop once)
+  int fallbacks = 0;      ///< goals driven along their fallback path (the map showed no way)
 };
 
 class Navigator {
@@ -104,6 +108,7 @@ class Navigator {
   bool planned_once_ = false;  ///< a plan was made for the current goal
   bool have_path_ = false;     ///< the last plan succeeded
   bool blocked_ = false;       ///< the last update stopped for an obstacle ahead
+  bool on_fallback_ = false;   ///< following the goal's fallback path
   StampNs last_plan_ns_ = 0;
 };
 

@@ -214,3 +214,43 @@ TEST(Navigator, AGoalInsideAWallIsReachedAsNearAsTheFreeSpaceAllows) {
 
 }  // namespace
 }  // namespace cairn::agent
+
+namespace cairn::agent {
+namespace {
+
+// A corridor 1.5 m wide from x = 0 to 16 m; "ghost" adds a wall across it at x = 7 m (the map of a
+// robot whose scans were mapped at drifting poses can close a doorway like that).
+std::vector<Segment> corridor(bool ghost) {
+  std::vector<Segment> world;
+  testing::add_box(&world, 0, -0.75, 16, 0.75);
+  if (ghost) testing::add_box(&world, 7, -0.75, 7.05, 0.75);
+  return world;
+}
+
+TEST(Navigator, WhenItsMapShowsNoWayItFollowsItsFallbackPathOnlyIfItHasOne) {
+  for (const bool with_fallback : {false, true}) {
+    NavigatorOptions known_only;  // paths through known free space only: the ghost wall blocks
+    known_only.unknown_cost = 0;
+    Navigator nav(known_only);
+    SE2 pose(1, 0, 0);
+    StampNs stamp = 0;
+    for (int i = 0; i < 5; ++i) nav.update(stamp += sec_to_ns(0.1), pose, ray_cast(corridor(true), pose, stamp));
+    NavGoal goal = goal_at(4, {12, 0}, GoalKind::kHome);
+    if (with_fallback) goal.fallback_path_m = {{1, 0}, {6, 0}, {12, 0}};
+    nav.set_goal(goal);
+    DriveOptions o;
+    o.max_s = 40;
+    drive(&nav, corridor(false), &pose, &stamp, o);  // the real corridor is open
+    if (!with_fallback) {
+      EXPECT_EQ(nav.state(), NavState::kUnreachable) << nav.reason();
+      EXPECT_LT(pose.x(), 1.5);
+      continue;
+    }
+    EXPECT_EQ(nav.state(), NavState::kReached) << nav.reason();
+    EXPECT_LT((pose.translation() - Eigen::Vector2d(12, 0)).norm(), 0.4);
+    EXPECT_EQ(nav.counters().fallbacks, 1);
+  }
+}
+
+}  // namespace
+}  // namespace cairn::agent
