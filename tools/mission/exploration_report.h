@@ -22,8 +22,15 @@ struct ExplorationFigures {
 /// as free now and then, so coverage is capped at 1.
 ExplorationFigures exploration_figures(const nlohmann::json& series, double reachable_m2, int victims, double end_s);
 
-/// Draws coverage (%) and victims found against mission time into a PNG; false on I/O failure.
-bool write_coverage_plot(const ExplorationFigures& figures, int victims, const std::string& title,
+/// One mission's curve on a plot (a strategy, when benchmarked).
+struct CoverageLine {
+  std::string label;
+  nlohmann::json per_second;  ///< ExplorationFigures::per_second
+};
+
+/// Draws coverage (%, solid) and victims found (thin steps, right axis) against mission time, one
+/// colour per line, into a PNG; false on I/O failure.
+bool write_coverage_plot(const std::vector<CoverageLine>& lines, int victims, const std::string& title,
                          const std::string& path);
 
 }  // namespace cairn::mission

@@ -30,9 +30,9 @@ TEST(ExplorationReport, CoveragePerSecondTimesToThresholdsAndVictims) {
   EXPECT_FALSE(none.all_victims_s);
   const std::string png = (std::filesystem::temp_directory_path() / "cairn_coverage_plot.png").string();
   std::filesystem::remove(png);
-  ASSERT_TRUE(write_coverage_plot(f, 2, "test", png));
+  ASSERT_TRUE(write_coverage_plot({{"coordinated", f.per_second}, {"nearest", none.per_second}}, 2, "test", png));
   EXPECT_GT(std::filesystem::file_size(png), 2000u);
-  EXPECT_FALSE(write_coverage_plot(f, 2, "test", "/nonexistent-dir/x.png"));
+  EXPECT_FALSE(write_coverage_plot({{"x", f.per_second}}, 2, "test", "/nonexistent-dir/x.png"));
 }
 
 }  // namespace

@@ -34,6 +34,7 @@ struct Options {
   std::string world;
   std::string routes;  ///< scripted routes instead of autonomous exploration
   std::string exploration = "coordinated";
+  int64_t seed = -1;  ///< the world's own when negative
   std::string out;
   double speed = 0.0;
   bool serve = false;
@@ -61,6 +62,7 @@ int main(int argc, char** argv) {
   app.add_option("--exploration", opt.exploration,
                  "coordinated: the base spreads the robots over the frontiers; nearest: each robot its own nearest")
       ->check(CLI::IsMember({"coordinated", "nearest"}));
+  app.add_option("--seed", opt.seed, "override the world's random seed (sensor noise)");
   app.add_option("--out", opt.out, "output folder (default out/<world name>)");
   app.add_option("--speed", opt.speed, "simulator speed, times real time (0 = as fast as possible)");
   app.add_flag("--serve", opt.serve, "keep the console up after the mission (Ctrl-C to stop)");

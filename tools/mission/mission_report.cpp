@@ -11,6 +11,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
@@ -172,17 +173,32 @@ int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr
       return t ? std::to_string(int(*t)) + " s" : std::string("never");
     };
     const json exploration = summary.value("exploration", json::object());
+    // What the simulator saw the robots do (gt_motion.csv: id, distance_m, collisions).
+    double driven_m = 0;
+    int collisions = 0;
+    std::ifstream motion(out / "ground_truth" / "gt_motion.csv");
+    std::string line;
+    std::getline(motion, line);  // header
+    while (std::getline(motion, line)) {
+      int id = 0, hits = 0;
+      double d = 0;
+      if (std::sscanf(line.c_str(), "%d,%lf,%d", &id, &d, &hits) == 3) driven_m += d, collisions += hits;
+    }
     results["exploration"] = {{"coverage_per_second", f.per_second},
                               {"t50_s", at(f.t50_s)},
                               {"t90_s", at(f.t90_s)},
                               {"t99_s", at(f.t99_s)},
                               {"all_victims_s", at(f.all_victims_s)},
                               {"goals_blacklisted", exploration.value("goals_blacklisted", 0)},
+                              {"distance_driven_m", driven_m},
+                              {"collisions", collisions},
                               {"sent_home", exploration.value("sent_home", false)}};
     s << "exploration: 50 % covered at " << text(f.t50_s) << ", 90 % at " << text(f.t90_s) << ", 99 % at "
       << text(f.t99_s) << "; every victim on the map at " << text(f.all_victims_s) << "; "
-      << exploration.value("goals_blacklisted", 0) << " goal(s) blacklisted (coverage.png)\n";
-    if (!write_coverage_plot(f, victims, "Mission " + out.filename().string(), (out / "coverage.png").string())) {
+      << exploration.value("goals_blacklisted", 0) << " goal(s) blacklisted; " << int(driven_m) << " m driven, "
+      << collisions << " collision(s) (coverage.png)\n";
+    if (!write_coverage_plot({{"this mission", f.per_second}}, victims, "Mission " + out.filename().string(),
+                             (out / "coverage.png").string())) {
       s << "!! could not write " << (out / "coverage.png").string() << "\n";
     }
   }
