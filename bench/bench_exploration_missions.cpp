@@ -68,8 +68,8 @@ int main(int argc, char** argv) {
   const fs::path bin = fs::canonical("/proc/self/exe").parent_path();
   const fs::path source(CAIRN_SOURCE_DIR);
 
-  std::cout << "world        strategy     runs  t50_s  t90_s  t99_s  victims_s  driven_m  collisions  blacklisted"
-               "  coverage  worst_rmse_m  objects  precision\n";
+  std::cout << "world        strategy     runs  t50_s     t90_s     t99_s     victims_s  driven_m  collisions  "
+               "blacklisted  coverage  worst_rmse_m  objects  precision\n";
   int failures = 0;
   for (const std::string& world : split(worlds)) {
     std::vector<cairn::mission::CoverageLine> plot;
@@ -123,11 +123,11 @@ int main(int argc, char** argv) {
         }
       }
       std::cout << std::left << std::setw(13) << world << std::setw(13) << strategy << std::setw(6) << runs
-                << std::setw(7) << m["t50"].text() << std::setw(7) << m["t90"].text() << std::setw(7) << m["t99"].text()
-                << std::setw(11) << m["victims"].text() << std::setw(10) << m["driven"].text() << std::setw(12)
-                << m["collisions"].text(1) << std::setw(13) << m["blacklisted"].text(1) << std::setw(10)
-                << m["coverage"].text(3) << std::setw(14) << m["rmse"].text(3) << std::setw(9) << m["objects"].text(2)
-                << m["precision"].text(2) << std::endl;
+                << std::setw(10) << m["t50"].text() << std::setw(10) << m["t90"].text() << std::setw(10)
+                << m["t99"].text() << std::setw(11) << m["victims"].text() << std::setw(10) << m["driven"].text()
+                << std::setw(12) << m["collisions"].text(1) << std::setw(13) << m["blacklisted"].text(1)
+                << std::setw(10) << m["coverage"].text(3) << std::setw(14) << m["rmse"].text(3) << std::setw(9)
+                << m["objects"].text(2) << m["precision"].text(2) << std::endl;
     }
     const fs::path png = fs::path(out_dir) / ("coverage_" + world + ".png");
     if (!plot.empty() && !cairn::mission::write_coverage_plot(plot, victims, world, png.string())) {
