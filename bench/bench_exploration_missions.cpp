@@ -7,6 +7,7 @@
 // robot its own nearest frontier: explore_lite's behaviour), coordinated (the base's allocation).
 //   build/bin/bench_exploration_missions [--worlds office,collapsed] [--seeds 1,2,3]
 //                                        [--strategies scripted,nearest,coordinated] [--out DIR]
+//                                        [--report-only]   (the table again from the missions in DIR)
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -64,6 +65,8 @@ int main(int argc, char** argv) {
   app.add_option("--seeds", seeds, "simulator seeds, comma separated");
   app.add_option("--strategies", strategies, "scripted, nearest, coordinated");
   app.add_option("--out", out_dir, "where the missions and plots go");
+  bool report_only = false;
+  app.add_flag("--report-only", report_only, "print the table and plots from the missions already in --out");
   CLI11_PARSE(app, argc, argv);
   const fs::path bin = fs::canonical("/proc/self/exe").parent_path();
   const fs::path source(CAIRN_SOURCE_DIR);
@@ -81,13 +84,15 @@ int main(int argc, char** argv) {
       int runs = 0;
       for (const std::string& seed : split(seeds)) {
         const fs::path out = fs::path(out_dir) / world / (strategy + "_seed" + seed);
-        fs::remove_all(out);
-        fs::create_directories(out);
+        if (!report_only) {
+          fs::remove_all(out);
+          fs::create_directories(out);
+        }
         std::string cmd = (bin / "cairn_mission").string() + " --world " +
                           (source / "worlds" / (world + ".yaml")).string() + " --seed " + seed +
                           " --port 0 --timeout 3000 --out " + out.string();
         cmd += strategy == "scripted" ? " --routes " + routes.string() : " --exploration " + strategy;
-        if (std::system((cmd + " > " + (out / "mission.log").string() + " 2>&1").c_str()) != 0) {
+        if (!report_only && std::system((cmd + " > " + (out / "mission.log").string() + " 2>&1").c_str()) != 0) {
           std::cerr << world << " " << strategy << " seed " << seed << ": mission failed, see " << (out / "mission.log")
                     << "\n";
           ++failures;
