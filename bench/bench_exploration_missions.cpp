@@ -115,9 +115,12 @@ int main(int argc, char** argv) {
         m["blacklisted"].add(e.value("goals_blacklisted", json()));
         m["coverage"].add(ev.value("coverage", json::object()).value("fraction", json()));
         double worst = 0;
-        for (const json& robot : ev.value("robots", json::array()))
-          worst = std::max(worst, robot.value("ate_global_rmse_m", 9.9));
-        m["rmse"].add(worst);
+        bool all_placed = true;
+        for (const json& robot : ev.value("robots", json::array())) {
+          all_placed = all_placed && robot.contains("ate_global_rmse_m");
+          worst = std::max(worst, robot.value("ate_global_rmse_m", 0.0));
+        }
+        m["rmse"].add(all_placed ? json(worst) : json());  // "never": a robot was never placed
         m["objects"].add(ev.value("objects", json::object()).value("recall", json()));
         m["precision"].add(ev.value("objects", json::object()).value("precision", json()));
         for (const json& c : ev.value("classes", json::array())) {
