@@ -37,7 +37,11 @@ DataWriterQos writer_qos(TopicKind kind, const QosOptions& options) {
     case TopicKind::kSensor:
       reliable_common(q);
       q.history().kind = KEEP_ALL_HISTORY_QOS;
-      set_limits(q, 4, 2000);
+      // Volatile keep-all: acknowledged samples are dropped only when the history is full, so the
+      // limit is the memory a driver holds (RGB-D frames are 384 KB: 2000 of them were 768 MB per
+      // robot); 200 is 20 s of laser and 100 s of RGB-D an agent may lag behind, and a write into a
+      // history full of unacknowledged samples blocks (max_blocking_time), it never drops one.
+      set_limits(q, 4, 200);
       q.publish_mode().kind = ASYNCHRONOUS_PUBLISH_MODE;
       break;
     case TopicKind::kClock:
