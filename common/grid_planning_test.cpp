@@ -7,32 +7,15 @@
 
 #include <cmath>
 
+#include "common/grid_drawing_test_util.h"
+
 namespace cairn {
 namespace {
 
 constexpr double kRes = 0.1;
 
-/// A 10 m x 6 m grid, all unknown; paints free space and walls in metres.
-struct Drawing {
-  OccupancyGrid grid;
-  Drawing() : grid(options(), {0, 0}, {10, 6}) {}
-  static OccupancyGridOptions options() {
-    OccupancyGridOptions o;
-    o.resolution_m = kRes;
-    return o;
-  }
-  void paint(double x0, double y0, double x1, double y1, float log_odds) {
-    for (int r = 0; r < grid.height(); ++r) {
-      for (int c = 0; c < grid.width(); ++c) {
-        const Eigen::Vector2d p = grid.cell_center_m(c, r);
-        if (p.x() >= x0 && p.x() < x1 && p.y() >= y0 && p.y() < y1) {
-          grid.update_cell(c, r, log_odds - grid.log_odds(c, r));
-        }
-      }
-    }
-  }
-  void free(double x0, double y0, double x1, double y1) { paint(x0, y0, x1, y1, -2.f); }
-  void wall(double x0, double y0, double x1, double y1) { paint(x0, y0, x1, y1, 2.f); }
+/// A 10 m x 6 m grid at 0.1 m, all unknown (common/grid_drawing_test_util.h).
+struct Drawing : testing::GridDrawing {
   /// A closed room [1, 9] x [1, 5] (walls 0.1 m thick outside it).
   void room() {
     free(1, 1, 9, 5);

@@ -5,32 +5,16 @@
 
 #include <gtest/gtest.h>
 
+#include "common/grid_drawing_test_util.h"
+
 namespace cairn::base {
 namespace {
 
 constexpr double kRes = 0.1;
 
-/// A 12 m x 6 m grid, all unknown; helpers paint free space and walls in metres.
-struct Drawing {
-  OccupancyGrid grid;
-  Drawing() : grid(make_options(), {0, 0}, {12, 6}) {}
-  static OccupancyGridOptions make_options() {
-    OccupancyGridOptions o;
-    o.resolution_m = kRes;
-    return o;
-  }
-  void paint(double x0, double y0, double x1, double y1, float log_odds) {
-    for (int r = 0; r < grid.height(); ++r) {
-      for (int c = 0; c < grid.width(); ++c) {
-        const Eigen::Vector2d p = grid.cell_center_m(c, r);
-        if (p.x() >= x0 && p.x() < x1 && p.y() >= y0 && p.y() < y1) {
-          grid.update_cell(c, r, log_odds - grid.log_odds(c, r));
-        }
-      }
-    }
-  }
-  void free(double x0, double y0, double x1, double y1) { paint(x0, y0, x1, y1, -2.f); }
-  void wall(double x0, double y0, double x1, double y1) { paint(x0, y0, x1, y1, 2.f); }
+/// A 12 m x 6 m grid at 0.1 m, all unknown (common/grid_drawing_test_util.h).
+struct Drawing : testing::GridDrawing {
+  Drawing() : GridDrawing(12, 6, kRes) {}
   /// A corridor from x = 1 to 11 m, 2 m wide, walls along both sides, open (unknown) at both ends.
   void corridor() {
     free(1, 2, 11, 4);

@@ -5,25 +5,6 @@
 
 namespace cairn::agent::testing {
 
-GridDrawing::GridDrawing(double width_m, double height_m, double resolution_m)
-    : grid(
-          [&] {
-            OccupancyGridOptions o;
-            o.resolution_m = resolution_m;
-            return o;
-          }(),
-          {0, 0}, {width_m, height_m}) {}
-
-void GridDrawing::paint(double x0, double y0, double x1, double y1, float log_odds) {
-  for (int r = 0; r < grid.height(); ++r) {
-    for (int c = 0; c < grid.width(); ++c) {
-      const Eigen::Vector2d p = grid.cell_center_m(c, r);
-      if (p.x() >= x0 && p.x() < x1 && p.y() >= y0 && p.y() < y1)
-        grid.update_cell(c, r, log_odds - grid.log_odds(c, r));
-    }
-  }
-}
-
 void add_box(std::vector<Segment>* w, double x0, double y0, double x1, double y1) {
   w->push_back({{x0, y0}, {x1, y0}});
   w->push_back({{x1, y0}, {x1, y1}});

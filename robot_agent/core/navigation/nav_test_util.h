@@ -6,20 +6,14 @@
 #include <functional>
 #include <vector>
 
+#include "common/grid_drawing_test_util.h"
 #include "common/occupancy_grid.h"
 #include "robot_agent/core/navigation/navigator.h"
 #include "robot_agent/core/test_util.h"
 
 namespace cairn::agent::testing {
 
-/// An all-unknown grid of `width_m` x `height_m` at `resolution_m`; paints rectangles in metres.
-struct GridDrawing {
-  OccupancyGrid grid;
-  explicit GridDrawing(double width_m = 10, double height_m = 6, double resolution_m = 0.1);
-  void paint(double x0, double y0, double x1, double y1, float log_odds);
-  void free(double x0, double y0, double x1, double y1) { paint(x0, y0, x1, y1, -2.f); }
-  void wall(double x0, double y0, double x1, double y1) { paint(x0, y0, x1, y1, 2.f); }
-};
+using cairn::testing::GridDrawing;  // common/grid_drawing_test_util.h
 
 /// Walls of the axis-aligned box [x0, x1] x [y0, y1].
 void add_box(std::vector<Segment>* world, double x0, double y0, double x1, double y1);
