@@ -253,8 +253,9 @@ TEST(MissionIntegration, TwoRobotsExploreTheOfficeByThemselvesFindEverythingAndC
         read_trajectory_csv((out / "ground_truth" / ("gt_robot" + std::to_string(id) + ".csv")).string());
     ASSERT_FALSE(truth.empty());
     // Home is within 1 m of where it entered by its own estimate (MissionBehaviourOptions::
-    // home_tolerance_m), which is a few centimetres off the truth.
-    EXPECT_LT((truth.back().pose.translation() - truth.front().pose.translation()).norm(), 1.2) << "robot " << id;
+    // home_tolerance_m), or within 3 m when the other robot, parked at its own entry 1.3 m away,
+    // blocks the last metres (home_area_m); the estimate is a few centimetres off the truth.
+    EXPECT_LT((truth.back().pose.translation() - truth.front().pose.translation()).norm(), 3.2) << "robot " << id;
   }
   EXPECT_NE(r.output.find("exploration: 50 % covered at"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(out / "coverage.png"));

@@ -279,7 +279,7 @@ int BaseNode::finish() {
   OptimizeResult r = mapper_.optimize();
   // The final map: solve the last loop closures to convergence (bounded, each call iterates a few).
   for (int i = 0; i < 50 && mapper_.refinement_pending(); ++i) r = mapper_.optimize();
-  plan_and_publish_goals();  // where to search next, on the final map
+  plan_and_publish_goals(/*send=*/false);  // where to search next, on the final map (the robots are done)
   refresh_snapshot();
   const MergedMap merged = mapper_.merged();
   const ExportSummary exported = export_all(merged, options_.out_dir, {}, &plan_);

@@ -76,7 +76,8 @@ class BaseNode {
   void publish_acks_and_corrections();
   // Exploration (base_node_exploration.cpp): the robots' navigation states in, goals out.
   void note_navigation(const cairn_msgs::RobotStatus& m, bool live);
-  void plan_and_publish_goals();
+  /// `send`: false plans only (the final map's "where to search next"), no orders go out.
+  void plan_and_publish_goals(bool send = true);
   void add_navigation_json(RobotId robot, nlohmann::json* link) const;
   /// Explored area, open frontier and victims at the newest mission time (summary, console).
   void record_coverage(const MergedMap& merged);

@@ -30,7 +30,7 @@ void BaseNode::note_navigation(const cairn_msgs::RobotStatus& m, bool live) {
   }
 }
 
-void BaseNode::plan_and_publish_goals() {
+void BaseNode::plan_and_publish_goals(bool send) {
   const MergedMap merged = mapper_.merged();
   const StampNs now_ns = merged.data->latest_stamp_ns;
   // Where the linked robots are: their newest reported pose, else their newest keyframe.
@@ -58,6 +58,7 @@ void BaseNode::plan_and_publish_goals() {
   plan_ = plan_exploration(*merged.grid, robots_m, victims_m, options_.exploration, context);
   planned_version_ = mapper_.version();
   replan_now_ = false;
+  if (!send) return;
   const bool was_home = goals_.sent_home();
   CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 10.0, "exploration: {} frontiers, {} goals for {} placed robots",
                         plan_.frontiers.size(), plan_.goals.size(), robots_m.size());

@@ -51,7 +51,7 @@ void AgentNode::drive(const AgentOutputs& outputs) {
       log_->info("goal {}: {}", to_string(navigator_.state()), navigator_.reason());
     }
     if (navigator_.map().scans_inserted() < kScansBeforeDeciding) continue;
-    if (const auto target = behaviour_.update(last_scan_ns_, navigator_.state(), own_frontier)) {
+    if (const auto target = behaviour_.update(last_scan_ns_, pose_.translation(), navigator_.state(), own_frontier)) {
       NavGoal goal{target->goal_id, target->position_m, target->kind, target->tolerance_m, {}};
       const bool going_back =
           target->activity == RobotActivity::kGoingHome || target->activity == RobotActivity::kReturningToContact;

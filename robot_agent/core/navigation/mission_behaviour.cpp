@@ -25,7 +25,7 @@ std::optional<DriveTarget> MissionBehaviour::set(const DriveTarget& target, std:
   return target_;
 }
 
-std::optional<DriveTarget> MissionBehaviour::update(StampNs now_ns, NavState nav,
+std::optional<DriveTarget> MissionBehaviour::update(StampNs now_ns, const Eigen::Vector2d& position_m, NavState nav,
                                                     const OwnFrontierSearch& own_frontier) {
   const bool ended = nav == NavState::kReached || nav == NavState::kUnreachable || nav == NavState::kStuck;
   if (target_ && !ended) {
@@ -52,6 +52,12 @@ std::optional<DriveTarget> MissionBehaviour::update(StampNs now_ns, NavState nav
         waiting_at_contact_point_ = true;
         break;
       case RobotActivity::kGoingHome:
+        if (nav != NavState::kReached && (position_m - done.position_m).norm() <= options_.home_area_m) {
+          idle_activity_ = RobotActivity::kHome;
+          reason_ = "home: as near as it gets (" + std::to_string(int(100 * (position_m - done.position_m).norm())) +
+                    " cm off; the way is blocked, by a parked robot most likely)";
+          return std::nullopt;
+        }
         if (nav == NavState::kReached || ++home_attempts_ >= options_.max_home_attempts) {
           idle_activity_ = RobotActivity::kHome;
           reason_ = nav == NavState::kReached ? "home" : "gave up reaching home";

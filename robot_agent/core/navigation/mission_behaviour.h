@@ -30,6 +30,9 @@ struct MissionBehaviourOptions {
   int max_home_attempts = 3;
   double home_retry_s = 5.0;      ///< a failed drive home is tried again after this (the map may have cleared)
   double home_tolerance_m = 1.0;  ///< home is where it entered, give or take this
+  /// A drive home that ends stuck or unreachable this close to home counts as home: the entry is
+  /// where the team's robots park, and a parked robot blocks the last metres of another's way.
+  double home_area_m = 3.0;
 };
 
 /// A goal for the navigator, in the robot's own frame.
@@ -63,9 +66,11 @@ class MissionBehaviour {
   /// Any message from the base: the link works at `position_m`.
   void on_contact(StampNs now_ns, const Eigen::Vector2d& position_m);
 
-  /// One decision at a processed scan. `nav` is the state of the target last returned (kIdle when
-  /// none). Returns a new target to drive when it changes; nullopt: keep driving (or keep still).
-  std::optional<DriveTarget> update(StampNs now_ns, NavState nav, const OwnFrontierSearch& own_frontier);
+  /// One decision at a processed scan, the robot at `position_m`. `nav` is the state of the target
+  /// last returned (kIdle when none). Returns a new target to drive when it changes; nullopt: keep
+  /// driving (or keep still).
+  std::optional<DriveTarget> update(StampNs now_ns, const Eigen::Vector2d& position_m, NavState nav,
+                                    const OwnFrontierSearch& own_frontier);
 
   RobotActivity activity() const { return target_ ? target_->activity : idle_activity_; }
   const std::optional<DriveTarget>& target() const { return target_; }
