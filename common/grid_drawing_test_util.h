@@ -29,6 +29,14 @@ struct GridDrawing {
   }
   void free(double x0, double y0, double x1, double y1) { paint(x0, y0, x1, y1, -2.f); }
   void wall(double x0, double y0, double x1, double y1) { paint(x0, y0, x1, y1, 2.f); }
+  /// A closed room [1, 9] x [1, 5], walls 0.1 m thick outside it.
+  void room() {
+    free(1, 1, 9, 5);
+    wall(0.9, 0.9, 9.1, 1);
+    wall(0.9, 5, 9.1, 5.1);
+    wall(0.9, 0.9, 1, 5.1);
+    wall(9, 0.9, 9.1, 5.1);
+  }
 };
 
 }  // namespace cairn::testing

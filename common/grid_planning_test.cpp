@@ -15,16 +15,7 @@ namespace {
 constexpr double kRes = 0.1;
 
 /// A 10 m x 6 m grid at 0.1 m, all unknown (common/grid_drawing_test_util.h).
-struct Drawing : testing::GridDrawing {
-  /// A closed room [1, 9] x [1, 5] (walls 0.1 m thick outside it).
-  void room() {
-    free(1, 1, 9, 5);
-    wall(0.9, 0.9, 9.1, 1);
-    wall(0.9, 5, 9.1, 5.1);
-    wall(0.9, 0.9, 1, 5.1);
-    wall(9, 0.9, 9.1, 5.1);
-  }
-};
+using Drawing = testing::GridDrawing;
 
 double length_at(const PlanningGrid& g, const DistanceField& f, const Eigen::Vector2d& p_m) {
   return f.length_m[g.index(g.cell_of(p_m))];

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "sim/sim_test_util.h"
 #include "sim/simulator.h"
 
 namespace cairn::sim {
@@ -13,15 +14,9 @@ namespace {
 // A 10 m x 6 m room (walls one cell thick: inner faces at x = 0.05, 9.95, y = 0.05, 5.95) with a
 // pillar at x 5..5.5, y 2.5..3.5, and robots without routes at the given start poses (ids 0, 1, ...).
 World room(const std::vector<SE2>& starts) {
-  const int w = 200, h = 120;
-  std::vector<uint8_t> cells(size_t(w) * h, 0);
-  for (int c = 0; c < w; ++c) cells[c] = cells[size_t(h - 1) * w + c] = 1;
-  for (int r = 0; r < h; ++r) cells[size_t(r) * w] = cells[size_t(r) * w + w - 1] = 1;
-  for (int r = 50; r < 70; ++r)
-    for (int c = 100; c < 110; ++c) cells[size_t(r) * w + c] = 1;
   World world;
   world.name = "room";
-  world.floor_plan = FloorPlan(w, h, 0.05, Eigen::Vector2d(0, 0), cells);
+  world.floor_plan = testing::room_with_pillar();
   for (size_t i = 0; i < starts.size(); ++i) {
     RobotSpec r;
     r.id = RobotId(int(i));

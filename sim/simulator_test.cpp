@@ -7,21 +7,16 @@
 #include <fstream>
 
 #include "sim/ground_truth.h"
+#include "sim/sim_test_util.h"
 
 namespace cairn::sim {
 namespace {
 
 // A 10 m x 6 m room with a pillar, two robots and one object.
 World small_world() {
-  const int w = 200, h = 120;
-  std::vector<uint8_t> cells(size_t(w) * h, 0);
-  for (int c = 0; c < w; ++c) cells[c] = cells[size_t(h - 1) * w + c] = 1;
-  for (int r = 0; r < h; ++r) cells[size_t(r) * w] = cells[size_t(r) * w + w - 1] = 1;
-  for (int r = 50; r < 70; ++r)
-    for (int c = 100; c < 110; ++c) cells[size_t(r) * w + c] = 1;
   World world;
   world.name = "small";
-  world.floor_plan = FloorPlan(w, h, 0.05, Eigen::Vector2d(0, 0), cells);
+  world.floor_plan = testing::room_with_pillar();
   RobotSpec a;
   a.id = RobotId(0);
   a.T_world_start = SE2(1, 1, 0);

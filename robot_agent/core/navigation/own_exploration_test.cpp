@@ -17,11 +17,7 @@ using testing::GridDrawing;
 /// room's south wall (x 5.5-6.5), both to unknown space.
 GridDrawing two_rooms() {
   GridDrawing d;
-  d.free(1, 1, 9, 5);
-  d.wall(0.9, 0.9, 9.1, 1);
-  d.wall(0.9, 5, 9.1, 5.1);
-  d.wall(0.9, 0.9, 1, 5.1);
-  d.wall(9, 0.9, 9.1, 5.1);
+  d.room();
   d.wall(5, 1, 5.1, 4);
   d.paint(0.9, 3.5, 1, 4.5, 0.f);
   d.paint(5.5, 0.9, 6.5, 1, 0.f);

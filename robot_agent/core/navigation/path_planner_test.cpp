@@ -16,11 +16,7 @@ using testing::GridDrawing;
 /// A closed room [1, 9] x [1, 5] with walls 0.1 m thick outside it.
 GridDrawing room() {
   GridDrawing d;
-  d.free(1, 1, 9, 5);
-  d.wall(0.9, 0.9, 9.1, 1);
-  d.wall(0.9, 5, 9.1, 5.1);
-  d.wall(0.9, 0.9, 1, 5.1);
-  d.wall(9, 0.9, 9.1, 5.1);
+  d.room();
   return d;
 }
 
