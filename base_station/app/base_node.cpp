@@ -333,6 +333,7 @@ int BaseNode::finish() {
   summary["exploration"] = exploration_json(plan_);
   summary["exploration"]["goals_blacklisted"] = goals_.goals_blacklisted();
   summary["exploration"]["sent_home"] = goals_.sent_home();
+  if (const auto home_ns = goals_.sent_home_at_ns()) summary["exploration"]["sent_home_at_s"] = ns_to_sec(*home_ns);
   summary["coverage_series"] = coverage_series_;
   summary["rejected_samples"] = rejected_samples_;
   summary["journal"] = {{"path", journal_->path()},

@@ -45,7 +45,9 @@ std::vector<GoalOrder> GoalAllocator::assign(const ExplorationPlan& plan,
       std::any_of(placements.begin(), placements.end(), [](const auto& p) { return p.second.has_value(); });
   // No frontier left that a placed robot can reach: the search is over, everyone placed goes home.
   // (Frontiers behind gaps no robot fits through cannot be explored by this team.)
+  const bool was_home = sent_home_;
   sent_home_ = any_linked && plan.goals.empty();
+  if (sent_home_ && !was_home) sent_home_at_ns_ = now_ns;
   std::vector<GoalOrder> changed;
   for (const auto& [robot, placement] : placements) {
     GoalOrder want;

@@ -78,6 +78,9 @@ class GoalAllocator {
   const std::vector<BlacklistedGoal>& blacklisted() const { return blacklisted_; }
   int goals_blacklisted() const { return goals_blacklisted_; }
   bool sent_home() const { return sent_home_; }
+  /// When the team was last sent home (mission time); kept when a late frontier calls it back out,
+  /// so a report still says the search once ended.
+  std::optional<StampNs> sent_home_at_ns() const { return sent_home_at_ns_; }
 
  private:
   GoalAllocatorOptions options_;
@@ -87,6 +90,7 @@ class GoalAllocator {
   uint32_t next_goal_id_ = 1;
   int goals_blacklisted_ = 0;
   bool sent_home_ = false;
+  std::optional<StampNs> sent_home_at_ns_;
 };
 
 }  // namespace cairn::base

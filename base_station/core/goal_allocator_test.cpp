@@ -75,12 +75,20 @@ TEST(GoalAllocator, NoReachableFrontierSendsEveryPlacedRobotHomeOnce) {
   g.report({kA, home[0].goal_id, NavState::kReached, RobotActivity::kHome}, at(20));
   EXPECT_TRUE(g.assign(ExplorationPlan{}, {{kA, SE2()}, {kB, T_b}, {kC, std::nullopt}}, at(21)).empty());
   EXPECT_TRUE(g.blacklist_m(at(21)).empty()) << "home is never blacklisted";
+  ASSERT_TRUE(g.sent_home_at_ns());
+  EXPECT_EQ(*g.sent_home_at_ns(), at(9));
+  // A frontier seen on the way home calls the team back out; the report keeps when it was sent home.
+  g.assign(plan_with({{kA, {5, 0}}}), {{kA, SE2()}, {kB, T_b}}, at(30));
+  EXPECT_FALSE(g.sent_home());
+  ASSERT_TRUE(g.sent_home_at_ns());
+  EXPECT_EQ(*g.sent_home_at_ns(), at(9));
 }
 
 TEST(GoalAllocator, NoPlacedRobotMeansNobodyIsSentHome) {
   GoalAllocator g;
   const auto orders = g.assign(ExplorationPlan{}, {{kA, std::nullopt}}, at(1));
   EXPECT_FALSE(g.sent_home());
+  EXPECT_FALSE(g.sent_home_at_ns());
   ASSERT_EQ(orders.size(), 1u);
   EXPECT_EQ(orders[0].kind, GoalKind::kOwn);
 }

@@ -192,7 +192,8 @@ int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr
                               {"goals_blacklisted", exploration.value("goals_blacklisted", 0)},
                               {"distance_driven_m", driven_m},
                               {"collisions", collisions},
-                              {"sent_home", exploration.value("sent_home", false)}};
+                              {"sent_home", exploration.contains("sent_home_at_s")},
+                              {"sent_home_at_s", exploration.value("sent_home_at_s", json())}};
     s << "exploration: 50 % covered at " << text(f.t50_s) << ", 90 % at " << text(f.t90_s) << ", 99 % at "
       << text(f.t99_s) << "; every victim on the map at " << text(f.all_victims_s) << "; "
       << exploration.value("goals_blacklisted", 0) << " goal(s) blacklisted; " << int(driven_m) << " m driven, "
