@@ -4,9 +4,10 @@
 // was on the map, distance driven, collisions, goals blacklisted, final coverage, the worst robot's
 // trajectory RMSE and objects found / precision. One coverage plot per world (first seed, one line
 // per strategy). Strategies: scripted (the world's routes file, where it has one), nearest (every
-// robot its own nearest frontier: explore_lite's behaviour), coordinated (the base's allocation).
+// robot its own nearest frontier: explore_lite's behaviour), coordinated (the base's allocation),
+// saliency (coordinated, frontiers near salient spots of the saliency layer first).
 //   build/bin/bench_exploration_missions [--worlds office,collapsed] [--seeds 1,2,3]
-//                                        [--strategies scripted,nearest,coordinated] [--out DIR]
+//                                        [--strategies scripted,nearest,coordinated,saliency] [--out DIR]
 //                                        [--report-only]   (the table again from the missions in DIR)
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -59,11 +60,11 @@ struct Mean {
 
 int main(int argc, char** argv) {
   CLI::App app{"Exploration strategies compared on whole simulated missions"};
-  std::string worlds = "office,collapsed", seeds = "1,2,3", strategies = "scripted,nearest,coordinated";
+  std::string worlds = "office,collapsed", seeds = "1,2,3", strategies = "scripted,nearest,coordinated,saliency";
   std::string out_dir = "out/bench_exploration";
   app.add_option("--worlds", worlds, "worlds/<name>.yaml, comma separated");
   app.add_option("--seeds", seeds, "simulator seeds, comma separated");
-  app.add_option("--strategies", strategies, "scripted, nearest, coordinated");
+  app.add_option("--strategies", strategies, "scripted, nearest, coordinated, saliency");
   app.add_option("--out", out_dir, "where the missions and plots go");
   bool report_only = false;
   app.add_flag("--report-only", report_only, "print the table and plots from the missions already in --out");

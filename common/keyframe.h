@@ -12,6 +12,14 @@
 
 namespace cairn {
 
+/// A salient spot the robot's camera saw (robot_agent/core/objects/saliency_projection.h): where a
+/// colourful, salient surface stands on the floor plane, from a keyframe's base frame, and how
+/// salient it is (0..1). The base draws them into the saliency layer that weights frontiers.
+struct SalientPoint {
+  float x_m = 0.f, y_m = 0.f;
+  float weight = 0.f;
+};
+
 struct Keyframe {
   KeyframeId id;
   StampNs stamp_ns = 0;
@@ -25,6 +33,8 @@ struct Keyframe {
   std::vector<float> place_descriptor;  ///< rotation-invariant, may be empty
   /// Identified landmarks (markers) seen around this keyframe, expressed from its base frame.
   std::vector<LandmarkObservation> landmarks;
+  /// Salient spots seen by the camera since the previous keyframe, from this keyframe's base frame.
+  std::vector<SalientPoint> salient;
 };
 
 /// The agent's latest estimate of its keyframes' poses, after its own loop closures (the DDS

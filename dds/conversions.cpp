@@ -214,6 +214,13 @@ cairn_msgs::Keyframe to_msg(const Keyframe& kf) {
     l.sigma_bearing_rad(float(o.sigma_bearing_rad));
     m.landmarks().push_back(l);
   }
+  for (const SalientPoint& p : kf.salient) {
+    cairn_msgs::SalientPoint q;
+    q.x_m(p.x_m);
+    q.y_m(p.y_m);
+    q.weight(p.weight);
+    m.salient().push_back(q);
+  }
   return m;
 }
 
@@ -262,6 +269,14 @@ std::optional<Keyframe> from_msg(const cairn_msgs::Keyframe& m, std::string* err
       return std::nullopt;
     }
     kf.landmarks.push_back(o);
+  }
+  for (size_t i = 0; i < m.salient().size(); ++i) {
+    const cairn_msgs::SalientPoint& q = m.salient()[i];
+    if (!std::isfinite(q.x_m()) || !std::isfinite(q.y_m()) || !(q.weight() >= 0.f && q.weight() <= 1.f)) {
+      fail(error, "keyframe: salient[" + std::to_string(i) + "]: non-finite position or weight outside 0..1");
+      return std::nullopt;
+    }
+    kf.salient.push_back(SalientPoint{q.x_m(), q.y_m(), q.weight()});
   }
   return kf;
 }

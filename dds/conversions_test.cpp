@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace cairn::dds {
 namespace {
@@ -76,6 +77,29 @@ TEST(Conversions, KeyframeLandmarksRoundTripAndNanIsRejected) {
   msg.landmarks()[0].landmark_id(-4);
   EXPECT_FALSE(from_msg(msg, &error));
   EXPECT_NE(error.find("landmarks[0]: invalid landmark id"), std::string::npos) << error;
+}
+
+TEST(Conversions, KeyframeSalientPointsRoundTripAndBadWeightsAreNamed) {
+  Keyframe kf = make_keyframe();
+  kf.salient.push_back(SalientPoint{2.5f, -1.0f, 0.75f});
+  kf.salient.push_back(SalientPoint{4.0f, 0.5f, 1.0f});
+  std::string error;
+  auto back = from_msg(to_msg(kf), &error);
+  ASSERT_TRUE(back) << error;
+  ASSERT_EQ(back->salient.size(), 2u);
+  EXPECT_FLOAT_EQ(back->salient[0].x_m, 2.5f);
+  EXPECT_FLOAT_EQ(back->salient[0].y_m, -1.0f);
+  EXPECT_FLOAT_EQ(back->salient[1].weight, 1.0f);
+  for (const float bad : {std::nanf(""), -0.1f, 1.5f}) {
+    auto msg = to_msg(kf);
+    msg.salient()[1].weight(bad);
+    EXPECT_FALSE(from_msg(msg, &error)) << bad;
+    EXPECT_NE(error.find("salient[1]"), std::string::npos) << error;
+  }
+  auto msg = to_msg(kf);
+  msg.salient()[0].x_m(std::numeric_limits<float>::infinity());
+  EXPECT_FALSE(from_msg(msg, &error));
+  EXPECT_NE(error.find("salient[0]"), std::string::npos) << error;
 }
 
 TEST(Conversions, KeyframePosesRoundTripAndBadSamplesAreNamed) {

@@ -76,14 +76,16 @@ int main(int argc, char** argv) {
   app.add_flag("--new-mission", options.new_mission, "move an existing journal aside and start an empty map");
   std::string coordination = "coordinated";
   app.add_option("--exploration", coordination,
-                 "how robots get frontiers: coordinated (no two on one area) or nearest (each its own nearest)")
-      ->check(CLI::IsMember({"coordinated", "nearest"}));
+                 "how robots get frontiers: coordinated (no two on one area), nearest (each its own nearest) or "
+                 "saliency (coordinated, frontiers near salient spots the cameras saw first)")
+      ->check(CLI::IsMember({"coordinated", "nearest", "saliency"}));
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
   options.use_shared_memory = !no_shm;
   options.exploration.coordination = coordination == "nearest"
                                          ? cairn::base::ExplorationOptions::Coordination::kNearestFrontier
                                          : cairn::base::ExplorationOptions::Coordination::kCoordinated;
+  if (coordination == "saliency") options.exploration.saliency_weight = 3.0;
   cairn::set_log_level(log_level);
   auto log = cairn::make_logger("base");
 

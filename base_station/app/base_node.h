@@ -19,6 +19,7 @@
 #include "base_station/core/exploration.h"
 #include "base_station/core/goal_allocator.h"
 #include "base_station/core/multi_robot_mapper.h"
+#include "base_station/core/saliency_layer.h"
 #include "base_station/store/journal.h"
 #include "cairn_msgsPubSubTypes.h"
 #include "common/logging.h"
@@ -38,6 +39,7 @@ struct BaseNodeOptions {
   double optimize_period_s = 1.0;
   double exploration_period_s = 2.0;  ///< how often the exploration goals are planned anew (when the map changed)
   ExplorationOptions exploration;     ///< how goals are chosen (coordination, victims' pull, ...)
+  SaliencyLayerOptions saliency;      ///< the saliency layer the planner weights frontiers by
   ConsoleOptions console;
   bool serve_after_finish = false;  ///< keep the console up after the mission ended
   std::string journal_path;         ///< default <out_dir>/journal.sqlite

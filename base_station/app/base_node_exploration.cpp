@@ -2,6 +2,7 @@
 // (plan_exploration) and each robot's order (GoalAllocator) out on cairn/goal, in its own frame.
 #include "base_station/app/base_node.h"
 #include "base_station/core/merged_map.h"
+#include "base_station/core/saliency_layer.h"
 #include "dds/navigation_conversions.h"
 
 namespace cairn::base {
@@ -52,10 +53,13 @@ void BaseNode::plan_and_publish_goals(bool send) {
   for (const GlobalObject& o : merged.objects) {
     if (o.class_name == "victim") victims_m.push_back(o.position_m.head<2>());
   }
+  auto saliency = std::make_shared<const SaliencyLayer>(build_saliency_layer(*merged.data, now_ns, options_.saliency));
   ExplorationContext context;
   context.blacklist_m = goals_.blacklist_m(now_ns);
   context.current_goals_m = goals_.current_goals_m();
+  context.saliency = saliency.get();
   plan_ = plan_exploration(*merged.grid, robots_m, victims_m, options_.exploration, context);
+  plan_.saliency = std::move(saliency);
   planned_version_ = mapper_.version();
   replan_now_ = false;
   if (!send) return;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "base_station/core/saliency_layer.h"
 #include "base_station/export/exporter.h"
 
 namespace cairn::base {
@@ -146,11 +147,13 @@ nlohmann::json exploration_json(const ExplorationPlan& plan) {
                      {"x_m", g.goal_m.x()},
                      {"y_m", g.goal_m.y()},
                      {"path_m", g.path_m},
-                     {"frontier_m", plan.frontiers[size_t(g.frontier)].length_m}});
+                     {"frontier_m", plan.frontiers[size_t(g.frontier)].length_m},
+                     {"saliency", plan.frontiers[size_t(g.frontier)].saliency}});
   }
   std::vector<int> idle;
   for (RobotId r : plan.idle) idle.push_back(r.value);
-  return {{"frontiers", plan.frontiers.size()}, {"goals", goals}, {"idle", idle}};
+  const int salient_cells = plan.saliency ? plan.saliency->cells_above(0.1) : 0;
+  return {{"frontiers", plan.frontiers.size()}, {"goals", goals}, {"idle", idle}, {"salient_cells", salient_cells}};
 }
 
 ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& link_stats, const SnapshotOptions& options,

@@ -41,7 +41,8 @@ ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& lin
 /// confidence, position and its sigma, robots, reports, thumbnail and cloud URLs.
 nlohmann::json object_json(const GlobalObject& o, const MergedMap& merged);
 
-/// {"frontiers": n, "goals": [{"robot", "x_m", "y_m", "path_m", "frontier_m"}], "idle": [robot ids]}
+/// {"frontiers": n, "goals": [{"robot", "x_m", "y_m", "path_m", "frontier_m", "saliency"}], "idle": [robot ids],
+///  "salient_cells": cells of the saliency layer of at least 0.1}
 nlohmann::json exploration_json(const ExplorationPlan& plan);
 
 /// Thread-safe holder of the latest snapshot: the app publishes, the console reads.

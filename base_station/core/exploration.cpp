@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "base_station/core/merged_map.h"
+#include "base_station/core/saliency_layer.h"
 #include "common/grid_planning.h"
 
 namespace cairn::base {
@@ -85,6 +86,11 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
       }
     }
     f.weight = 1.0 + o.victim_weight * double(near_victim) / double(piece.size());
+    if (context.saliency && o.saliency_weight > 0.0) {
+      for (const auto& cell : piece)
+        f.saliency = std::max(f.saliency, context.saliency->max_within(g.centre_m(cell), o.saliency_radius_m));
+      f.weight *= 1.0 + o.saliency_weight * f.saliency;
+    }
     plan.frontiers.push_back(f);
   }
 

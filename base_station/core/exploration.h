@@ -8,10 +8,15 @@
 // The grid machinery (classification, frontiers, Dijkstra) is common/grid_planning.h.
 #include <Eigen/Core>
 #include <map>
+#include <memory>
 #include <vector>
 
 #include "common/ids.h"
 #include "common/occupancy_grid.h"
+
+namespace cairn::base {
+class SaliencyLayer;
+}
 
 namespace cairn::base {
 
@@ -23,6 +28,11 @@ struct ExplorationOptions {
   double near_wall_cost = 4.0;
   double victim_radius_m = 6.0;  ///< frontier cells this close to a victim weigh 1 + victim_weight
   double victim_weight = 2.0;
+  /// Attentive exploration (the paper's saliency map, ExplorationContext::saliency): a frontier's
+  /// weight is multiplied by 1 + saliency_weight x the strongest saliency within saliency_radius_m
+  /// of its cells, so a salient opening is searched first. 0: the layer is ignored.
+  double saliency_weight = 0.0;
+  double saliency_radius_m = 3.0;
   double separation_m = 4.0;  ///< no two robots get goals closer than this
   /// kCoordinated: the greedy allocation above (Burgard et al. 2005). kNearestFrontier: every robot
   /// takes its own nearest frontier, whatever the others do (explore_lite's behaviour, for
@@ -47,13 +57,15 @@ struct ExplorationOptions {
 struct ExplorationContext {
   std::vector<Eigen::Vector2d> blacklist_m;            ///< goals that failed lately
   std::map<RobotId, Eigen::Vector2d> current_goals_m;  ///< the goals being driven
+  const SaliencyLayer* saliency = nullptr;             ///< the merged saliency layer, if any
 };
 
 struct Frontier {
   Eigen::Vector2d centre_m{0, 0};  ///< the piece's cell nearest its centroid
   int cells = 0;
   double length_m = 0;  ///< cells x resolution
-  double weight = 1;    ///< 1 + victim_weight x fraction of cells near a victim
+  double weight = 1;    ///< (1 + victim_weight x fraction of cells near a victim) x (1 + saliency_weight x saliency)
+  double saliency = 0;  ///< the strongest saliency within saliency_radius_m of its cells, 0..1
 };
 
 struct ExplorationGoal {
@@ -68,6 +80,8 @@ struct ExplorationPlan {
   std::vector<Frontier> frontiers;     ///< largest first
   std::vector<ExplorationGoal> goals;  ///< at most one per robot, best first
   std::vector<RobotId> idle;           ///< robots with no reachable frontier left (or none for them)
+  /// The saliency layer the base had when it planned (drawn on the map; set by the caller).
+  std::shared_ptr<const SaliencyLayer> saliency;
 };
 
 ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<RobotId, Eigen::Vector2d>& robots_m,

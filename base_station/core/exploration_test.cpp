@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "base_station/core/saliency_layer.h"
 #include "common/grid_drawing_test_util.h"
 
 namespace cairn::base {
@@ -126,6 +127,30 @@ TEST(Exploration, AVictimNearAFrontierDrawsTheRobotThere) {
   const ExplorationPlan east = plan_exploration(d.grid, {{RobotId(0), {6, 3}}}, {{10.5, 3}});
   ASSERT_EQ(east.goals.size(), 1u);
   EXPECT_GT(east.goals[0].goal_m.x(), 10.5);
+}
+
+TEST(Exploration, ASalientOpeningDrawsTheRobotThereWhenSaliencyCounts) {
+  Drawing d;
+  d.corridor();
+  // Something colourful seen beyond the east end (x 12 m), nothing in the west; the robot slightly
+  // nearer the west end.
+  SaliencyLayer layer({0, 0}, {12, 6}, 0.25);
+  layer.raise({11.8, 3}, 0.9);
+  ExplorationContext context;
+  context.saliency = &layer;
+  ExplorationOptions attentive;
+  attentive.saliency_weight = 3.0;
+  const std::map<RobotId, Eigen::Vector2d> robot{{RobotId(0), {5.5, 3}}};
+  const ExplorationPlan drawn = plan_exploration(d.grid, robot, {}, attentive, context);
+  ASSERT_EQ(drawn.goals.size(), 1u);
+  EXPECT_GT(drawn.goals[0].goal_m.x(), 10.5);
+  const Frontier& east = drawn.frontiers[size_t(drawn.goals[0].frontier)];
+  EXPECT_NEAR(east.saliency, 0.9, 1e-6);
+  EXPECT_NEAR(east.weight, 1.0 + 3.0 * 0.9, 1e-6);
+  // Without the weight (the coordinated strategy alone) the layer is ignored: the nearer west end.
+  const ExplorationPlan plain = plan_exploration(d.grid, robot, {}, ExplorationOptions{}, context);
+  ASSERT_EQ(plain.goals.size(), 1u);
+  EXPECT_LT(plain.goals[0].goal_m.x(), 1.5);
 }
 
 TEST(Exploration, PathsGoAroundWalls) {

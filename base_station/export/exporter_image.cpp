@@ -1,6 +1,7 @@
 // The map image: occupancy grid (ROS map_server shades) scaled up, each robot's trajectory as a
 // coloured polyline with keyframe dots, objects as class-coloured markers with labels, and each
-// robot's next exploration goal as a dashed line from it to a target ring.
+// robot's next exploration goal as a dashed line from it to a target ring, over the saliency layer
+// (orange, the plan's) when there is one.
 #include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
@@ -9,6 +10,7 @@
 #include <optional>
 #include <utility>
 
+#include "base_station/core/saliency_layer.h"
 #include "base_station/export/exporter.h"
 
 namespace cairn::base {
@@ -100,6 +102,23 @@ void draw_objects(const std::vector<GlobalObject>& objects, const PixelMapper& p
   }
 }
 
+/// The saliency layer as an orange wash, stronger where more salient (cells of at least 0.1).
+void draw_saliency(const SaliencyLayer& layer, const PixelMapper& px, cv::Mat* img) {
+  for (int r = 0; r < layer.height(); ++r) {
+    for (int c = 0; c < layer.width(); ++c) {
+      const double v = layer.value(c, r);
+      if (v < 0.1) continue;
+      const Eigen::Vector2d half(0.5 * layer.cell_m(), 0.5 * layer.cell_m());
+      const cv::Point a = px(layer.centre_m(c, r) - half), b = px(layer.centre_m(c, r) + half);
+      const cv::Rect area = cv::Rect(a, b) & cv::Rect(0, 0, img->cols, img->rows);
+      if (area.empty()) continue;
+      cv::Mat cell = (*img)(area);  // blended in place (same size and type: no reallocation)
+      cv::addWeighted(cell, 1.0 - 0.7 * v, cv::Mat(cell.size(), cell.type(), cv::Scalar(0, 150, 255)), 0.7 * v, 0.0,
+                      cell);
+    }
+  }
+}
+
 void draw_goals(const MergedMap& merged, const ExplorationPlan& plan, const PixelMapper& px, cv::Mat* img) {
   for (const ExplorationGoal& g : plan.goals) {
     const Trajectory& t = merged.trajectory(g.robot);
@@ -139,6 +158,7 @@ cv::Mat render(const MergedMap& merged, const ExportOptions& options, const Expl
   }
   const auto& [box, px] = *frame;
   cv::Mat img = grid_image(*merged.grid, box, px.scale);
+  if (plan && plan->saliency) draw_saliency(*plan->saliency, px, &img);
   draw_trajectories(merged, px, &img);
   draw_objects(merged.objects, px, &img);
   if (plan) draw_goals(merged, *plan, px, &img);

@@ -5,6 +5,7 @@
 #include "robot_agent/core/objects/object_detector.h"
 #include "robot_agent/core/objects/object_tracker.h"
 #include "robot_agent/core/objects/optical_flow.h"
+#include "robot_agent/core/objects/saliency_projection.h"
 
 namespace cairn::agent {
 
@@ -21,6 +22,10 @@ struct AgentOptions {
   /// agent. Only reached when odometry is missing or far behind.
   int max_pending_scans = 100;
   bool enable_objects = true;
+  /// Salient spots of the camera frames go out with the keyframes (Keyframe::salient) for the base's
+  /// saliency layer (needs detector.use_saliency).
+  bool enable_saliency_map = true;
+  SaliencyProjectionOptions saliency_map;
   /// After the agent's loop closing has moved its keyframes, their new poses go out
   /// (AgentOutputs::keyframe_poses) at most this often in mission time, and once more at the end
   /// of input. 0 = after every optimisation.

@@ -14,7 +14,8 @@ AgentPipeline::AgentPipeline(RobotId robot, const AgentOptions& options)
       keyframer_(robot, options.keyframer),
       detector_(options.detector),
       tracker_(robot, options.tracker),
-      optical_flow_(options.optical_flow) {}
+      optical_flow_(options.optical_flow),
+      saliency_pool_(options.saliency_map) {}
 
 void AgentPipeline::add_odometry(const OdometryReading& odometry) {
   ++stats_.odometry_received;
@@ -113,6 +114,8 @@ void AgentPipeline::process_scan(AgentOutputs* out) {
   trajectory_.push_back({scan.stamp_ns, r.pose});
   if (auto kf = keyframer_.add(scan, r.pose, r.covariance)) {
     attach_landmarks(&*kf);  // agent_pipeline_landmarks.cpp
+    kf->salient = saliency_pool_.take(kf->T_local_base);
+    stats_.salient_points += int(kf->salient.size());
     // Place descriptor for the base's place recognition (common/scan_context.h, default options on
     // both sides), from this keyframe and the last descriptor_keyframes - 1 ones.
     const ScanContextOptions scan_context;
@@ -121,6 +124,7 @@ void AgentPipeline::process_scan(AgentOutputs* out) {
     kf->place_descriptor = compute_keyframe_scan_context(*kf, recent, scan_context);
     recent_keyframes_.push_back(*kf);
     recent_keyframes_.back().place_descriptor.clear();
+    recent_keyframes_.back().salient.clear();
     while (int(recent_keyframes_.size()) > scan_context.descriptor_keyframes - 1) recent_keyframes_.pop_front();
     anchors_.push_back(Anchor{kf->id.seq, kf->T_local_base});
     anchor_stamps_ns_.push_back(kf->stamp_ns);
@@ -133,7 +137,10 @@ void AgentPipeline::process_rgbd(AgentOutputs* out) {
   const RgbdFrame frame = std::move(frames_.front());
   frames_.pop_front();
   ++stats_.rgbd_processed;
-  const std::vector<Detection> detections = detector_.detect(frame);
+  const DetectionFrame analysed = detector_.analyse(frame);
+  const std::vector<Detection>& detections = analysed.detections;
+  if (options_.enable_saliency_map)
+    saliency_pool_.add(pose_at(frame.stamp_ns), project_saliency(frame, analysed.saliency, options_.saliency_map));
   stats_.detections += int(detections.size());
   std::vector<ObjectReport> reports =
       tracker_.update(frame.stamp_ns, detections, pose_at(frame.stamp_ns), anchor_at(frame.stamp_ns));

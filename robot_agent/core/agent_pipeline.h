@@ -66,6 +66,7 @@ struct AgentStats {
   int landmarks_invalid = 0;       ///< NaN / negative / zero-sigma values: dropped
   int landmarks_in_keyframes = 0;  ///< attached to an emitted keyframe
   int keyframe_pose_updates = 0;   ///< AgentOutputs::keyframe_poses emitted
+  int salient_points = 0;          ///< sent with keyframes (Keyframe::salient)
 };
 
 class AgentPipeline {
@@ -109,6 +110,7 @@ class AgentPipeline {
   ObjectDetector detector_;
   ObjectTracker tracker_;
   OpticalFlowCollision optical_flow_;
+  SaliencyPool saliency_pool_;  ///< salient spots seen since the last keyframe
 
   std::deque<OdometryReading> odometry_;
   std::deque<LaserScan> scans_;

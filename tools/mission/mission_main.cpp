@@ -60,8 +60,9 @@ int main(int argc, char** argv) {
   app.add_option("--routes", opt.routes,
                  "scripted routes (worlds/routes/*.yaml): the robots drive them instead of exploring by themselves");
   app.add_option("--exploration", opt.exploration,
-                 "coordinated: the base spreads the robots over the frontiers; nearest: each robot its own nearest")
-      ->check(CLI::IsMember({"coordinated", "nearest"}));
+                 "coordinated: the base spreads the robots over the frontiers; nearest: each robot its own nearest; "
+                 "saliency: coordinated, and frontiers near salient spots the cameras saw go first")
+      ->check(CLI::IsMember({"coordinated", "nearest", "saliency"}));
   app.add_option("--seed", opt.seed, "override the world's random seed (sensor noise)");
   app.add_option("--out", opt.out, "output folder (default out/<world name>)");
   app.add_option("--speed", opt.speed, "simulator speed, times real time (0 = as fast as possible)");

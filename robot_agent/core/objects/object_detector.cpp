@@ -154,8 +154,9 @@ DetectionFrame ObjectDetector::analyse(const RgbdFrame& frame) const {
   const cv::Mat rgb_raw(h, w, CV_8UC3, const_cast<uint8_t*>(frame.rgb.data()));
   cv::Mat hsv;
   cv::cvtColor(rgb, hsv, cv::COLOR_RGB2HSV);
-  int sal_w = 0, sal_h = 0;
-  const ImageD sal = options_.use_saliency ? fused_saliency(frame, options_.saliency, &sal_w, &sal_h) : ImageD{};
+  if (options_.use_saliency) out.saliency = saliency_maps(frame, options_.saliency);
+  const ImageD& sal = out.saliency.fused;
+  const int sal_w = out.saliency.width, sal_h = out.saliency.height;
   const int open_px = std::max(1, int(std::lround(options_.open_kernel_px * std::sqrt(scale))));
   const Eigen::Vector3d camera = frame.T_base_camera.translation();
   for (const ObjectClassOptions& cls : options_.classes) {

@@ -79,6 +79,7 @@ struct DetectionFrame {
   bool converged = false;  ///< the frame was usable
   std::string reason;      ///< why not, or what was degraded ("no valid depth: ...")
   int blobs = 0, rejected_shape = 0, without_depth = 0;
+  SaliencyMaps saliency;  ///< the frame's saliency (empty when use_saliency is off)
 };
 
 class ObjectDetector {

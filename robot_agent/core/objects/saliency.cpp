@@ -17,7 +17,7 @@ std::vector<uint8_t> sharpen_eq13(const std::vector<uint8_t>& rgb, int width, in
   return out;
 }
 
-ImageD fused_saliency(const RgbdFrame& f, const SaliencyOptions& o, int* out_w, int* out_h) {
+SaliencyMaps saliency_maps(const RgbdFrame& f, const SaliencyOptions& o) {
   if (!f.valid() || o.downsample < 1) return {};
   const int mult = o.downsample << o.levels;
   const int w = (f.intrinsics.width / mult) * (1 << o.levels), h = (f.intrinsics.height / mult) * (1 << o.levels);
@@ -48,8 +48,11 @@ ImageD fused_saliency(const RgbdFrame& f, const SaliencyOptions& o, int* out_w, 
   const auto [lo, hi] = std::minmax_element(fused.coeffs.data.begin(), fused.coeffs.data.end());
   const double span = std::max(1e-12, *hi - *lo), base = *lo;
   for (double& v : fused.coeffs.data) v = (v - base) / span;
-  *out_w = w, *out_h = h;
-  return fused.coeffs;
+  SaliencyMaps out;
+  out.fused = std::move(fused.coeffs);
+  out.colour = std::move(colour);
+  out.width = w, out.height = h;
+  return out;
 }
 
 // A floor point X = (x, y, 0) in the base frame projects as alpha [u v 1]^T = K [r1 r2 t] [x y 1]^T

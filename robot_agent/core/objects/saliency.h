@@ -24,9 +24,17 @@ struct SaliencyOptions {
   double max_depth_m = 10.0;
 };
 
+/// The saliency of one frame on a width x height grid (a downsampled image, row-major).
+struct SaliencyMaps {
+  ImageD fused;   ///< colour and depth saliency fused by the wavelet transform, normalised per frame to 0..1
+  ImageD colour;  ///< HSV saturation x value, 0..1: absolute (a grey frame stays near 0)
+  int width = 0, height = 0;
+  bool empty() const { return fused.data.empty(); }
+};
+
 /// Colour saliency (HSV saturation x value), depth saliency (nearness plus local depth contrast),
-/// fused by fuse_wavelet and normalised to 0..1. Grid size: out_w x out_h. Empty on bad input.
-ImageD fused_saliency(const RgbdFrame& frame, const SaliencyOptions& options, int* out_w, int* out_h);
+/// fused by fuse_wavelet and normalised to 0..1. Empty on bad input.
+SaliencyMaps saliency_maps(const RgbdFrame& frame, const SaliencyOptions& options);
 
 /// Eq. 19: the homography from pixel (u, v) to base-frame ground coordinates (x, y, 1) for a camera
 /// with intrinsics K mounted at T_base_camera over the plane z = 0. nullopt when the camera

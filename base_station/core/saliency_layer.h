@@ -1,0 +1,61 @@
+#pragma once
+// The saliency layer over the global map (the paper's saliency map superimposed on the metric map,
+// seed §3.4): every linked keyframe's salient spots (Keyframe::salient, robot_agent/core/objects/
+// saliency_projection.h) at the keyframe's global pose, the strongest per cell. A spot keeps its
+// weight until a robot has passed within inspected_radius_m of it (it has then been seen closely:
+// the object pipeline had its look); from then on its weight decays by e every decay_s of mission
+// time. The exploration planner weights frontiers by it (ExplorationContext::saliency). Found
+// victims raise their surroundings in the planner itself (ExplorationOptions::victim_weight), not
+// here: they never decay. Pure: the mapper's data in, a grid out.
+#include <Eigen/Core>
+#include <vector>
+
+#include "common/time.h"
+
+namespace cairn::base {
+
+struct MapperData;
+
+struct SaliencyLayerOptions {
+  double cell_m = 0.25;
+  double inspected_radius_m = 1.5;  ///< a robot this close has seen the spot closely
+  double decay_s = 30.0;            ///< after that, the weight falls by e every decay_s
+};
+
+class SaliencyLayer {
+ public:
+  SaliencyLayer() = default;
+  /// An all-zero layer over the box [min_m, max_m].
+  SaliencyLayer(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m, double cell_m);
+
+  bool empty() const { return width_ == 0; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  double cell_m() const { return cell_m_; }
+  const Eigen::Vector2d& origin_m() const { return origin_m_; }
+  /// The cell's value (0 outside the layer).
+  double at(const Eigen::Vector2d& p_m) const;
+  /// The largest value within `radius_m` of `p_m` (cells whose centre is that close).
+  double max_within(const Eigen::Vector2d& p_m, double radius_m) const;
+  /// Keeps the larger of the cell's value and `weight`; points outside are ignored.
+  void raise(const Eigen::Vector2d& p_m, double weight);
+  /// Cells whose value is at least `threshold`.
+  int cells_above(double threshold) const;
+  /// Centre of cell (col, row) and its value, for drawing.
+  Eigen::Vector2d centre_m(int col, int row) const;
+  double value(int col, int row) const { return values_[size_t(row) * size_t(width_) + size_t(col)]; }
+
+ private:
+  bool cell_of(const Eigen::Vector2d& p_m, int* col, int* row) const;
+
+  Eigen::Vector2d origin_m_{0, 0};  ///< lower-left corner of cell (0, 0)
+  double cell_m_ = 0.25;
+  int width_ = 0, height_ = 0;
+  std::vector<float> values_;  ///< row-major, 0..1
+};
+
+/// The layer for everything the mapper holds at mission time `now_ns` (see the file comment).
+/// Empty when no linked keyframe carries a salient spot.
+SaliencyLayer build_saliency_layer(const MapperData& data, StampNs now_ns, const SaliencyLayerOptions& options = {});
+
+}  // namespace cairn::base
