@@ -53,7 +53,10 @@ void BaseNode::plan_and_publish_goals(bool send) {
   for (const GlobalObject& o : merged.objects) {
     if (o.class_name == "victim") victims_m.push_back(o.position_m.head<2>());
   }
-  auto saliency = std::make_shared<const SaliencyLayer>(build_saliency_layer(*merged.data, now_ns, options_.saliency));
+  std::vector<Eigen::Vector2d> objects_m;
+  for (const GlobalObject& o : merged.objects) objects_m.push_back(o.position_m.head<2>());
+  auto saliency =
+      std::make_shared<const SaliencyLayer>(build_saliency_layer(*merged.data, now_ns, objects_m, options_.saliency));
   ExplorationContext context;
   context.blacklist_m = goals_.blacklist_m(now_ns);
   context.current_goals_m = goals_.current_goals_m();

@@ -58,7 +58,8 @@ int SaliencyLayer::cells_above(double threshold) const {
   return int(std::count_if(values_.begin(), values_.end(), [&](float v) { return v >= threshold; }));
 }
 
-SaliencyLayer build_saliency_layer(const MapperData& data, StampNs now_ns, const SaliencyLayerOptions& o) {
+SaliencyLayer build_saliency_layer(const MapperData& data, StampNs now_ns,
+                                   const std::vector<Eigen::Vector2d>& objects_m, const SaliencyLayerOptions& o) {
   struct Spot {
     Eigen::Vector2d p_m;
     double weight;
@@ -73,6 +74,10 @@ SaliencyLayer build_saliency_layer(const MapperData& data, StampNs now_ns, const
     visits.emplace_back(pose->translation(), kf.stamp_ns);
     for (const SalientPoint& s : kf.salient) {
       const Eigen::Vector2d p = *pose * Eigen::Vector2d(s.x_m, s.y_m);
+      const bool explained = std::any_of(objects_m.begin(), objects_m.end(), [&](const Eigen::Vector2d& object) {
+        return (object - p).norm() <= o.explained_radius_m;
+      });
+      if (explained) continue;
       spots.push_back({p, s.weight, kf.stamp_ns});
       lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     }

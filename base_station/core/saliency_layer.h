@@ -4,9 +4,11 @@
 // saliency_projection.h) at the keyframe's global pose, the strongest per cell. A spot keeps its
 // weight until a robot has passed within inspected_radius_m of it (it has then been seen closely:
 // the object pipeline had its look); from then on its weight decays by e every decay_s of mission
-// time. The exploration planner weights frontiers by it (ExplorationContext::saliency). Found
-// victims raise their surroundings in the planner itself (ExplorationOptions::victim_weight), not
-// here: they never decay. Pure: the mapper's data in, a grid out.
+// time. A spot within explained_radius_m of an object already on the map is left out: saliency is
+// attention for what has not been identified yet, and an object found needs no second look. The
+// exploration planner weights frontiers by it (ExplorationContext::saliency). Found victims raise
+// their surroundings in the planner itself (ExplorationOptions::victim_weight), not here: they
+// never decay. Pure: the mapper's data in, a grid out.
 #include <Eigen/Core>
 #include <vector>
 
@@ -20,6 +22,7 @@ struct SaliencyLayerOptions {
   double cell_m = 0.25;
   double inspected_radius_m = 1.5;  ///< a robot this close has seen the spot closely
   double decay_s = 30.0;            ///< after that, the weight falls by e every decay_s
+  double explained_radius_m = 1.5;  ///< spots this close to a found object are left out
 };
 
 class SaliencyLayer {
@@ -54,8 +57,11 @@ class SaliencyLayer {
   std::vector<float> values_;  ///< row-major, 0..1
 };
 
-/// The layer for everything the mapper holds at mission time `now_ns` (see the file comment).
-/// Empty when no linked keyframe carries a salient spot.
-SaliencyLayer build_saliency_layer(const MapperData& data, StampNs now_ns, const SaliencyLayerOptions& options = {});
+/// The layer for everything the mapper holds at mission time `now_ns`, leaving out spots near
+/// `objects_m` (the found objects, global frame); see the file comment. Empty when no linked
+/// keyframe carries a salient spot that is not explained.
+SaliencyLayer build_saliency_layer(const MapperData& data, StampNs now_ns,
+                                   const std::vector<Eigen::Vector2d>& objects_m = {},
+                                   const SaliencyLayerOptions& options = {});
 
 }  // namespace cairn::base

@@ -42,11 +42,22 @@ TEST(SaliencyLayer, ASpotKeepsItsWeightUntilARobotPassedCloseThenDecays) {
   SaliencyLayerOptions o;
   o.inspected_radius_m = 1.5;
   o.decay_s = 30.0;
-  EXPECT_NEAR(build_saliency_layer(data, at(100), o).at({5, 0}), 0.8, 1e-6) << "nobody has been close: it keeps";
+  EXPECT_NEAR(build_saliency_layer(data, at(100), {}, o).at({5, 0}), 0.8, 1e-6) << "nobody has been close: it keeps";
   data.keyframes[{a, 2}] = keyframe(a, 2, 40, SE2(4, 0, 0));  // 1 m from the spot at t = 40 s
-  EXPECT_NEAR(build_saliency_layer(data, at(40), o).at({5, 0}), 0.8, 1e-6);
-  EXPECT_NEAR(build_saliency_layer(data, at(70), o).at({5, 0}), 0.8 * std::exp(-1.0), 1e-6);
-  EXPECT_LT(build_saliency_layer(data, at(200), o).at({5, 0}), 0.01);
+  EXPECT_NEAR(build_saliency_layer(data, at(40), {}, o).at({5, 0}), 0.8, 1e-6);
+  EXPECT_NEAR(build_saliency_layer(data, at(70), {}, o).at({5, 0}), 0.8 * std::exp(-1.0), 1e-6);
+  EXPECT_LT(build_saliency_layer(data, at(200), {}, o).at({5, 0}), 0.01);
+}
+
+TEST(SaliencyLayer, ASpotExplainedByAFoundObjectIsLeftOut) {
+  MapperData data;
+  const RobotId a(0);
+  data.starts[a] = SE2();
+  data.keyframes[{a, 0}] = keyframe(a, 0, 0, SE2(), {{5.0f, 0.0f, 0.8f}, {5.0f, 4.0f, 0.6f}});
+  const SaliencyLayer layer = build_saliency_layer(data, at(1), {{5.3, 0.2}});
+  EXPECT_EQ(layer.at({5, 0}), 0.0) << "the object found there explains it";
+  EXPECT_NEAR(layer.at({5, 4}), 0.6, 1e-6) << "not this one, 4 m away";
+  EXPECT_TRUE(build_saliency_layer(data, at(1), {{5, 0}, {5, 4}}).empty());
 }
 
 TEST(SaliencyLayer, NothingSalientGivesAnEmptyLayer) {

@@ -142,6 +142,30 @@ TEST(AgentPipeline, DeterministicUnderInterleavings) {
   EXPECT_EQ(st.object_tracks, 1);
 }
 
+TEST(AgentPipeline, KeyframesCarryTheSalientSpotsTheCameraSawAtTheirPlaceOnTheFloor) {
+  const Sequence s = make_sequence();
+  AgentPipeline agent(RobotId(1), test_options());
+  const AgentOutputs out = run(s, chronological(s), 1, &agent);
+  int spots = 0;
+  for (const Keyframe& kf : out.keyframes) {
+    for (const SalientPoint& p : kf.salient) {
+      ++spots;
+      // The red object (0.3 m across, at (2.8, -2.0) in the world) is the only colourful thing seen:
+      // its front face, pooled in 0.25 m cells.
+      const Eigen::Vector2d world = (s.truth.front() * kf.T_local_base) * Eigen::Vector2d(p.x_m, p.y_m);
+      EXPECT_LT((world - Eigen::Vector2d(2.8, -2.0)).norm(), 0.45) << world.transpose();
+      EXPECT_GT(p.weight, 0.0f);
+      EXPECT_LE(p.weight, 1.0f);
+    }
+  }
+  EXPECT_GT(spots, 0);
+  EXPECT_EQ(agent.stats().salient_points, spots);
+  AgentOptions off = test_options();
+  off.enable_saliency_map = false;
+  AgentPipeline blind(RobotId(1), off);
+  for (const Keyframe& kf : run(s, chronological(s), 1, &blind).keyframes) EXPECT_TRUE(kf.salient.empty());
+}
+
 TEST(AgentPipeline, KeyframePosesCarryTheAgentsLoopClosuresOnARealLog) {
   // The Intel lab with 10 % / 3 deg per metre odometry noise (issue 3's protocol): the keyframes
   // carry the front end's poses; the agent's loop closing straightens them, and what it sends as

@@ -72,18 +72,20 @@ MapImage read_map_image(const std::string& yaml_path) {
   return m;
 }
 
-std::optional<CoverageScore> evaluate_coverage(const std::string& ground_truth_dir, const std::string& results_dir) {
+std::optional<CoverageScore> evaluate_coverage(const std::string& ground_truth_dir, const std::string& results_dir,
+                                               const SE2& T_world_map) {
   const std::string truth_yaml = ground_truth_dir + "/gt_reachable.yaml";
   if (!std::filesystem::exists(truth_yaml)) return std::nullopt;
   const MapImage truth = read_map_image(truth_yaml);
   const MapImage map = read_map_image(results_dir + "/map.yaml");
+  const SE2 T_map_world = T_world_map.inverse();
   CoverageScore s;
   const double cell_m2 = truth.resolution_m * truth.resolution_m;
   for (int r = 0; r < truth.height; ++r) {
     for (int c = 0; c < truth.width; ++c) {
       if (truth.pixels[size_t(truth.height - 1 - r) * size_t(truth.width) + size_t(c)] == 0) continue;
       s.reachable_m2 += cell_m2;
-      const auto seen = map.at(truth.centre_m(c, r));
+      const auto seen = map.at(T_map_world * truth.centre_m(c, r));
       if (seen && *seen != kUnknownPixel) s.covered_m2 += cell_m2;
     }
   }

@@ -3,12 +3,18 @@
 // simulator's gt_reachable.pgm, sim/reachable_area.h) that the base's final merged map (map.pgm,
 // map_server format, global frame = world frame) has observed, free or occupied. (Counting only
 // cells it calls free would miss the one-cell band along every wall that a 5 cm map draws
-// thicker than the truth: 3 % of a rubble-strewn floor.)
+// thicker than the truth: 3 % of a rubble-strewn floor.) The map is laid over the truth by
+// T_world_map, the rigid transform that best aligns the robots' trajectories to theirs
+// (MapConsistency): a map that sits half a degree off the world would otherwise count the band in
+// the lee of every obstacle as never seen (2-3 % of the collapsed floor), which is its placement's
+// error, scored elsewhere, not unexplored area.
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "common/se2.h"
 
 namespace cairn::eval {
 
@@ -35,6 +41,7 @@ struct CoverageScore {
 
 /// nullopt when the ground truth has no gt_reachable.yaml (an older recording); throws InputError
 /// for a malformed file or a missing map.yaml.
-std::optional<CoverageScore> evaluate_coverage(const std::string& ground_truth_dir, const std::string& results_dir);
+std::optional<CoverageScore> evaluate_coverage(const std::string& ground_truth_dir, const std::string& results_dir,
+                                               const SE2& T_world_map = SE2());
 
 }  // namespace cairn::eval

@@ -45,6 +45,13 @@ TEST(CoverageEval, TheShareOfTheExplorableAreaObservedOnTheMap) {
   EXPECT_NEAR(c->reachable_m2, 8.0, 1e-9);
   EXPECT_NEAR(c->covered_m2, 4.0, 0.15);
   EXPECT_NEAR(c->fraction(), 0.5, 0.02);
+  // Laid over the truth by T_world_map (its frame 1 m behind the world's along x), what it saw
+  // covers only the truth's x in [0, 1): a quarter.
+  const auto off = evaluate_coverage(gt.string(), map.string(), SE2(-1.0, 0.0, 0.0));
+  ASSERT_TRUE(off);
+  EXPECT_NEAR(off->fraction(), 0.25, 0.02);
+  const auto back = evaluate_coverage(gt.string(), map.string(), SE2(0.0, 0.0, 0.0));
+  EXPECT_NEAR(back->fraction(), c->fraction(), 1e-12);
 }
 
 TEST(CoverageEval, AbsentTruthGivesNoScoreAndABadImageIsNamed) {

@@ -218,6 +218,7 @@ std::optional<MapConsistency> map_consistency(const std::vector<std::pair<Trajec
   c.ate_rmse_m = std::sqrt(sq / double(est.size()));
   c.rotation_deg = T.yaw() * 180.0 / M_PI;
   c.shift_m = T.translation().norm();
+  c.T_world_map = T;
   return c;
 }
 
@@ -259,7 +260,8 @@ MissionScore evaluate_mission(const std::string& gt_dir, const std::string& resu
   for (const auto& c : classes) score.classes.push_back(score_class(c, truth, found, options.object_match_distance_m));
   score.objects = score_class("all", truth, found, options.object_match_distance_m);
   score.robot_frame = score_robot_frame(gt_dir, results_dir, truth, classes, options.object_match_distance_m);
-  score.coverage = evaluate_coverage(gt_dir, results_dir);
+  score.coverage =
+      evaluate_coverage(gt_dir, results_dir, score.map_consistency ? score.map_consistency->T_world_map : SE2());
   return score;
 }
 

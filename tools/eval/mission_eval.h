@@ -54,6 +54,7 @@ struct MapConsistency {
   int robots = 0, keyframes = 0;
   double ate_rmse_m = 0, ate_max_m = 0;
   double rotation_deg = 0, shift_m = 0;  ///< the transform that best aligns the map to the world
+  SE2 T_world_map;                       ///< that transform
 };
 
 struct MissionScore {

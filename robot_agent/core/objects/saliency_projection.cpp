@@ -28,11 +28,20 @@ std::vector<SalientPoint> project_saliency(const RgbdFrame& frame, const Salienc
     for (int c = 0; c < maps.width; ++c) {
       const double weight = maps.fused.at(r, c) * maps.colour.at(r, c);
       if (!(weight >= o.min_weight)) continue;
-      // The full-resolution pixel at the centre of this saliency cell.
-      const int u = std::min(K.width - 1, int((c + 0.5) * su)), v = std::min(K.height - 1, int((r + 0.5) * sv));
-      const uint16_t raw = frame.depth[size_t(v) * size_t(K.width) + size_t(u)];
-      const double z = raw * K.depth_scale_m;
-      if (raw == 0 || !(z <= o.max_range_m)) continue;
+      // The cell's most colourful full-resolution pixel with a depth reading: a cell on the edge of
+      // a colourful surface must take that surface's depth, not the wall's behind it.
+      int u = -1, v = -1, best_chroma = -1;
+      for (int y = int(r * sv); y < std::min(K.height, int((r + 1) * sv)); ++y) {
+        for (int x = int(c * su); x < std::min(K.width, int((c + 1) * su)); ++x) {
+          const size_t i = size_t(y) * size_t(K.width) + size_t(x);
+          const uint8_t* px = &frame.rgb[3 * i];
+          const int chroma = std::max({px[0], px[1], px[2]}) - std::min({px[0], px[1], px[2]});  // = 255 s v
+          if (frame.depth[i] != 0 && chroma > best_chroma) best_chroma = chroma, u = x, v = y;
+        }
+      }
+      if (u < 0) continue;
+      const double z = frame.depth[size_t(v) * size_t(K.width) + size_t(u)] * K.depth_scale_m;
+      if (!(z <= o.max_range_m)) continue;
       const Eigen::Vector3d p_camera((u - K.cx) * z / K.fx, (v - K.cy) * z / K.fy, z);
       const Eigen::Vector3d p_base = frame.T_base_camera * p_camera;
       if (!p_base.allFinite() || p_base.z() < o.min_height_m || p_base.z() > o.max_height_m) continue;
@@ -61,9 +70,8 @@ std::vector<SalientPoint> SaliencyPool::take(const SE2& T_local_keyframe) {
     out.push_back(SalientPoint{float(q.x()), float(q.y()), p.weight});
   }
   cells_.clear();
-  std::stable_sort(out.begin(), out.end(), [](const SalientPoint& a, const SalientPoint& b) {
-    return a.weight > b.weight;
-  });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const SalientPoint& a, const SalientPoint& b) { return a.weight > b.weight; });
   if (int(out.size()) > options_.max_points_per_keyframe) out.resize(size_t(options_.max_points_per_keyframe));
   return out;
 }

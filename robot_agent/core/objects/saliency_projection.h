@@ -20,11 +20,11 @@
 namespace cairn::agent {
 
 struct SaliencyProjectionOptions {
-  double min_weight = 0.25;    ///< fused x colour below this is not worth a detour
-  double max_range_m = 6.0;    ///< farther depth readings are too sparse on the grid to place
-  double min_height_m = 0.05;  ///< the floor itself is not salient
-  double max_height_m = 2.0;   ///< nor the ceiling
-  double cell_m = 0.25;        ///< points are pooled per floor cell of this size (the strongest kept)
+  double min_weight = 0.25;           ///< fused x colour below this is not worth a detour
+  double max_range_m = 6.0;           ///< farther depth readings are too sparse on the grid to place
+  double min_height_m = 0.05;         ///< the floor itself is not salient
+  double max_height_m = 2.0;          ///< nor the ceiling
+  double cell_m = 0.25;               ///< points are pooled per floor cell of this size (the strongest kept)
   int max_points_per_keyframe = 200;  ///< the strongest cells when more were seen
 };
 
