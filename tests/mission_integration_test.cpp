@@ -231,8 +231,9 @@ TEST(MissionIntegration, DemoFloorMergesEveryRobotAndEveryObjectOnceAndSurvivesA
 TEST(MissionIntegration, TwoRobotsExploreTheOfficeByThemselvesFindEverythingAndComeHome) {
   // No route anywhere: the base plans, the agents navigate, the simulator obeys their cmd_vel in
   // lock-step. Both robots must cover the floor, find every object and end the mission at home.
+  // The attentive strategy (coordinated + the saliency layer); the demo test runs the default.
   const std::string world = "tests/worlds/two_robots_explore.yaml";
-  const MissionRun run = run_mission(world, "explore", "--timeout 600");
+  const MissionRun run = run_mission(world, "explore", "--timeout 600 --exploration saliency");
   const fs::path& out = run.out;
   const CommandResult& r = run.result;
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -265,6 +266,12 @@ TEST(MissionIntegration, TwoRobotsExploreTheOfficeByThemselvesFindEverythingAndC
   }
   EXPECT_NE(r.output.find("exploration: 50 % covered at"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(out / "coverage.png"));
+  // The cameras' salient spots reached the base for its saliency layer (the victims and hazards are
+  // the only colourful things in the simulated office).
+  std::ifstream summary_in(out / "map" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(summary_in, nullptr, false);
+  ASSERT_FALSE(summary.is_discarded());
+  EXPECT_GT(summary["exploration"]["salient_spots_received"].get<int>(), 0);
 }
 
 TEST(MissionIntegration, LossyRateLimitedRadioLinkLosesNothing) {

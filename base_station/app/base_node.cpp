@@ -332,6 +332,9 @@ int BaseNode::finish() {
                       {"final_cost", r.solve.final_cost}};
   summary["exploration"] = exploration_json(plan_);
   summary["exploration"]["goals_blacklisted"] = goals_.goals_blacklisted();
+  size_t salient_spots = 0;  // what the cameras sent for the saliency layer
+  for (const auto& [id, kf] : mapper_.data().keyframes) salient_spots += kf.salient.size();
+  summary["exploration"]["salient_spots_received"] = salient_spots;
   summary["exploration"]["sent_home"] = goals_.sent_home();
   if (const auto home_ns = goals_.sent_home_at_ns()) summary["exploration"]["sent_home_at_s"] = ns_to_sec(*home_ns);
   summary["coverage_series"] = coverage_series_;
