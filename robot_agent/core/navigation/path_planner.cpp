@@ -33,6 +33,8 @@ const char* to_string(PlanStatus status) {
       return "goal blocked";
     case PlanStatus::kNoPath:
       return "no path";
+    case PlanStatus::kGoalOutsideMap:
+      return "goal outside the map";
   }
   return "?";
 }
@@ -52,9 +54,17 @@ PlannedPath PathPlanner::plan(const OccupancyGrid& map, const Eigen::Vector2d& f
   gp.inflation_m = o.robot_radius_m + o.inflation_margin_m;
   gp.unknown_cost = o.unknown_cost;
   gp.margin_m = o.margin_m;
-  const PlanningGrid g(map, gp, {from_m, goal_m});
   PlannedPath out;
   out.goal_m = goal_m;
+  const Eigen::Vector2d lo = map.origin_m(), hi = lo + map.resolution_m() * Eigen::Vector2d(map.width(), map.height());
+  const double outside_m = (goal_m - goal_m.cwiseMax(lo).cwiseMin(hi)).norm();
+  if (!goal_m.allFinite() || !from_m.allFinite() || outside_m > o.max_goal_outside_map_m) {
+    out.status = PlanStatus::kGoalOutsideMap;
+    out.reason = "the goal " + point(goal_m) + " is " + metres(outside_m) + " outside the map (at most " +
+                 metres(o.max_goal_outside_map_m) + ")";
+    return out;
+  }
+  const PlanningGrid g(map, gp, {from_m, goal_m});
   if (g.empty()) {
     out.status = PlanStatus::kEmptyMap;
     out.reason = "nothing to plan on";

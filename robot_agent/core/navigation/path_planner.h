@@ -28,11 +28,14 @@ struct PathPlannerOptions {
   double boxed_in_m = 1.0;
   double cell_m = 0.0;    ///< plan on a coarser copy (GridPlanningOptions::cell_m); 0: the map's cells
   double margin_m = 1.0;  ///< unknown space planned beyond the known cells, start and goal
+  /// A goal farther than this outside the map's bounds is refused: the planning grid would have to
+  /// reach it through unknown space (a goal 5 km off would be 2.5 G cells).
+  double max_goal_outside_map_m = 15.0;
   double free_below = 0.25;
   double occupied_above = 0.65;
 };
 
-enum class PlanStatus { kOk, kEmptyMap, kStartBlocked, kGoalBlocked, kNoPath };
+enum class PlanStatus { kOk, kEmptyMap, kStartBlocked, kGoalBlocked, kNoPath, kGoalOutsideMap };
 
 struct PlannedPath {
   PlanStatus status = PlanStatus::kNoPath;

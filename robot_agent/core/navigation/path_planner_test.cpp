@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "robot_agent/core/navigation/nav_test_util.h"
 
 namespace cairn::agent {
@@ -129,6 +131,17 @@ TEST(PathPlanner, CrossesUnknownSpaceOnlyAtItsCost) {
   known_only.unknown_cost = 0;
   const PlannedPath q = PathPlanner(known_only).plan(d.grid, from, goal, 0.4);
   EXPECT_EQ(q.status, PlanStatus::kGoalBlocked);  // an unknown goal cell is not traversable
+}
+
+TEST(PathPlanner, AGoalFarOutsideTheMapIsRefusedWithoutPlanningOutThere) {
+  const GridDrawing d = room();                                                // a 10 m x 6 m map
+  const PlannedPath far = PathPlanner().plan(d.grid, {3, 3}, {5000, 3}, 0.4);  // 2.5 G cells if planned
+  EXPECT_EQ(far.status, PlanStatus::kGoalOutsideMap);
+  EXPECT_NE(far.reason.find("outside the map (at most 15.00 m)"), std::string::npos) << far.reason;
+  const PlannedPath nan = PathPlanner().plan(d.grid, {3, 3}, {std::nan(""), 3}, 0.4);
+  EXPECT_EQ(nan.status, PlanStatus::kGoalOutsideMap);
+  // Just outside: planned through unknown space as before (the room is closed: no path).
+  EXPECT_EQ(PathPlanner().plan(d.grid, {3, 3}, {14, 3}, 0.4).status, PlanStatus::kNoPath);
 }
 
 TEST(PathPlanner, ARobotBoxedInIsToldApartFromAnUnreachableGoal) {
