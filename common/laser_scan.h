@@ -16,6 +16,10 @@ struct LaserScan {
   float range_min_m = 0.05f;        ///< readings at or below this are "no return"
   float range_max_m = 30.f;         ///< readings at or above this are "no return"
   std::vector<float> ranges_m;
+  /// Per beam, same length as ranges_m, or empty when the sensor gives none. The team's robots carry
+  /// retro-reflective tape: beams that hit a teammate come back brighter than any wall
+  /// (robot_agent's AgentOptions::teammate_min_intensity leaves them out of SLAM).
+  std::vector<float> intensities;
 };
 
 /// Why readings were dropped; reported so bad sensors are visible, never silently swallowed.

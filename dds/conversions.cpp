@@ -95,6 +95,7 @@ cairn_msgs::LaserScan to_msg(RobotId robot, const LaserScan& scan) {
   m.range_min_m(scan.range_min_m);
   m.range_max_m(scan.range_max_m);
   m.ranges_m(scan.ranges_m);
+  m.intensities(scan.intensities);
   return m;
 }
 
@@ -112,6 +113,12 @@ std::optional<LaserScan> from_msg(const cairn_msgs::LaserScan& m, std::string* e
   s.range_min_m = m.range_min_m();
   s.range_max_m = m.range_max_m();
   s.ranges_m = m.ranges_m();
+  if (!m.intensities().empty() && m.intensities().size() != m.ranges_m().size()) {
+    fail(error, "laser_scan: " + std::to_string(m.intensities().size()) + " intensities for " +
+                    std::to_string(m.ranges_m().size()) + " beams");
+    return std::nullopt;
+  }
+  s.intensities = m.intensities();
   return s;
 }
 

@@ -215,6 +215,14 @@ TEST(Conversions, LaserScanKeepsNanRangesButRejectsBadGeometry) {
   msg = to_msg(RobotId(-3), s);
   EXPECT_FALSE(from_msg(msg, &error));
   EXPECT_NE(error.find("robot_id"), std::string::npos);
+  s.intensities = {0.3f, 0.3f, 1.0f};
+  back = from_msg(to_msg(RobotId(0), s), &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_EQ(back->intensities, s.intensities);
+  msg = to_msg(RobotId(0), s);
+  msg.intensities().pop_back();
+  EXPECT_FALSE(from_msg(msg, &error));
+  EXPECT_NE(error.find("2 intensities for 3 beams"), std::string::npos) << error;
 }
 
 TEST(Conversions, SamplesForAnotherRobotAreNamed) {

@@ -44,6 +44,7 @@ LaserScan LaserSimulator::scan(const FloorPlan& plan, const SE2& T_world_laser, 
   out.range_min_m = float(options_.min_range_m);
   out.range_max_m = float(options_.max_range_m);
   out.ranges_m.resize(size_t(std::max(1, options_.beams)));
+  out.intensities.assign(out.ranges_m.size(), 0.f);
   const Eigen::Vector2d origin = T_world_laser.translation();
   std::vector<Eigen::Vector2d> near_robots;  // only those a beam can reach
   for (const Eigen::Vector2d& c : other_robots_m) {
@@ -55,10 +56,11 @@ LaserScan LaserSimulator::scan(const FloorPlan& plan, const SE2& T_world_laser, 
     const RayHit hit = plan.cast_ray(origin, angle, options_.max_range_m);
     const double n = noise(rng);  // drawn for every beam: the stream does not depend on the scene
     double range_m = hit.hit ? hit.range_m : std::numeric_limits<double>::infinity();
+    bool teammate = false;
     const Eigen::Vector2d dir(std::cos(angle), std::sin(angle));
     for (const Eigen::Vector2d& c : near_robots) {
-      if (const auto t = ray_circle(origin, dir, c, robot_radius_m, options_.max_range_m))
-        range_m = std::min(range_m, *t);
+      const auto t = ray_circle(origin, dir, c, robot_radius_m, options_.max_range_m);
+      if (t && *t < range_m) range_m = *t, teammate = true;
     }
     if (!std::isfinite(range_m)) {
       out.ranges_m[i] = std::numeric_limits<float>::infinity();
@@ -68,6 +70,7 @@ LaserScan LaserSimulator::scan(const FloorPlan& plan, const SE2& T_world_laser, 
     // Noise must not turn a return into "no return" at either end of the range.
     r = std::clamp(r, options_.min_range_m + 1e-3, options_.max_range_m - 1e-3);
     out.ranges_m[i] = float(r);
+    out.intensities[i] = teammate ? options_.teammate_intensity : options_.surface_intensity;
   }
   return out;
 }

@@ -83,6 +83,12 @@ TEST(LaserSimulator, OtherRobotsAreCirclesNearerThanTheWalls) {
   const double b = 2.0 * std::cos(a), expected = b - std::sqrt(b * b - (4.0 - 0.04));
   EXPECT_NEAR(s.ranges_m[size_t(beam)], expected, 1e-4);                // exact ray-circle intersection
   EXPECT_NEAR(s.ranges_m[186], 3.95 / std::cos(6 * M_PI / 180), 1e-3);  // misses the circle: the east wall
+  // The teammate's reflective tape comes back bright, the walls dull.
+  ASSERT_EQ(s.intensities.size(), s.ranges_m.size());
+  EXPECT_FLOAT_EQ(s.intensities[180], options.teammate_intensity);
+  EXPECT_FLOAT_EQ(s.intensities[size_t(beam)], options.teammate_intensity);
+  EXPECT_FLOAT_EQ(s.intensities[186], options.surface_intensity);
+  EXPECT_FLOAT_EQ(s.intensities[270], options.surface_intensity);
   // The robot's own position is never passed: no robot, same scan as before the feature.
   std::mt19937_64 rng_a(3), rng_b(3);
   EXPECT_EQ(laser.scan(box_room(), SE2(2.0, 1.0, 0.3), 0, rng_a).ranges_m,

@@ -28,6 +28,10 @@ struct LaserOptions {
   double max_range_m = 12.0;
   double min_range_m = 0.05;
   double noise_sd_m = 0.01;
+  /// Intensity of a return: the walls and rubble, and the retro-reflective tape every robot of the
+  /// team carries around its body (what lets an agent leave its teammates out of its SLAM).
+  float surface_intensity = 0.3f;
+  float teammate_intensity = 1.0f;
 };
 
 /// Forward-looking RGB-D camera at height_m above the base origin, pitched down by pitch_deg.
@@ -59,6 +63,8 @@ struct SimOptions {
   double settle_time_s = 1.0;  ///< mission ends this long after the last robot finished / was declared done
   DriveMode drive_mode = DriveMode::kCommands;
   double robot_radius_m = 0.2;  ///< every robot is a disc: collisions, and what the other robots' lasers see
+  /// false: lasers see through the other robots (to measure what they cost the robots' SLAM).
+  bool lasers_see_robots = true;
   bool enable_laser = true;
   bool enable_camera = true;
   OdometryOptions odometry;

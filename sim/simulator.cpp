@@ -73,8 +73,10 @@ SimStep Simulator::step() {
   }
   if (options_.enable_laser && due(out.stamp_ns, laser_period_ns_, &next_laser_ns_)) {
     for (RobotState& r : robots_) {
-      out.scans.push_back({r.spec.id, laser_.scan(world_.floor_plan, r.T_world_base, out.stamp_ns, r.laser_rng,
-                                                  other_robots_m(r), options_.robot_radius_m)});
+      const std::vector<Eigen::Vector2d> others =
+          options_.lasers_see_robots ? other_robots_m(r) : std::vector<Eigen::Vector2d>{};
+      out.scans.push_back({r.spec.id, laser_.scan(world_.floor_plan, r.T_world_base, out.stamp_ns, r.laser_rng, others,
+                                                  options_.robot_radius_m)});
     }
   }
   if (renderer_ && due(out.stamp_ns, camera_period_ns_, &next_camera_ns_)) {

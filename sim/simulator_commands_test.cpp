@@ -175,6 +175,9 @@ TEST(SimulatorCommands, EachLaserSeesTheOtherRobotAndNotItself) {
     EXPECT_NEAR(scan.ranges_m[180], 2.5 - 0.2, 0.05);  // straight ahead: the other robot's near face
     for (float r : scan.ranges_m) EXPECT_GT(r, 0.9);   // no return from its own disc (walls >= 1.1 m away)
   }
+  options.lasers_see_robots = false;  // for measuring what the others cost the robots' SLAM
+  Simulator blind(room({SE2(2, 4.5, 0), SE2(4.5, 4.5, M_PI)}), options);
+  for (const auto& [robot, scan] : blind.step().scans) EXPECT_GT(scan.ranges_m[180], 3.0) << "through to the wall";
 }
 
 TEST(SimulatorCommands, MissionEndsAfterEveryRobotIsDeclaredDonePlusSettleOrAtTheDuration) {

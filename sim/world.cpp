@@ -112,7 +112,7 @@ bool load_sim(const YamlConfig& root, SimOptions& sim) {
   bool drive_given = false;
   if (root.has("sim")) {
     const YamlConfig s = root["sim"];
-    s.allow_only({"seed", "dt_s", "duration_s", "settle_time_s", "drive", "robot_radius_m"});
+    s.allow_only({"seed", "dt_s", "duration_s", "settle_time_s", "drive", "robot_radius_m", "lasers_see_robots"});
     const long long seed = s.get<long long>("seed", (long long)sim.seed);
     if (seed < 0) s.fail("seed", "must be >= 0");
     sim.seed = uint64_t(seed);
@@ -120,6 +120,7 @@ bool load_sim(const YamlConfig& root, SimOptions& sim) {
     sim.duration_s = positive(s, "duration_s", sim.duration_s, 86400);
     sim.settle_time_s = non_negative(s, "settle_time_s", sim.settle_time_s, 3600);
     sim.robot_radius_m = positive(s, "robot_radius_m", sim.robot_radius_m, 5);
+    sim.lasers_see_robots = s.get("lasers_see_robots", sim.lasers_see_robots);
     if (s.has("drive")) sim.drive_mode = parse_drive(s), drive_given = true;
   }
   load_sensors(root, sim);

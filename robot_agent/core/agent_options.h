@@ -22,6 +22,9 @@ struct AgentOptions {
   /// agent. Only reached when odometry is missing or far behind.
   int max_pending_scans = 100;
   bool enable_objects = true;
+  /// Beams at least this bright (LaserScan::intensities) hit a teammate's retro-reflective tape:
+  /// left out of SLAM and keyframes (teammates move). 0: every beam is used.
+  float teammate_min_intensity = 0.9f;
   /// Salient spots of the camera frames go out with the keyframes (Keyframe::salient) for the base's
   /// saliency layer (needs detector.use_saliency).
   bool enable_saliency_map = true;

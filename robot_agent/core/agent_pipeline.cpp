@@ -7,6 +7,18 @@
 
 namespace cairn::agent {
 
+LaserScan without_teammates(const LaserScan& scan, float min_intensity, int* dropped) {
+  if (min_intensity <= 0.f || scan.intensities.size() != scan.ranges_m.size()) return scan;
+  LaserScan out = scan;
+  for (size_t i = 0; i < out.ranges_m.size(); ++i) {
+    if (out.intensities[i] >= min_intensity) {
+      out.ranges_m[i] = std::numeric_limits<float>::infinity();  // as if no return
+      ++*dropped;
+    }
+  }
+  return out;
+}
+
 AgentPipeline::AgentPipeline(RobotId robot, const AgentOptions& options)
     : robot_(robot),
       options_(options),
@@ -78,10 +90,14 @@ Anchor AgentPipeline::anchor_at(StampNs t) const {
 void AgentPipeline::process_scan(AgentOutputs* out) {
   const LaserScan scan = std::move(scans_.front());
   scans_.pop_front();
+  // Teammates move: matched against, they drag the scan with them (a convoy in a corridor slid
+  // 0.2-1.2 m per keyframe on the 64 m site). Their reflector beams are left out of SLAM and the
+  // keyframes; navigation still gets the whole scan (it must not drive into them).
+  const LaserScan slam_scan = without_teammates(scan, options_.teammate_min_intensity, &stats_.teammate_beams);
   if (options_.use_odometry && (odometry_.empty() || odometry_.back().stamp_ns < scan.stamp_ns)) {
     ++stats_.scans_without_odometry;
   }
-  const LocalSlamResult r = local_slam_.add_scan(scan, odometry_at(scan.stamp_ns));
+  const LocalSlamResult r = local_slam_.add_scan(slam_scan, odometry_at(scan.stamp_ns));
   any_scan_processed_ = true;
   last_scan_stamp_ns_ = scan.stamp_ns;
   // Drop odometry no longer needed for interpolation (keep the last reading <= this scan).
@@ -112,7 +128,7 @@ void AgentPipeline::process_scan(AgentOutputs* out) {
   }
   if (!r.matched()) return;
   trajectory_.push_back({scan.stamp_ns, r.pose});
-  if (auto kf = keyframer_.add(scan, r.pose, r.covariance)) {
+  if (auto kf = keyframer_.add(slam_scan, r.pose, r.covariance)) {
     attach_landmarks(&*kf);  // agent_pipeline_landmarks.cpp
     kf->salient = saliency_pool_.take(kf->T_local_base);
     stats_.salient_points += int(kf->salient.size());

@@ -67,7 +67,12 @@ struct AgentStats {
   int landmarks_in_keyframes = 0;  ///< attached to an emitted keyframe
   int keyframe_pose_updates = 0;   ///< AgentOutputs::keyframe_poses emitted
   int salient_points = 0;          ///< sent with keyframes (Keyframe::salient)
+  int teammate_beams = 0;          ///< on a teammate's reflector: left out of SLAM and keyframes
 };
+
+/// A copy of `scan` whose beams at least `min_intensity` bright (a teammate's reflective tape) read
+/// "no return", counted in *dropped; the scan itself when min_intensity <= 0 or it has no intensities.
+LaserScan without_teammates(const LaserScan& scan, float min_intensity, int* dropped);
 
 class AgentPipeline {
  public:

@@ -166,6 +166,32 @@ TEST(AgentPipeline, KeyframesCarryTheSalientSpotsTheCameraSawAtTheirPlaceOnTheFl
   for (const Keyframe& kf : run(s, chronological(s), 1, &blind).keyframes) EXPECT_TRUE(kf.salient.empty());
 }
 
+TEST(AgentPipeline, BeamsOnATeammatesReflectorStayOutOfSlamAndKeyframes) {
+  const auto room = testing::make_room();
+  LaserScan scan = testing::ray_cast(room, SE2(), 0);
+  scan.intensities.assign(scan.ranges_m.size(), 0.3f);
+  for (size_t i = 100; i < 110; ++i) scan.ranges_m[i] = 1.0f, scan.intensities[i] = 1.0f;  // a teammate 1 m off
+  int dropped = 0;
+  const LaserScan slam = without_teammates(scan, 0.9f, &dropped);
+  EXPECT_EQ(dropped, 10);
+  EXPECT_TRUE(std::isinf(slam.ranges_m[105]));
+  EXPECT_EQ(slam.ranges_m[50], scan.ranges_m[50]);
+  EXPECT_EQ(without_teammates(scan, 0.f, &dropped).ranges_m, scan.ranges_m) << "off";
+  LaserScan no_channel = scan;
+  no_channel.intensities.clear();
+  EXPECT_EQ(without_teammates(no_channel, 0.9f, &dropped).ranges_m, scan.ranges_m) << "a laser without intensities";
+  // Through the pipeline: the keyframe's scan has no teammate, navigation's scan still has it.
+  AgentPipeline agent(RobotId(0), test_options());
+  agent.add_odometry({0, SE2(), 0, 0});
+  agent.add_scan(scan);
+  const AgentOutputs out = agent.process(true);
+  ASSERT_EQ(out.keyframes.size(), 1u);
+  EXPECT_TRUE(std::isinf(out.keyframes[0].scan.ranges_m[105]));
+  ASSERT_EQ(out.scans.size(), 1u);
+  EXPECT_FLOAT_EQ(out.scans[0].scan.ranges_m[105], 1.0f);
+  EXPECT_EQ(agent.stats().teammate_beams, 10);
+}
+
 TEST(AgentPipeline, KeyframePosesCarryTheAgentsLoopClosuresOnARealLog) {
   // The Intel lab with 10 % / 3 deg per metre odometry noise (issue 3's protocol): the keyframes
   // carry the front end's poses; the agent's loop closing straightens them, and what it sends as
