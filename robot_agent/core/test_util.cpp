@@ -78,6 +78,26 @@ Eigen::Isometry3d test_T_base_camera() {
   return T;
 }
 
+RgbdFrame grey_wall_frame() {
+  RgbdFrame f;
+  f.stamp_ns = 1000;
+  f.intrinsics = CameraIntrinsics{320, 240, 260.0, 260.0, 159.5, 119.5, 0.001};
+  f.T_base_camera = test_T_base_camera();
+  f.rgb.assign(320 * 240 * 3, 128);
+  f.depth.assign(320 * 240, 4000);
+  return f;
+}
+
+void paint_square(RgbdFrame* f, int u0, int v0, int size, uint8_t r, uint8_t g, uint8_t b, uint16_t depth_mm) {
+  const int w = f->intrinsics.width;
+  for (int v = v0; v < v0 + size; ++v)
+    for (int u = u0; u < u0 + size; ++u) {
+      const size_t i = size_t(v) * size_t(w) + size_t(u);
+      f->rgb[3 * i] = r, f->rgb[3 * i + 1] = g, f->rgb[3 * i + 2] = b;
+      f->depth[i] = depth_mm;
+    }
+}
+
 RgbdFrame render_rgbd(const SE2& T_world_base, const Eigen::Vector3d& object_world, double size_m, StampNs stamp_ns) {
   RgbdFrame f;
   f.stamp_ns = stamp_ns;

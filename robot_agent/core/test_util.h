@@ -28,6 +28,10 @@ LaserScan ray_cast(const std::vector<Segment>& world, const SE2& T_world_base, S
 RgbdFrame render_rgbd(const SE2& T_world_base, const Eigen::Vector3d& object_world, double size_m, StampNs stamp_ns);
 /// The camera mounting used by render_rgbd: optical frame at (0.1, 0, 0.4) in the base, looking along x.
 Eigen::Isometry3d test_T_base_camera();
+/// A 320x240 RGB-D frame (fx = fy = 260, centred) of a grey wall 4 m ahead, with that mounting.
+RgbdFrame grey_wall_frame();
+/// Paints a size x size px square with its top-left corner at (u0, v0) in (r, g, b) at depth_mm.
+void paint_square(RgbdFrame* f, int u0, int v0, int size, uint8_t r, uint8_t g, uint8_t b, uint16_t depth_mm);
 
 struct CarmenScan {
   LaserScan scan;

@@ -13,23 +13,10 @@ namespace {
 // 320x240 grey frame at 4 m with a red 40x40 px box at 2 m centred on the principal point, a
 // yellow 30x30 box at 3 m, and a red 4x4 speck (below min area).
 RgbdFrame synthetic_frame() {
-  RgbdFrame f;
-  f.stamp_ns = 1000;
-  f.intrinsics = CameraIntrinsics{320, 240, 260.0, 260.0, 159.5, 119.5, 0.001};
-  f.T_base_camera = testing::test_T_base_camera();
-  f.rgb.assign(320 * 240 * 3, 128);
-  f.depth.assign(320 * 240, 4000);
-  auto paint = [&](int u0, int v0, int size, uint8_t r, uint8_t g, uint8_t b, uint16_t depth_mm) {
-    for (int v = v0; v < v0 + size; ++v)
-      for (int u = u0; u < u0 + size; ++u) {
-        const size_t i = size_t(v) * 320 + u;
-        f.rgb[3 * i] = r, f.rgb[3 * i + 1] = g, f.rgb[3 * i + 2] = b;
-        f.depth[i] = depth_mm;
-      }
-  };
-  paint(140, 100, 40, 220, 20, 20, 2000);
-  paint(20, 20, 30, 230, 200, 20, 3000);
-  paint(280, 200, 4, 220, 20, 20, 1000);
+  RgbdFrame f = testing::grey_wall_frame();
+  testing::paint_square(&f, 140, 100, 40, 220, 20, 20, 2000);
+  testing::paint_square(&f, 20, 20, 30, 230, 200, 20, 3000);
+  testing::paint_square(&f, 280, 200, 4, 220, 20, 20, 1000);
   return f;
 }
 

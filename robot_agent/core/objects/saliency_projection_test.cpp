@@ -9,20 +9,8 @@ namespace {
 
 /// Grey walls 4 m ahead; a red patch 2 m ahead of the camera, 0.5 m high, right of the centre.
 RgbdFrame grey_room_with_red_patch(bool with_patch) {
-  RgbdFrame f;
-  f.stamp_ns = 1000;
-  f.intrinsics = CameraIntrinsics{320, 240, 260.0, 260.0, 159.5, 119.5, 0.001};
-  f.T_base_camera = testing::test_T_base_camera();
-  f.rgb.assign(320 * 240 * 3, 128);
-  f.depth.assign(320 * 240, 4000);
-  if (with_patch) {
-    for (int v = 100; v < 140; ++v)
-      for (int u = 200; u < 240; ++u) {
-        const size_t i = size_t(v) * 320 + size_t(u);
-        f.rgb[3 * i] = 220, f.rgb[3 * i + 1] = 20, f.rgb[3 * i + 2] = 20;
-        f.depth[i] = 2000;
-      }
-  }
+  RgbdFrame f = testing::grey_wall_frame();
+  if (with_patch) testing::paint_square(&f, 200, 100, 40, 220, 20, 20, 2000);
   return f;
 }
 
