@@ -19,8 +19,8 @@ SaliencyLayer::SaliencyLayer(const Eigen::Vector2d& min_m, const Eigen::Vector2d
 
 bool SaliencyLayer::cell_of(const Eigen::Vector2d& p_m, int* col, int* row) const {
   if (empty() || !p_m.allFinite()) return false;
-  *col = int(std::floor((p_m.x() - origin_m_.x()) / cell_m_));
-  *row = int(std::floor((p_m.y() - origin_m_.y()) / cell_m_));
+  const Eigen::Vector2i cell = unclamped_cell(p_m);
+  *col = cell.x(), *row = cell.y();
   return *col >= 0 && *row >= 0 && *col < width_ && *row < height_;
 }
 
@@ -34,23 +34,15 @@ double SaliencyLayer::at(const Eigen::Vector2d& p_m) const {
 }
 
 double SaliencyLayer::max_within(const Eigen::Vector2d& p_m, double radius_m) const {
-  if (empty() || !p_m.allFinite()) return 0.0;
-  const int reach = int(std::ceil(radius_m / cell_m_)) + 1;
-  const int c0 = int(std::floor((p_m.x() - origin_m_.x()) / cell_m_)),
-            r0 = int(std::floor((p_m.y() - origin_m_.y()) / cell_m_));
   double best = 0.0;
-  for (int r = std::max(0, r0 - reach); r <= std::min(height_ - 1, r0 + reach); ++r) {
-    for (int c = std::max(0, c0 - reach); c <= std::min(width_ - 1, c0 + reach); ++c) {
-      if (value(c, r) > best && (centre_m(c, r) - p_m).norm() <= radius_m) best = value(c, r);
-    }
-  }
+  for_each_cell_within(p_m, radius_m, [&](int c, int r) { best = std::max(best, value(c, r)); });
   return best;
 }
 
 void SaliencyLayer::raise(const Eigen::Vector2d& p_m, double weight) {
   int c = 0, r = 0;
   if (!cell_of(p_m, &c, &r)) return;
-  float& v = values_[size_t(r) * size_t(width_) + size_t(c)];
+  float& v = values_[index(c, r)];
   v = std::max(v, float(std::clamp(weight, 0.0, 1.0)));
 }
 
@@ -87,21 +79,16 @@ SaliencyLayer build_saliency_layer(const MapperData& data, StampNs now_ns,
   SaliencyLayer layer(lo, hi, o.cell_m);
   const StampNs never = std::numeric_limits<StampNs>::max();
   std::vector<StampNs> first_close(size_t(layer.width()) * size_t(layer.height()), never);
-  const int reach = int(std::ceil(o.inspected_radius_m / o.cell_m)) + 1;
   for (const auto& [p, stamp] : visits) {
-    const int c0 = int(std::floor((p.x() - lo.x()) / o.cell_m)), r0 = int(std::floor((p.y() - lo.y()) / o.cell_m));
-    for (int r = std::max(0, r0 - reach); r <= std::min(layer.height() - 1, r0 + reach); ++r) {
-      for (int c = std::max(0, c0 - reach); c <= std::min(layer.width() - 1, c0 + reach); ++c) {
-        if ((layer.centre_m(c, r) - p).norm() > o.inspected_radius_m) continue;
-        StampNs& t = first_close[size_t(r) * size_t(layer.width()) + size_t(c)];
-        t = std::min(t, stamp);
-      }
-    }
+    layer.for_each_cell_within(p, o.inspected_radius_m, [&, stamp = stamp](int c, int r) {
+      StampNs& t = first_close[layer.index(c, r)];
+      t = std::min(t, stamp);
+    });
   }
   for (const Spot& s : spots) {
-    const int c = std::clamp(int(std::floor((s.p_m.x() - lo.x()) / o.cell_m)), 0, layer.width() - 1);
-    const int r = std::clamp(int(std::floor((s.p_m.y() - lo.y()) / o.cell_m)), 0, layer.height() - 1);
-    const StampNs close_ns = first_close[size_t(r) * size_t(layer.width()) + size_t(c)];
+    int c = 0, r = 0;
+    if (!layer.cell_of(s.p_m, &c, &r)) continue;  // never: the layer spans the spots
+    const StampNs close_ns = first_close[layer.index(c, r)];
     double weight = s.weight;
     if (close_ns != never) {
       const double since_s = ns_to_sec(now_ns - std::max(close_ns, s.seen_ns));

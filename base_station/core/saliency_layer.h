@@ -10,6 +10,8 @@
 // their surroundings in the planner itself (ExplorationOptions::victim_weight), not here: they
 // never decay. Pure: the mapper's data in, a grid out.
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "common/time.h"
@@ -46,10 +48,28 @@ class SaliencyLayer {
   int cells_above(double threshold) const;
   /// Centre of cell (col, row) and its value, for drawing.
   Eigen::Vector2d centre_m(int col, int row) const;
-  double value(int col, int row) const { return values_[size_t(row) * size_t(width_) + size_t(col)]; }
+  double value(int col, int row) const { return values_[index(col, row)]; }
+  /// Row-major index of cell (col, row), for grids of the same geometry.
+  size_t index(int col, int row) const { return size_t(row) * size_t(width_) + size_t(col); }
+  /// The cell under p_m; false off the layer (or not finite).
+  bool cell_of(const Eigen::Vector2d& p_m, int* col, int* row) const;
+  /// Calls f(col, row) for every cell of the layer whose centre is within radius_m of p_m.
+  template <typename F>
+  void for_each_cell_within(const Eigen::Vector2d& p_m, double radius_m, F&& f) const {
+    if (empty() || !p_m.allFinite()) return;
+    const int reach = int(std::ceil(radius_m / cell_m_)) + 1;
+    const Eigen::Vector2i c0 = unclamped_cell(p_m);
+    for (int r = std::max(0, c0.y() - reach); r <= std::min(height_ - 1, c0.y() + reach); ++r) {
+      for (int c = std::max(0, c0.x() - reach); c <= std::min(width_ - 1, c0.x() + reach); ++c) {
+        if ((centre_m(c, r) - p_m).norm() <= radius_m) f(c, r);
+      }
+    }
+  }
 
  private:
-  bool cell_of(const Eigen::Vector2d& p_m, int* col, int* row) const;
+  Eigen::Vector2i unclamped_cell(const Eigen::Vector2d& p_m) const {
+    return ((p_m - origin_m_) / cell_m_).array().floor().cast<int>();
+  }
 
   Eigen::Vector2d origin_m_{0, 0};  ///< lower-left corner of cell (0, 0)
   double cell_m_ = 0.25;
