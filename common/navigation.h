@@ -1,9 +1,11 @@
 #pragma once
-// The navigation vocabulary the base and the agents share (goals on cairn/goal, state on
-// cairn/status, commands on cairn/robot<N>/cmd_vel). The numeric values are the wire values.
+// The navigation vocabulary the base and the agents share (goals on cairn/goal, the operator's
+// commands on cairn/operator_command, state on cairn/status, velocities on cairn/robot<N>/cmd_vel).
+// The numeric values are the wire values.
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
+#include <string>
 
 #include "common/ids.h"
 #include "common/se2.h"
@@ -34,7 +36,31 @@ enum class RobotActivity : uint8_t {
   kOwnExploration = 2,      ///< the nearest frontier of its own map (not placed, or out of contact)
   kReturningToContact = 3,  ///< out of contact too long: back to where it last heard the base
   kGoingHome = 4,
-  kHome = 5,  ///< back where it entered: its mission is over
+  kHome = 5,          ///< back where it entered: its mission is over
+  kOperatorGoal = 6,  ///< driving to the point the operator clicked
+  kHeld = 7,          ///< held still by the operator (stopped, or at the operator's point)
+};
+
+/// An operator's command from the console (cairn/operator_command). Every kind can be sent to one
+/// robot or, by the base, to each robot in turn.
+enum class CommandKind : uint8_t {
+  kGoTo = 0,    ///< drive to a point and hold there until resumed
+  kStop = 1,    ///< stop where it is and hold until resumed
+  kResume = 2,  ///< back to autonomous exploration
+  kHome = 3,    ///< drive back to where it entered; its mission is then over
+};
+
+/// What became of a command. The agent reports kReceived..kFailed for the newest command it got;
+/// the base adds kSent (not acknowledged yet) and kOvertaken (a newer command to the same robot
+/// arrived first, so this one was never carried out).
+enum class CommandState : uint8_t {
+  kSent = 0,
+  kReceived = 1,  ///< acknowledged by the robot
+  kActive = 2,    ///< being carried out (driving there, or driving home)
+  kDone = 3,
+  kRefused = 4,  ///< the robot would not take it (the note says why)
+  kFailed = 5,   ///< taken, but it could not be carried out (no path, stuck)
+  kOvertaken = 6,
 };
 
 inline const char* to_string(GoalKind k) {
@@ -77,6 +103,42 @@ inline const char* to_string(RobotActivity a) {
       return "going home";
     case RobotActivity::kHome:
       return "home";
+    case RobotActivity::kOperatorGoal:
+      return "driving to the operator's point";
+    case RobotActivity::kHeld:
+      return "held by the operator";
+  }
+  return "?";
+}
+inline const char* to_string(CommandKind k) {
+  switch (k) {
+    case CommandKind::kGoTo:
+      return "goto";
+    case CommandKind::kStop:
+      return "stop";
+    case CommandKind::kResume:
+      return "resume";
+    case CommandKind::kHome:
+      return "home";
+  }
+  return "?";
+}
+inline const char* to_string(CommandState s) {
+  switch (s) {
+    case CommandState::kSent:
+      return "sent";
+    case CommandState::kReceived:
+      return "acknowledged";
+    case CommandState::kActive:
+      return "active";
+    case CommandState::kDone:
+      return "done";
+    case CommandState::kRefused:
+      return "refused";
+    case CommandState::kFailed:
+      return "failed";
+    case CommandState::kOvertaken:
+      return "overtaken";
   }
   return "?";
 }
@@ -106,6 +168,22 @@ struct GoalMessage {
   double frontier_m = 0;
 };
 
+/// cairn/operator_command: the operator's newest command to one robot, in the robot's own frame.
+/// Sequence numbers grow over the whole mission (all robots), so a newer command has a larger one.
+struct OperatorCommand {
+  RobotId robot;
+  uint32_t seq = 0;
+  CommandKind kind = CommandKind::kStop;
+  Eigen::Vector2d goal_m{0, 0};  ///< kGoTo only
+};
+
+/// The robot's word on the newest command it received (part of cairn/status).
+struct CommandReport {
+  uint32_t seq = 0;  ///< 0: no command received yet
+  CommandState state = CommandState::kReceived;
+  std::string note;  ///< why refused or failed, or what it is doing
+};
+
 /// The navigation part of cairn/status.
 struct NavStatus {
   SE2 pose;  ///< in the robot's own frame
@@ -115,6 +193,7 @@ struct NavStatus {
   NavState nav_state = NavState::kIdle;
   Eigen::Vector2d goal_m{0, 0};  ///< in the robot's own frame
   double distance_m = 0;         ///< driven so far
+  CommandReport command;         ///< the operator's newest command, as the robot sees it
 };
 
 /// Wire value -> enum; nullopt for a value no version of Cairn sends.
@@ -125,7 +204,13 @@ inline std::optional<NavState> nav_state_from(uint8_t v) {
   return v <= 4 ? std::optional<NavState>(NavState(v)) : std::nullopt;
 }
 inline std::optional<RobotActivity> robot_activity_from(uint8_t v) {
-  return v <= 5 ? std::optional<RobotActivity>(RobotActivity(v)) : std::nullopt;
+  return v <= 7 ? std::optional<RobotActivity>(RobotActivity(v)) : std::nullopt;
+}
+inline std::optional<CommandKind> command_kind_from(uint8_t v) {
+  return v <= 3 ? std::optional<CommandKind>(CommandKind(v)) : std::nullopt;
+}
+inline std::optional<CommandState> command_state_from(uint8_t v) {
+  return v <= 6 ? std::optional<CommandState>(CommandState(v)) : std::nullopt;
 }
 
 }  // namespace cairn

@@ -74,6 +74,28 @@ std::optional<GoalMessage> from_msg(const cairn_msgs::ExplorationGoal& m, std::s
   return g;
 }
 
+cairn_msgs::OperatorCommand to_msg(const OperatorCommand& c) {
+  cairn_msgs::OperatorCommand m;
+  m.robot_id(c.robot.value);
+  m.seq(c.seq);
+  m.kind(uint8_t(c.kind));
+  m.x_m(c.goal_m.x());
+  m.y_m(c.goal_m.y());
+  return m;
+}
+
+std::optional<OperatorCommand> from_msg(const cairn_msgs::OperatorCommand& m, std::string* error) {
+  if (m.robot_id() < 0 || m.robot_id() > kMaxRobotId) {
+    return fail(error, "operator command: robot_id " + std::to_string(m.robot_id()) + " out of range");
+  }
+  if (m.seq() == 0) return fail(error, "operator command: seq 0 (sequence numbers start at 1)");
+  const auto kind = command_kind_from(m.kind());
+  if (!kind) return fail(error, "operator command: unknown kind " + std::to_string(int(m.kind())));
+  if (!finite({m.x_m(), m.y_m()})) return fail(error, "operator command: non-finite point");
+  if (std::abs(m.x_m()) > 1e5 || std::abs(m.y_m()) > 1e5) return fail(error, "operator command: point beyond 100 km");
+  return OperatorCommand{RobotId(m.robot_id()), m.seq(), *kind, {m.x_m(), m.y_m()}};
+}
+
 void set_nav_status(const NavStatus& nav, cairn_msgs::RobotStatus* m) {
   m->pose(to_msg(nav.pose));
   m->activity(uint8_t(nav.activity));
@@ -83,6 +105,9 @@ void set_nav_status(const NavStatus& nav, cairn_msgs::RobotStatus* m) {
   m->goal_x_m(nav.goal_m.x());
   m->goal_y_m(nav.goal_m.y());
   m->distance_m(float(nav.distance_m));
+  m->command_seq(nav.command.seq);
+  m->command_state(uint8_t(nav.command.state));
+  m->command_note(eprosima::fastrtps::fixed_string<160>(nav.command.note.substr(0, 160)));
 }
 
 std::optional<NavStatus> nav_status_from(const cairn_msgs::RobotStatus& m, std::string* error) {
@@ -90,6 +115,8 @@ std::optional<NavStatus> nav_status_from(const cairn_msgs::RobotStatus& m, std::
   const auto kind = goal_kind_from(m.goal_kind());
   const auto state = nav_state_from(m.nav_state());
   if (!activity || !kind || !state) return fail(error, "status: unknown activity, goal kind or navigation state");
+  const auto command_state = command_state_from(m.command_state());
+  if (!command_state) return fail(error, "status: unknown command state " + std::to_string(int(m.command_state())));
   if (!finite({m.pose().x_m(), m.pose().y_m(), m.pose().yaw_rad(), m.goal_x_m(), m.goal_y_m(), m.distance_m()})) {
     return fail(error, "status: non-finite pose, goal or distance");
   }
@@ -101,6 +128,7 @@ std::optional<NavStatus> nav_status_from(const cairn_msgs::RobotStatus& m, std::
   n.nav_state = *state;
   n.goal_m = {m.goal_x_m(), m.goal_y_m()};
   n.distance_m = m.distance_m();
+  n.command = {m.command_seq(), *command_state, m.command_note().to_string()};
   return n;
 }
 

@@ -1,8 +1,8 @@
 #pragma once
 // IDL <-> plain C++ for the navigation messages (common/navigation.h): velocity commands, the
-// base's goals and the navigation part of a robot's status. from_msg() validates like
-// dds/conversions.h: a NaN, an unknown enum value or an out-of-range robot id gives std::nullopt
-// and an error naming the field.
+// base's goals, the operator's commands and the navigation part of a robot's status.
+// from_msg() validates like dds/conversions.h: a NaN, an unknown enum value or an out-of-range
+// robot id gives std::nullopt and an error naming the field.
 #include <optional>
 #include <string>
 
@@ -16,6 +16,9 @@ std::optional<StampedCommand> from_msg(const cairn_msgs::VelocityCommand& msg, s
 
 cairn_msgs::ExplorationGoal to_msg(const GoalMessage& goal);
 std::optional<GoalMessage> from_msg(const cairn_msgs::ExplorationGoal& msg, std::string* error);
+
+cairn_msgs::OperatorCommand to_msg(const OperatorCommand& command);
+std::optional<OperatorCommand> from_msg(const cairn_msgs::OperatorCommand& msg, std::string* error);
 
 /// Fills the navigation fields of a status message.
 void set_nav_status(const NavStatus& nav, cairn_msgs::RobotStatus* msg);

@@ -61,6 +61,7 @@ TEST(NavigationConversions, StatusNavigationPartRoundTrips) {
   n.nav_state = NavState::kStuck;
   n.goal_m = {4, 5};
   n.distance_m = 12.5;
+  n.command = {12, CommandState::kFailed, "no path on its map"};
   cairn_msgs::RobotStatus m;
   set_nav_status(n, &m);
   std::string error;
@@ -70,8 +71,38 @@ TEST(NavigationConversions, StatusNavigationPartRoundTrips) {
   EXPECT_EQ(back->nav_state, NavState::kStuck);
   EXPECT_NEAR(back->pose.yaw(), 0.5, 1e-12);
   EXPECT_DOUBLE_EQ(back->distance_m, 12.5);
+  EXPECT_EQ(back->command.seq, 12u);
+  EXPECT_EQ(back->command.state, CommandState::kFailed);
+  EXPECT_EQ(back->command.note, "no path on its map");
+  m.command_state(40);
+  EXPECT_FALSE(nav_status_from(m, &error));
+  EXPECT_NE(error.find("command state 40"), std::string::npos) << error;
+  set_nav_status(n, &m);
   m.nav_state(77);
   EXPECT_FALSE(nav_status_from(m, &error));
+}
+
+TEST(NavigationConversions, OperatorCommandRoundTripsAndBadOnesAreNamed) {
+  const OperatorCommand c{RobotId(2), 5, CommandKind::kGoTo, {1.5, -3}};
+  std::string error;
+  const auto back = from_msg(to_msg(c), &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_EQ(back->robot, RobotId(2));
+  EXPECT_EQ(back->seq, 5u);
+  EXPECT_EQ(back->kind, CommandKind::kGoTo);
+  EXPECT_EQ(back->goal_m, Eigen::Vector2d(1.5, -3));
+  cairn_msgs::OperatorCommand bad = to_msg(c);
+  bad.kind(4);
+  EXPECT_FALSE(from_msg(bad, &error));
+  EXPECT_NE(error.find("unknown kind 4"), std::string::npos) << error;
+  bad = to_msg(c);
+  bad.x_m(std::nan(""));
+  EXPECT_FALSE(from_msg(bad, &error));
+  EXPECT_NE(error.find("non-finite point"), std::string::npos) << error;
+  bad = to_msg(c);
+  bad.seq(0);
+  EXPECT_FALSE(from_msg(bad, &error));
+  EXPECT_NE(error.find("seq 0"), std::string::npos) << error;
 }
 
 }  // namespace

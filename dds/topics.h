@@ -95,6 +95,13 @@ struct GoalTopic {
   static constexpr TopicKind kKind = TopicKind::kGoal;
   static constexpr bool kPerRobot = false;
 };
+struct OperatorCommandTopic {
+  using Msg = cairn_msgs::OperatorCommand;
+  using PubSub = cairn_msgs::OperatorCommandPubSubType;
+  static constexpr const char* kName = "cairn/operator_command";
+  static constexpr TopicKind kKind = TopicKind::kGoal;  // the same QoS: reliable, newest per robot, late-joiner safe
+  static constexpr bool kPerRobot = false;
+};
 struct KeyframePosesTopic {
   using Msg = cairn_msgs::KeyframePoses;
   using PubSub = cairn_msgs::KeyframePosesPubSubType;
@@ -107,8 +114,9 @@ template <typename... Topics>
 struct TopicList {};
 
 /// Every topic, in the order of the architecture doc's table.
-using AllTopics = TopicList<OdometryTopic, LaserScanTopic, RgbdTopic, CmdVelTopic, ClockTopic, KeyframeTopic,
-                            ObjectTopic, StatusTopic, AckTopic, CorrectionTopic, GoalTopic, KeyframePosesTopic>;
+using AllTopics =
+    TopicList<OdometryTopic, LaserScanTopic, RgbdTopic, CmdVelTopic, ClockTopic, KeyframeTopic, ObjectTopic,
+              StatusTopic, AckTopic, CorrectionTopic, GoalTopic, OperatorCommandTopic, KeyframePosesTopic>;
 
 namespace detail {
 

@@ -53,6 +53,7 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
   n->clock_in_ = std::make_unique<dds::Reader<dds::ClockTopic>>(p);
   n->ack_in_ = std::make_unique<dds::Reader<dds::AckTopic>>(p);
   n->goal_in_ = std::make_unique<dds::Reader<dds::GoalTopic>>(p);
+  n->command_in_ = std::make_unique<dds::Reader<dds::OperatorCommandTopic>>(p);
   dds::QosOptions large;
   large.large_data_flow_controlled = options.large_data_bytes_per_sec > 0;
   n->keyframe_out_ = std::make_unique<dds::Writer<dds::KeyframeTopic>>(p, large);
@@ -62,7 +63,7 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
   n->cmd_out_ = std::make_unique<dds::Writer<dds::CmdVelTopic>>(p, robot);
   if (!n->cmd_out_->ok() || !n->odometry_in_->ok() || !n->laser_in_->ok() || !n->rgbd_in_->ok() ||
       !n->clock_in_->ok() || !n->ack_in_->ok() || !n->keyframe_out_->ok() || !n->object_out_->ok() ||
-      !n->keyframe_poses_out_->ok() || !n->status_out_->ok() || !n->goal_in_->ok()) {
+      !n->keyframe_poses_out_->ok() || !n->status_out_->ok() || !n->goal_in_->ok() || !n->command_in_->ok()) {
     *error = "cannot create the agent's DDS readers/writers";
     return nullptr;
   }
@@ -110,6 +111,9 @@ bool AgentNode::poll_inputs() {
   }
   for (const auto& g : goal_in_->take_all()) {
     if (g.robot_id() == robot_.value) take_goal(g);
+  }
+  for (const auto& c : command_in_->take_all()) {
+    if (c.robot_id() == robot_.value) take_command(c);
   }
   for (const auto& a : ack_in_->take_all()) {
     if (a.robot_id() != robot_.value) continue;

@@ -17,6 +17,7 @@
 #include "robot_agent/core/navigation/breadcrumbs.h"
 #include "robot_agent/core/navigation/mission_behaviour.h"
 #include "robot_agent/core/navigation/navigator.h"
+#include "robot_agent/core/navigation/operator_orders.h"
 #include "robot_agent/core/navigation/own_exploration.h"
 
 namespace cairn::agent {
@@ -71,6 +72,7 @@ class AgentNode {
   std::unique_ptr<dds::Reader<dds::ClockTopic>> clock_in_;
   std::unique_ptr<dds::Reader<dds::AckTopic>> ack_in_;
   std::unique_ptr<dds::Reader<dds::GoalTopic>> goal_in_;
+  std::unique_ptr<dds::Reader<dds::OperatorCommandTopic>> command_in_;
   std::unique_ptr<dds::Writer<dds::KeyframeTopic>> keyframe_out_;
   std::unique_ptr<dds::Writer<dds::ObjectTopic>> object_out_;
   std::unique_ptr<dds::Writer<dds::KeyframePosesTopic>> keyframe_poses_out_;
@@ -86,11 +88,15 @@ class AgentNode {
   int bad_samples_ = 0;
   // Navigation (agent_node_navigation.cpp): goals in, cmd_vel out.
   void take_goal(const cairn_msgs::ExplorationGoal& g);
+  void take_command(const cairn_msgs::OperatorCommand& c);
+  /// The operator's newest command, applied before the scan's navigation step.
+  void apply_operator_action();
   void heard_from_base();
   void drive(const AgentOutputs& outputs);
   NavStatus nav_status() const;
   Navigator navigator_;
   MissionBehaviour behaviour_;
+  OperatorOrders operator_;  ///< the operator's commands outrank behaviour_ until resumed
   OwnExplorationOptions own_options_;
   Breadcrumbs breadcrumbs_;  ///< the way back home if its own map shows none
   std::unique_ptr<dds::Writer<dds::CmdVelTopic>> cmd_out_;

@@ -1,9 +1,11 @@
 // AgentNode's navigation part: each processed scan drives the robot. MissionBehaviour decides
 // what to drive to (the base's goals, its own map's frontiers, home), Navigator plans and steers,
 // and the command answering the scan goes out on cairn/robot<N>/cmd_vel, stamped with the scan's
-// stamp (the simulator's lock-step waits for it). Data flow:
+// stamp (the simulator's lock-step waits for it). The operator's commands (OperatorOrders) outrank
+// MissionBehaviour until the operator resumes the robot. Data flow:
 //   AgentOutputs::scans -> MissionBehaviour::update -> Navigator::set_goal / update -> cmd_vel
 //   cairn/goal -> take_goal -> MissionBehaviour::on_base_goal;  cairn/ack -> on_contact
+//   cairn/operator_command -> take_command -> OperatorOrders -> apply_operator_action -> Navigator
 #include "dds/navigation_conversions.h"
 #include "robot_agent/app/agent_node.h"
 
@@ -28,6 +30,48 @@ void AgentNode::take_goal(const cairn_msgs::ExplorationGoal& m) {
                           pose_.translation());
 }
 
+void AgentNode::take_command(const cairn_msgs::OperatorCommand& m) {
+  std::string error;
+  const auto command = dds::from_msg(m, &error);
+  if (!command) {
+    ++bad_samples_;
+    log_->warn("dropped an operator command: {}", error);
+    return;
+  }
+  heard_from_base();
+  if (operator_.take(*command)) {
+    log_->info("operator command {}: {} ({:.1f}, {:.1f}) m", command->seq, to_string(command->kind),
+               command->goal_m.x(), command->goal_m.y());
+  }
+}
+
+void AgentNode::apply_operator_action() {
+  switch (operator_.next_action()) {
+    case OperatorAction::kNone:
+      return;
+    case OperatorAction::kDriveTo:
+      navigator_.set_goal(NavGoal{0, operator_.goal_m(), GoalKind::kOwn, 0, {}});
+      reported_goal_ = {0, GoalKind::kOwn, RobotActivity::kOperatorGoal, operator_.goal_m()};
+      reported_state_ = NavState::kDriving;
+      return;
+    case OperatorAction::kHold:
+      navigator_.cancel();
+      return;
+    case OperatorAction::kGoHome:
+      behaviour_.on_base_goal({0, GoalKind::kHome, true, Eigen::Vector2d::Zero()}, last_scan_ns_, pose_.translation());
+      [[fallthrough]];
+    case OperatorAction::kRelease:
+      // Autonomy again: MissionBehaviour's target (if it has one) is driven anew; otherwise it
+      // chooses at this scan.
+      if (const auto& t = behaviour_.target()) {
+        navigator_.set_goal(NavGoal{t->goal_id, t->position_m, t->kind, t->tolerance_m, {}});
+      } else {
+        navigator_.cancel();
+      }
+      return;
+  }
+}
+
 void AgentNode::heard_from_base() { behaviour_.on_contact(last_scan_ns_, pose_.translation()); }
 
 void AgentNode::drive(const AgentOutputs& outputs) {
@@ -44,12 +88,19 @@ void AgentNode::drive(const AgentOutputs& outputs) {
     };
     // Map and steer first, then decide: the decision sees this scan in the map and the goal's
     // newest state; a new goal is driven from the next scan on (100 ms later at 10 Hz).
+    apply_operator_action();
     const NavState before = navigator_.state();
     command = navigator_.update(last_scan_ns_, pose_, ps.scan);
     if (navigator_.goal()) reported_state_ = navigator_.state();  // an ended goal's state stays until the next
     if (navigator_.state() != before && navigator_.state() != NavState::kDriving) {
       log_->info("goal {}: {}", to_string(navigator_.state()), navigator_.reason());
     }
+    if (operator_.in_control()) {
+      operator_.on_navigation(navigator_.state(), navigator_.reason());
+      if (operator_.holding()) command = VelocityCommand{};
+      continue;  // the operator decides, not MissionBehaviour
+    }
+    operator_.on_home(behaviour_.done());
     if (navigator_.map().scans_inserted() < kScansBeforeDeciding) continue;
     if (const auto target = behaviour_.update(last_scan_ns_, pose_.translation(), navigator_.state(), own_frontier)) {
       NavGoal goal{target->goal_id, target->position_m, target->kind, target->tolerance_m, {}};
@@ -78,7 +129,7 @@ void AgentNode::drive(const AgentOutputs& outputs) {
 NavStatus AgentNode::nav_status() const {
   NavStatus n;
   n.pose = pose_;
-  n.activity = behaviour_.activity();
+  n.activity = operator_.in_control() ? operator_.activity() : behaviour_.activity();
   // The newest goal and its state, also once it ended: the base learns from it that its goal was
   // reached or failed (and blacklists a failed one).
   n.nav_state = reported_state_;
@@ -86,6 +137,7 @@ NavStatus AgentNode::nav_status() const {
   n.goal_kind = reported_goal_.kind;
   n.goal_m = reported_goal_.position_m;
   n.distance_m = distance_m_;
+  n.command = operator_.report();
   return n;
 }
 
