@@ -9,6 +9,7 @@
 
 #include "base_station/app/base_node.h"
 #include "common/logging.h"
+#include "common/random_token.h"
 
 namespace {
 cairn::base::BaseNode* g_node = nullptr;
@@ -66,7 +67,9 @@ int main(int argc, char** argv) {
                  "roughly where a robot entered: id,x_m,y_m,yaw_deg,sigma_xy_m,sigma_yaw_deg (repeatable); bounds its "
                  "link search, never links it alone");
   app.add_option("--port", options.console.port, "console HTTP port (0 = any free port)");
-  app.add_option("--bind", options.console.bind_address, "console bind address");
+  app.add_option(
+      "--console-bind,--bind", options.console.bind_address,
+      "console address to listen on (default 127.0.0.1, this machine only; 0.0.0.0 opens it to the network)");
   bool no_shm = false;
   app.add_flag("--no-shm", no_shm, "UDP only, no shared memory (e.g. behind an emulated radio link)");
   app.add_flag("--serve", options.serve_after_finish, "keep the console up after the mission");
@@ -74,6 +77,10 @@ int main(int argc, char** argv) {
       "--journal", options.journal_path,
       "journal of everything received (SQLite; default <out>/journal.sqlite); a restarted base resumes from it");
   app.add_flag("--new-mission", options.new_mission, "move an existing journal aside and start an empty map");
+  std::string operator_token;
+  app.add_option("--operator-token", operator_token,
+                 "secret the console's commands need (drive, stop, resume, home); default: a fresh random one, "
+                 "printed in the console's address at start; 'off': the console only watches");
   std::string coordination = "coordinated";
   app.add_option("--exploration", coordination,
                  "how robots get frontiers: coordinated (no two on one area), nearest (each its own nearest) or "
@@ -82,6 +89,8 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
   options.use_shared_memory = !no_shm;
+  if (operator_token.empty()) operator_token = cairn::random_hex_token();
+  if (operator_token != "off") options.operator_token = operator_token;
   options.exploration.coordination = coordination == "nearest"
                                          ? cairn::base::ExplorationOptions::Coordination::kNearestFrontier
                                          : cairn::base::ExplorationOptions::Coordination::kCoordinated;

@@ -61,8 +61,9 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   n->ack_out_ = std::make_unique<dds::Writer<dds::AckTopic>>(p);
   n->correction_out_ = std::make_unique<dds::Writer<dds::CorrectionTopic>>(p);
   n->goal_out_ = std::make_unique<dds::Writer<dds::GoalTopic>>(p);
+  n->command_out_ = std::make_unique<dds::Writer<dds::OperatorCommandTopic>>(p);
   if (!n->keyframe_in_->ok() || !n->object_in_->ok() || !n->status_in_->ok() || !n->keyframe_poses_in_->ok() ||
-      !n->ack_out_->ok() || !n->correction_out_->ok() || !n->goal_out_->ok()) {
+      !n->ack_out_->ok() || !n->correction_out_->ok() || !n->goal_out_->ok() || !n->command_out_->ok()) {
     *error = "cannot create the base station's DDS readers/writers";
     return nullptr;
   }
@@ -70,6 +71,8 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   BaseNode* self = n.get();
   n->console_ = std::make_unique<ConsoleServer>(
       options.console, ConsoleServer::SharedProvider([self] { return self->latest_snapshot_.get(); }));
+  n->refresh_snapshot();  // the console's first answers (and command checks) see the restored mission
+  if (!options.operator_token.empty()) n->console_->accept_commands(options.operator_token, &n->inbox_);
   if (!n->console_->start(error)) return nullptr;
   return n;
 }
@@ -207,7 +210,11 @@ nlohmann::json BaseNode::link_stats() const {
 }
 
 void BaseNode::refresh_snapshot() {
-  latest_snapshot_.publish(make_snapshot(mapper_.merged(), link_stats(), {}, &plan_));
+  const MergedMap merged = mapper_.merged();
+  ConsoleSnapshot snapshot = make_snapshot(merged, link_stats(), {}, &plan_);
+  snapshot.commands = commands_json(commands_.records());
+  snapshot.command_context = command_context(merged);
+  latest_snapshot_.publish(std::move(snapshot));
 }
 
 bool BaseNode::all_finished() const {
@@ -245,6 +252,10 @@ void BaseNode::report_linking(const OptimizeResult& r) {
 int BaseNode::run() {
   log_->info("console at http://{}:{}/  (domain {}, expecting {} robots)", options_.console.bind_address,
              console_->port(), options_.domain_id, options_.expected_robots);
+  if (!options_.operator_token.empty()) {
+    log_->info("operator console (commands the robots): http://{}:{}/#token={}", options_.console.bind_address,
+               console_->port(), options_.operator_token);
+  }
   auto next_optimize = Clock::now();
   const auto period =
       std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.optimize_period_s));
@@ -253,6 +264,7 @@ int BaseNode::run() {
       std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options_.exploration_period_s));
   while (!stop_) {
     const bool got = poll_inputs();
+    send_operator_commands();
     if (Clock::now() >= next_optimize) {
       if (mapper_.version() != optimized_version_) {
         const OptimizeResult r = mapper_.optimize();
@@ -338,6 +350,7 @@ int BaseNode::finish() {
   summary["exploration"]["sent_home"] = goals_.sent_home();
   if (const auto home_ns = goals_.sent_home_at_ns()) summary["exploration"]["sent_home_at_s"] = ns_to_sec(*home_ns);
   summary["coverage_series"] = coverage_series_;
+  summary["commands"] = commands_json(commands_.records(), commands_.records().size());
   summary["rejected_samples"] = rejected_samples_;
   summary["journal"] = {{"path", journal_->path()},
                         {"records", journal_->size()},

@@ -3,7 +3,8 @@
 // ack/correction writers out; a console snapshot refreshed for the HTTP thread; exports at the end.
 // Data flow: keyframe/object topics -> dds::from_msg -> MultiRobotMapper -> journal (SQLite) ->
 //            optimize -> ack + correction topics; plan_exploration -> goal topic; console
-//            snapshot; export_all().
+//            snapshot; export_all(). Console POST /api/commands -> CommandInbox -> CommandBook ->
+//            journal -> operator_command topic; robots' statuses -> CommandBook.
 // A sample is acknowledged only once it is in the journal; a restarted base resumes from it.
 #include <atomic>
 #include <chrono>
@@ -19,6 +20,7 @@
 #include "base_station/core/exploration.h"
 #include "base_station/core/goal_allocator.h"
 #include "base_station/core/multi_robot_mapper.h"
+#include "base_station/core/operator_commands.h"
 #include "base_station/core/saliency_layer.h"
 #include "base_station/store/journal.h"
 #include "cairn_msgsPubSubTypes.h"
@@ -43,6 +45,7 @@ struct BaseNodeOptions {
   ConsoleOptions console;
   bool serve_after_finish = false;  ///< keep the console up after the mission ended
   std::string journal_path;         ///< default <out_dir>/journal.sqlite
+  std::string operator_token;       ///< the console's commands need it; empty = commands off
   bool new_mission = false;         ///< move an existing journal aside instead of resuming it
 };
 
@@ -84,6 +87,12 @@ class BaseNode {
   /// Explored area, open frontier and victims at the newest mission time (summary, console).
   void record_coverage(const MergedMap& merged);
   void refresh_snapshot();
+  // Operator commands (base_node_commands.cpp): console inbox -> CommandBook, journal, DDS.
+  void send_operator_commands();
+  bool restore_command(const JournalRecord& r, std::string* error);
+  void after_restore_commands();
+  void note_command_report(RobotId robot, const CommandReport& report, bool live);
+  CommandCheckContext command_context(const MergedMap& merged) const;
   void report_linking(const OptimizeResult& result);
   nlohmann::json link_stats() const;
   bool all_finished() const;
@@ -102,6 +111,9 @@ class BaseNode {
   std::unique_ptr<dds::Writer<dds::AckTopic>> ack_out_;
   std::unique_ptr<dds::Writer<dds::CorrectionTopic>> correction_out_;
   std::unique_ptr<dds::Writer<dds::GoalTopic>> goal_out_;
+  std::unique_ptr<dds::Writer<dds::OperatorCommandTopic>> command_out_;
+  CommandInbox inbox_;    ///< commands the console accepted, for this thread (before console_: it points here)
+  CommandBook commands_;  ///< every operator command sent and what became of it
   std::unique_ptr<ConsoleServer> console_;
   std::unique_ptr<Journal> journal_;
   ExplorationPlan plan_;                     ///< the newest exploration plan (console, goal topic, final export)

@@ -21,6 +21,7 @@ void BaseNode::note_navigation(const cairn_msgs::RobotStatus& m, bool live) {
     log_->info("{} is {}", to_string(robot), to_string(nav->activity));
   }
   navigation_[robot] = *nav;
+  note_command_report(robot, nav->command, live);
   const int blacklisted = goals_.goals_blacklisted();
   if (goals_.report({robot, nav->goal_id, nav->nav_state, nav->activity}, mapper_.data().latest_stamp_ns)) {
     replan_now_ = true;  // its order is over: plan again at the next optimise tick
@@ -40,6 +41,11 @@ void BaseNode::plan_and_publish_goals(bool send) {
   for (const RobotSummary& r : merged.robots) {
     placements[r.id] = r.linked ? std::optional<SE2>(r.T_global_local) : std::nullopt;
     if (!r.linked) continue;
+    if (commands_.under_operator(r.id)) {  // the operator decides where it goes: no orders, no share of goals
+      placements.erase(r.id);
+      goals_.release(r.id);
+      continue;
+    }
     const auto nav = navigation_.find(r.id);
     const Trajectory& trajectory = merged.trajectory(r.id);
     if (nav != navigation_.end()) {

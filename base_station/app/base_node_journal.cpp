@@ -87,12 +87,16 @@ void BaseNode::restore(const JournalContents& contents) {
             },
             &why);
         break;
+      case JournalKind::kCommand:
+        restored = restore_command(r, &why);
+        break;
     }
     if (restored)
       ++restored_records_;
     else
       skip(r, why);
   }
+  after_restore_commands();
   for (const std::string& s : restore_skipped_) log_->warn("journal {}: skipped {}", journal_->path(), s);
   if (restored_records_ > 0) {
     log_->info("resumed from journal {}: {} keyframes, {} object reports of {} robots ({} records, {} skipped)",

@@ -74,6 +74,13 @@ class GoalAllocator {
   std::vector<GoalOrder> assign(const ExplorationPlan& plan, const std::map<RobotId, std::optional<SE2>>& placements,
                                 StampNs now_ns);
 
+  /// `robot` is taken out of the plan (the operator drives it): its order is dropped, so its goal is
+  /// free for the others and it gets a fresh order when it is handed back.
+  void release(RobotId robot) {
+    orders_.erase(robot);
+    order_open_.erase(robot);
+  }
+
   const std::map<RobotId, GoalOrder>& orders() const { return orders_; }
   const std::vector<BlacklistedGoal>& blacklisted() const { return blacklisted_; }
   int goals_blacklisted() const { return goals_blacklisted_; }

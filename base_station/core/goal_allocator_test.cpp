@@ -56,6 +56,19 @@ TEST(GoalAllocator, AFailedGoalIsBlacklistedForAWhileAndReplaced) {
   EXPECT_TRUE(g.blacklist_m(at(400)).empty()) << "the blacklist expires";
 }
 
+TEST(GoalAllocator, AReleasedRobotFreesItsGoalAndGetsAFreshOrderWhenHandedBack) {
+  GoalAllocator g;
+  const auto first = g.assign(plan_with({{kA, {5, 0}}}), {{kA, SE2()}}, at(1));
+  ASSERT_EQ(first.size(), 1u);
+  g.release(kA);  // the operator drives it
+  EXPECT_TRUE(g.current_goals_m().empty());
+  EXPECT_TRUE(g.orders().empty());
+  // Handed back with the very same plan: a new order (a new id), not "nothing changed".
+  const auto again = g.assign(plan_with({{kA, {5, 0}}}), {{kA, SE2()}}, at(2));
+  ASSERT_EQ(again.size(), 1u);
+  EXPECT_GT(again[0].goal_id, first[0].goal_id);
+}
+
 TEST(GoalAllocator, NoReachableFrontierSendsEveryPlacedRobotHomeOnce) {
   GoalAllocator g;
   const SE2 T_b(4.0, 0.0, 0.0);

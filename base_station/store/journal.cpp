@@ -18,7 +18,7 @@ constexpr const char* kSchema =
     "  kind INTEGER NOT NULL, robot INTEGER NOT NULL, key INTEGER NOT NULL, payload BLOB NOT NULL,"
     "  PRIMARY KEY (kind, robot, key));";
 
-bool known_kind(int64_t kind) { return kind >= 0 && kind <= int64_t(JournalKind::kStatus); }
+bool known_kind(int64_t kind) { return kind >= 0 && kind <= int64_t(JournalKind::kCommand); }
 
 }  // namespace
 
@@ -32,6 +32,8 @@ const char* to_string(JournalKind kind) {
       return "keyframe poses";
     case JournalKind::kStatus:
       return "status";
+    case JournalKind::kCommand:
+      return "operator command";
   }
   return "unknown";
 }

@@ -19,7 +19,8 @@ struct sqlite3;
 namespace cairn::base {
 
 /// Replay order on load: a keyframe before the objects anchored on it and the poses that move it.
-enum class JournalKind : int32_t { kKeyframe = 0, kObject = 1, kKeyframePoses = 2, kStatus = 3 };
+/// kCommand: an operator's command as sent (JSON), keyed by its sequence number.
+enum class JournalKind : int32_t { kKeyframe = 0, kObject = 1, kKeyframePoses = 2, kStatus = 3, kCommand = 4 };
 const char* to_string(JournalKind kind);
 
 struct JournalRecord {

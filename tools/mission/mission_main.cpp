@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "common/errors.h"
+#include "common/random_token.h"
 #include "dds/domain_lease.h"
 #include "sim/world.h"
 #include "tools/mission/child_process.h"
@@ -45,6 +46,7 @@ struct Options {
   cairn::mission::LinkOptions link;  ///< emulated radio between robots and base (needs root)
   /// "SIGMA_XY_M,SIGMA_YAW_DEG": the team's rough guess of where every other robot entered.
   std::string entry_hints;
+  std::string operator_token;  ///< the console's commands need it (default: a fresh one)
 };
 
 std::string fmt_pose(int id, const cairn::SE2& p) {
@@ -76,6 +78,8 @@ int main(int argc, char** argv) {
   app.add_option("--entry-hints", opt.entry_hints,
                  "SIGMA_XY_M,SIGMA_YAW_DEG: tell the base roughly where each other robot entered (its true start "
                  "moved by about one sigma), as a rescue team would know it");
+  app.add_option("--operator-token", opt.operator_token,
+                 "secret the console's commands need (default: a fresh random one, printed in the console's address)");
   app.add_option("--link-loss", opt.link.loss_pct, "emulated radio: % of packets lost each way (needs root)");
   app.add_option("--link-kbit", opt.link.rate_kbit, "emulated radio: rate limit each way in kbit/s (needs root)");
   CLI11_PARSE(app, argc, argv);
@@ -182,6 +186,8 @@ int main(int argc, char** argv) {
       base_cmd.insert(base_cmd.end(), {"--start-hint", hint.str()});
     }
   }
+  if (opt.operator_token.empty()) opt.operator_token = cairn::random_hex_token();
+  if (!opt.operator_token.empty()) base_cmd.insert(base_cmd.end(), {"--operator-token", opt.operator_token});
   if (opt.serve) base_cmd.push_back("--serve");
   if (lab) base_cmd.insert(base_cmd.end(), {"--no-shm", "--bind", "0.0.0.0", "--peer", lab->robots_side_address()});
   base_cmd = secured(base_cmd, "base");
@@ -189,7 +195,8 @@ int main(int argc, char** argv) {
   std::cout << "Cairn mission '" << wf.world.name << "': " << robots << " robots, " << wf.world.objects.size()
             << " objects of interest, DDS domain " << opt.domain
             << (opt.secure ? ", DDS Security on (PKI-DH, AES-GCM)" : "") << "\n"
-            << "console: http://" << console_host << ":" << opt.port << "/\n";
+            << "console: http://" << console_host << ":" << opt.port << "/  (operator, with commands: http://"
+            << console_host << ":" << opt.port << "/#token=" << opt.operator_token << ")\n";
   if (lab) std::cout << lab->describe() << "\n";
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
@@ -264,7 +271,8 @@ int main(int argc, char** argv) {
 
   int code = cairn::mission::report(out, wall_s, procs, std::cout);
   if (opt.serve && code == 0) {
-    std::cout << "console still up at http://" << console_host << ":" << opt.port << "/ (Ctrl-C to stop)" << std::endl;
+    std::cout << "console still up at http://" << console_host << ":" << opt.port << "/#token=" << opt.operator_token
+              << " (Ctrl-C to stop)" << std::endl;
     while (!g_interrupted && !procs[0]->poll()) std::this_thread::sleep_for(std::chrono::milliseconds(200));
     procs[0]->terminate();
     for (int i = 0; i < 50 && !procs[0]->poll(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));

@@ -1,0 +1,111 @@
+// BaseNode's operator commands: requests the console queued (CommandInbox) are recorded
+// (CommandBook), journaled and sent on cairn/operator_command in the robot's own frame; the
+// robots' statuses say what became of them; a restarted base reads them back from the journal.
+#include "base_station/app/base_node.h"
+#include "dds/navigation_conversions.h"
+
+namespace cairn::base {
+
+namespace {
+
+nlohmann::json command_record_json(const CommandRecord& r) {
+  return {{"seq", r.seq},
+          {"robot", r.robot.value},
+          {"kind", int(r.kind)},
+          {"kind_name", to_string(r.kind)},  // for a person reading the journal
+          {"local_m", {r.point_local_m.x(), r.point_local_m.y()}},
+          {"global_m", {r.point_global_m.x(), r.point_global_m.y()}},
+          {"sent_ns", r.sent_ns}};
+}
+
+}  // namespace
+
+void BaseNode::send_operator_commands() {
+  const std::vector<CommandInbox::Entry> entries = inbox_.take_all();
+  if (entries.empty()) return;
+  const MergedMap merged = mapper_.merged();
+  // Checked again on this thread: the robot may have been unlinked since the console's snapshot.
+  const CommandCheckContext context = command_context(merged);
+  for (const CommandInbox::Entry& e : entries) {
+    CommandRequest one = e.request;
+    one.robots = {e.robot};
+    if (const auto why = check_command(one, context)) {
+      log_->warn("operator command {} to {} not sent: {}", e.seq, to_string(e.robot), *why);
+      continue;
+    }
+    const OperatorCommand sent = commands_.add(e.seq, e.robot, one.kind, one.point_global_m,
+                                               context.placements.at(e.robot), merged.data->latest_stamp_ns);
+    const CommandRecord& record = commands_.records().back();
+    const std::string payload = command_record_json(record).dump();
+    journal(JournalKind::kCommand, e.robot.value, e.seq, std::vector<uint8_t>(payload.begin(), payload.end()));
+    if (!command_out_->write(dds::to_msg(sent))) {
+      log_->warn(
+          "operator command {} to {}: the write timed out (the newest command is sent again when the link is "
+          "back)",
+          e.seq, to_string(e.robot));
+    }
+    if (one.kind == CommandKind::kGoTo) {
+      log_->info("operator: {} {} to ({:.1f}, {:.1f}) m (command {})", to_string(e.robot), to_string(one.kind),
+                 one.point_global_m.x(), one.point_global_m.y(), e.seq);
+    } else {
+      log_->info("operator: {} {} (command {})", to_string(e.robot), to_string(one.kind), e.seq);
+    }
+  }
+  flush_journal();
+  replan_now_ = true;  // a robot left to, or taken back from, the operator
+}
+
+bool BaseNode::restore_command(const JournalRecord& r, std::string* error) {
+  const nlohmann::json j =
+      nlohmann::json::parse(r.payload.begin(), r.payload.end(), nullptr, /*allow_exceptions=*/false);
+  std::optional<CommandKind> kind;
+  if (j.is_object() && j.contains("kind") && j["kind"].is_number_unsigned() && j["kind"].get<uint64_t>() < 256)
+    kind = command_kind_from(uint8_t(j["kind"].get<uint64_t>()));
+  const auto point = [&](const char* key) -> std::optional<Eigen::Vector2d> {
+    if (!j.contains(key) || !j[key].is_array() || j[key].size() != 2 || !j[key][0].is_number() ||
+        !j[key][1].is_number())
+      return std::nullopt;
+    return Eigen::Vector2d(j[key][0].get<double>(), j[key][1].get<double>());
+  };
+  const auto local = j.is_object() ? point("local_m") : std::nullopt;
+  const auto global = j.is_object() ? point("global_m") : std::nullopt;
+  if (!kind || !local || !global || !j.contains("sent_ns") || !j["sent_ns"].is_number_integer() || r.key <= 0 ||
+      r.key > int64_t(UINT32_MAX)) {
+    *error = "not an operator command record";
+    return false;
+  }
+  commands_.restore({r.robot, uint32_t(r.key), *kind, *local}, *global, j["sent_ns"].get<int64_t>());
+  return true;
+}
+
+void BaseNode::after_restore_commands() {
+  // Statuses are replayed before commands: apply each robot's newest report to its commands now.
+  for (const auto& [robot, nav] : navigation_) commands_.on_report(robot, nav.command);
+  inbox_.start_after(commands_.last_seq());
+  if (!commands_.records().empty()) log_->info("journal: {} operator commands", commands_.records().size());
+}
+
+void BaseNode::note_command_report(RobotId robot, const CommandReport& report, bool live) {
+  if (!commands_.on_report(robot, report) || !live) return;
+  for (const CommandRecord& r : commands_.records()) {
+    if (r.robot == robot && r.seq == report.seq) {
+      log_->info("operator command {} to {}: {}{}{}", r.seq, to_string(robot), to_string(r.state),
+                 r.note.empty() ? "" : ", ", r.note);
+    }
+  }
+}
+
+CommandCheckContext BaseNode::command_context(const MergedMap& merged) const {
+  CommandCheckContext c;
+  for (const RobotSummary& r : merged.robots) {
+    c.placements[r.id] = r.linked ? std::optional<SE2>(r.T_global_local) : std::nullopt;
+  }
+  for (const auto& [robot, link] : links_) c.placements.emplace(robot, std::nullopt);  // heard of, no data yet
+  const OccupancyGrid& grid = *merged.grid;
+  c.has_map = grid.known_area_m2() > 0;
+  c.map_min_m = grid.origin_m();
+  c.map_max_m = grid.origin_m() + Eigen::Vector2d(grid.width(), grid.height()) * grid.resolution_m();
+  return c;
+}
+
+}  // namespace cairn::base
