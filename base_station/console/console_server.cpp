@@ -25,10 +25,12 @@ void reply_json(httplib::Response& res, const nlohmann::json& j) {
   res.set_content(j.dump(), "application/json");
 }
 
-void reply_not_found(httplib::Response& res, const std::string& what) {
-  res.status = 404;
-  res.set_content(nlohmann::json{{"error", what + " not found"}}.dump(), "application/json");
+void reply_error(httplib::Response& res, int status, const std::string& message) {
+  res.status = status;
+  res.set_content(nlohmann::json{{"error", message}}.dump(), "application/json");
 }
+
+void reply_not_found(httplib::Response& res, const std::string& what) { reply_error(res, 404, what + " not found"); }
 
 }  // namespace
 
@@ -62,6 +64,7 @@ void ConsoleServer::register_routes() {
   server_->Get("/", asset("index.html", "text/html; charset=utf-8"));
   server_->Get("/index.html", asset("index.html", "text/html; charset=utf-8"));
   server_->Get("/app.js", asset("app.js", "application/javascript; charset=utf-8"));
+  server_->Get("/control.js", asset("control.js", "application/javascript; charset=utf-8"));
   server_->Get("/style.css", asset("style.css", "text/css; charset=utf-8"));
   server_->Get("/api/status",
                [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->status); });
@@ -73,6 +76,7 @@ void ConsoleServer::register_routes() {
     const auto s = snapshot();
     if (s->map_png.empty()) return reply_not_found(res, "map");
     res.set_header("Cache-Control", "no-store");
+    res.set_header("X-Map-Image", s->map_image.dump());  // where the pixels are: a click names a point
     res.set_content(reinterpret_cast<const char*>(s->map_png.data()), s->map_png.size(), "image/png");
   });
   server_->Get(R"(/api/robots/([0-9]+)/own_map\.png)", [snapshot](const httplib::Request& req, httplib::Response& res) {
@@ -96,6 +100,35 @@ void ConsoleServer::register_routes() {
                  if (it == s->clouds.end()) return reply_not_found(res, "object");
                  reply_json(res, it->second);
                });
+  server_->Get("/api/commands",
+               [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->commands); });
+  server_->Post("/api/commands",
+                [this](const httplib::Request& req, httplib::Response& res) { handle_command(req, res); });
+}
+
+void ConsoleServer::accept_commands(const std::string& operator_token, CommandInbox* inbox) {
+  operator_token_ = operator_token;
+  inbox_ = inbox;
+}
+
+void ConsoleServer::handle_command(const httplib::Request& req, httplib::Response& res) {
+  if (!inbox_ || operator_token_.empty()) {
+    return reply_error(res, 403, "commands are off: this base was started without an operator token");
+  }
+  if (!operator_token_matches(req.get_header_value("Authorization"), operator_token_)) {
+    res.set_header("WWW-Authenticate", "Bearer");
+    return reply_error(res, 401, "a command needs the operator token (Authorization: Bearer <token>)");
+  }
+  const std::shared_ptr<const ConsoleSnapshot> s = provider_ ? provider_() : nullptr;
+  const CommandCheckContext context = s ? s->command_context : CommandCheckContext{};
+  std::vector<RobotId> known;
+  for (const auto& [robot, placement] : context.placements) known.push_back(robot);
+  std::string error;
+  const std::optional<CommandRequest> request = parse_command_request(req.body, known, &error);
+  if (!request) return reply_error(res, 400, error);
+  if (const auto why = check_command(*request, context)) return reply_error(res, 400, *why);
+  res.status = 202;
+  reply_json(res, {{"seqs", inbox_->push(*request)}});
 }
 
 bool ConsoleServer::start(std::string* error) {

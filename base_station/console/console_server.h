@@ -8,16 +8,22 @@
 //   GET /api/robots/<id>/own_map.png                 an unlinked robot's own map (its frame)
 //   GET /api/objects/<robot>-<seq>/thumbnail.jpg     object thumbnail
 //   GET /api/objects/<robot>-<seq>/cloud             JSON [[x,y,z,r,g,b],...] (<= 2000 points)
+//   GET /api/commands                                the operator's commands and their states
+//   POST /api/commands                               a command (command_api.h); needs the operator
+//        token: 401 without it, 400 naming the fault of a bad one, 202 {"seqs": [...]} when queued
 #include <functional>
 #include <memory>
 #include <string>
 #include <thread>
 
+#include "base_station/console/command_api.h"
 #include "base_station/console/snapshot.h"
 
 namespace httplib {
 class Server;
-}
+struct Request;
+struct Response;
+}  // namespace httplib
 
 namespace cairn::base {
 
@@ -40,6 +46,10 @@ class ConsoleServer {
   ConsoleServer(const ConsoleServer&) = delete;
   ConsoleServer& operator=(const ConsoleServer&) = delete;
 
+  /// Commands are off (403) until this is called: requests carrying `operator_token` go to `inbox`
+  /// once check_command() accepts them against the newest snapshot. Call before start().
+  void accept_commands(const std::string& operator_token, CommandInbox* inbox);
+
   /// Binds and starts serving on a background thread. False, with `error` set, if the bind fails.
   bool start(std::string* error);
   void stop();
@@ -50,10 +60,13 @@ class ConsoleServer {
 
  private:
   void register_routes();
+  void handle_command(const httplib::Request& req, httplib::Response& res);
 
   ConsoleOptions options_;
   SharedProvider provider_;
   std::string web_dir_;
+  std::string operator_token_;
+  CommandInbox* inbox_ = nullptr;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   int port_ = -1;

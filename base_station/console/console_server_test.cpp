@@ -26,12 +26,20 @@ MultiRobotMapper make_mapper() {
 
 TEST(Snapshot, DescribesRobotsObjectsAndAlerts) {
   const MultiRobotMapper mapper = make_mapper();
-  const ConsoleSnapshot s = make_snapshot(mapper.merged(), {{"0", {{"state", "ok"}, {"bytes_rx", 1234}}}});
+  const ConsoleSnapshot s =
+      make_snapshot(mapper.merged(), {{"0", {{"state", "ok"}, {"bytes_rx", 1234}, {"pose_local", {1.0, 0.5, 0.25}}}},
+                                      {"3", {{"pose_local", {1.0, 0.5, 0.25}}}}});
   ASSERT_EQ(s.robots.size(), 2u);
   EXPECT_EQ(s.robots[0]["linked"], true);
   EXPECT_EQ(s.robots[0]["trajectory"].size(), 6u);
   EXPECT_EQ(s.robots[0]["link"]["bytes_rx"], 1234);
   EXPECT_EQ(s.robots[1]["linked"], false);
+  // A placed robot's newest pose on the map; an unplaced one has none (its frame is not placed).
+  ASSERT_EQ(s.robots[0]["pose_m"].size(), 3u);
+  const SE2 expected = mapper.merged().robots[0].T_global_local * SE2(1.0, 0.5, 0.25);
+  EXPECT_NEAR(s.robots[0]["pose_m"][0].get<double>(), expected.x(), 1e-9);
+  EXPECT_NEAR(s.robots[0]["pose_m"][1].get<double>(), expected.y(), 1e-9);
+  EXPECT_TRUE(s.robots[1]["pose_m"].is_null());
   ASSERT_EQ(s.objects.size(), 1u);
   EXPECT_EQ(s.objects[0]["id"], "0-2");
   EXPECT_EQ(s.objects[0]["thumbnail"], "/api/objects/0-2/thumbnail.jpg");
@@ -109,7 +117,7 @@ TEST(ConsoleServer, ServesPagesAndApi) {
   ASSERT_TRUE(index);
   EXPECT_EQ(index->status, 200);
   EXPECT_NE(index->body.find("<html"), std::string::npos);
-  for (const char* path : {"/app.js", "/style.css"}) {
+  for (const char* path : {"/app.js", "/control.js", "/style.css"}) {
     auto r = client.Get(path);
     ASSERT_TRUE(r) << path;
     EXPECT_EQ(r->status, 200) << path;
@@ -129,6 +137,10 @@ TEST(ConsoleServer, ServesPagesAndApi) {
   EXPECT_EQ(map->status, 200);
   ASSERT_GT(map->body.size(), 8u);
   EXPECT_EQ(map->body.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  const auto geometry = nlohmann::json::parse(map->get_header_value("X-Map-Image"), nullptr, false);
+  ASSERT_TRUE(geometry.is_object()) << map->get_header_value("X-Map-Image");
+  EXPECT_TRUE(geometry["valid"].get<bool>());
+  EXPECT_GT(geometry["m_per_px"].get<double>(), 0.0);
   auto thumb = client.Get("/api/objects/0-2/thumbnail.jpg");
   ASSERT_TRUE(thumb);
   EXPECT_EQ(thumb->status, 200);

@@ -43,6 +43,14 @@ nlohmann::json robot_json(const MergedMap& merged, const RobotSummary& r, const 
     trajectory.push_back({t[i].pose.x(), t[i].pose.y()});
   }
   const std::string key = std::to_string(r.id.value);
+  const nlohmann::json link =
+      link_stats.is_object() && link_stats.contains(key) ? link_stats[key] : nlohmann::json::object();
+  nlohmann::json pose_m;  // its newest reported pose on the map (placed robots only): [x, y, yaw]
+  if (r.linked && link.contains("pose_local") && link["pose_local"].size() == 3) {
+    const SE2 p = r.T_global_local * SE2(link["pose_local"][0].get<double>(), link["pose_local"][1].get<double>(),
+                                         link["pose_local"][2].get<double>());
+    pose_m = {p.x(), p.y(), p.yaw()};
+  }
   return {{"id", r.id.value},
           {"linked", r.linked},
           {"keyframes", r.keyframes},
@@ -57,7 +65,8 @@ nlohmann::json robot_json(const MergedMap& merged, const RobotSummary& r, const 
           {"correction",
            {{"x_m", r.T_global_local.x()}, {"y_m", r.T_global_local.y()}, {"yaw_rad", r.T_global_local.yaw()}}},
           {"trajectory", trajectory},
-          {"link", link_stats.is_object() && link_stats.contains(key) ? link_stats[key] : nlohmann::json::object()}};
+          {"pose_m", pose_m},
+          {"link", link}};
 }
 
 }  // namespace
@@ -196,6 +205,9 @@ ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& lin
               {"alerts", alerts_json(merged)}};
   if (plan) s.status["exploration"] = exploration_json(*plan);
   s.map_png = render_map_png(merged, {}, plan);
+  const MapImageGeometry g = map_image_geometry(*merged.grid);
+  s.map_image = {{"valid", g.valid},       {"x0_m", g.x0_m},         {"y_top_m", g.y_top_m},
+                 {"m_per_px", g.m_per_px}, {"width_px", g.width_px}, {"height_px", g.height_px}};
   if (merged.robot_frame_maps)
     for (const RobotFrameMap& m : *merged.robot_frame_maps)
       s.own_maps[std::to_string(m.robot.value)] = render_robot_frame_png(m);

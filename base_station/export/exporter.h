@@ -49,6 +49,19 @@ ExportSummary export_all(const MergedMap& merged, const std::string& out_dir, co
 std::vector<uint8_t> render_map_png(const MergedMap& merged, const ExportOptions& options = {},
                                     const ExplorationPlan* plan = nullptr);
 
+/// Where render_map_png()'s pixels are on the map, so that a click on the image names a point:
+/// pixel (u, v) (u right, v down, from the top-left corner) is at
+/// (x0_m + u * m_per_px, y_top_m - v * m_per_px). valid = false for an empty map.
+struct MapImageGeometry {
+  bool valid = false;
+  double x0_m = 0;
+  double y_top_m = 0;
+  double m_per_px = 0;
+  int width_px = 0;
+  int height_px = 0;
+};
+MapImageGeometry map_image_geometry(const OccupancyGrid& grid, const ExportOptions& options = {});
+
 /// An unlinked robot's own map (robot_frame_objects.h) as PNG bytes, with its entry point and a
 /// banner saying it is not placed yet; empty on failure.
 std::vector<uint8_t> render_robot_frame_png(const RobotFrameMap& map, const ExportOptions& options = {});

@@ -149,6 +149,24 @@ std::optional<std::pair<CellBox, PixelMapper>> image_frame(const OccupancyGrid& 
   return std::make_pair(box, PixelMapper{origin_m, grid.resolution_m(), box.row1 - box.row0 + 1, scale});
 }
 
+}  // namespace
+
+MapImageGeometry map_image_geometry(const OccupancyGrid& grid, const ExportOptions& options) {
+  MapImageGeometry g;
+  const auto frame = image_frame(grid, options);
+  if (!frame) return g;
+  const auto& [box, px] = *frame;
+  g.valid = true;
+  g.m_per_px = px.resolution_m / px.scale;
+  g.x0_m = px.origin_m.x();
+  g.y_top_m = px.origin_m.y() + px.height_cells * px.resolution_m;
+  g.width_px = (box.col1 - box.col0 + 1) * px.scale;
+  g.height_px = px.height_cells * px.scale;
+  return g;
+}
+
+namespace {
+
 cv::Mat render(const MergedMap& merged, const ExportOptions& options, const ExplorationPlan* plan) {
   const auto frame = image_frame(*merged.grid, options);
   if (!frame) {

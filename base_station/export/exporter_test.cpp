@@ -215,5 +215,35 @@ TEST(Exporter, RenderMapPngHasSignature) {
   ASSERT_GT(empty.size(), 8u);
 }
 
+uint32_t png_u32(const std::vector<uint8_t>& png, size_t at) {
+  return uint32_t(png[at]) << 24 | uint32_t(png[at + 1]) << 16 | uint32_t(png[at + 2]) << 8 | png[at + 3];
+}
+
+TEST(Exporter, MapImageGeometryNamesThePointUnderEachPixel) {
+  const MergedMap merged = make_mapper().merged();
+  const MapImageGeometry g = map_image_geometry(*merged.grid);
+  ASSERT_TRUE(g.valid);
+  const std::vector<uint8_t> png = render_map_png(merged);
+  ASSERT_GT(png.size(), 24u);
+  EXPECT_EQ(png_u32(png, 16), uint32_t(g.width_px));  // IHDR: width, height
+  EXPECT_EQ(png_u32(png, 20), uint32_t(g.height_px));
+  // An occupied wall cell: the pixel the formula gives for its centre lies in that very cell.
+  const OccupancyGrid& grid = *merged.grid;
+  int col = -1, row = -1;
+  for (int r = 0; r < grid.height() && col < 0; ++r)
+    for (int c = 0; c < grid.width() && col < 0; ++c)
+      if (grid.known(c, r) && grid.probability(c, r) > 0.65) col = c, row = r;
+  ASSERT_GE(col, 0);
+  const Eigen::Vector2d centre = grid.cell_center_m(col, row);
+  const double u = (centre.x() - g.x0_m) / g.m_per_px, v = (g.y_top_m - centre.y()) / g.m_per_px;
+  EXPECT_GT(u, 0);
+  EXPECT_LT(u, g.width_px);
+  EXPECT_GT(v, 0);
+  EXPECT_LT(v, g.height_px);
+  const Eigen::Vector2d back(g.x0_m + u * g.m_per_px, g.y_top_m - v * g.m_per_px);
+  EXPECT_EQ(grid.cell_of(back), Eigen::Vector2i(col, row));
+  EXPECT_FALSE(map_image_geometry(*MultiRobotMapper().merged().grid).valid);
+}
+
 }  // namespace
 }  // namespace cairn::base

@@ -1,5 +1,5 @@
-// Cairn console: polls the base station's JSON API every 2 s and refreshes the map image.
-// Plain JS, no build step.
+// Cairn console: polls the base station's JSON API every 2 s and refreshes the map image; the
+// operator's commands are in control.js. Plain JS, no build step.
 "use strict";
 
 const REFRESH_MS = 2000;
@@ -131,24 +131,35 @@ async function getJson(path) {
   return res.json();
 }
 
-function refreshMap() {
+// The map image with its geometry (X-Map-Image header: where its pixels are on the map), fetched
+// together so that a click always names the point under it.
+let mapUrl = null;
+async function refreshMap() {
+  const res = await fetch("/api/map.png", { cache: "no-store" });
+  if (!res.ok) return;
+  const geometry = JSON.parse(res.headers.get("X-Map-Image") || "null");
+  const url = URL.createObjectURL(await res.blob());
   const img = document.getElementById("map");
-  const next = new Image();
-  next.onload = () => { img.src = next.src; };
-  next.src = `/api/map.png?t=${Date.now()}`;
+  img.onload = () => {
+    if (mapUrl) URL.revokeObjectURL(mapUrl);
+    mapUrl = url;
+    Control.setGeometry(geometry);
+  };
+  img.src = url;
 }
 
 async function refresh() {
   const conn = document.getElementById("connection");
   try {
-    const [status, robots, objects] = await Promise.all([
-      getJson("/api/status"), getJson("/api/robots"), getJson("/api/objects"),
+    const [status, robots, objects, commands] = await Promise.all([
+      getJson("/api/status"), getJson("/api/robots"), getJson("/api/objects"), getJson("/api/commands"),
     ]);
     renderStatus(status);
     renderGoals(status.exploration);
     renderRobots(robots);
     renderObjects(objects);
-    refreshMap();
+    Control.update(robots, commands);
+    await refreshMap();
     conn.textContent = "live";
     conn.className = "connection ok";
   } catch (e) {
@@ -157,5 +168,6 @@ async function refresh() {
   }
 }
 
+Control.init();
 refresh();
 setInterval(refresh, REFRESH_MS);

@@ -1,0 +1,54 @@
+#pragma once
+// The console's command endpoint, apart from HTTP: who may command (the operator token), what a
+// request says (JSON -> CommandRequest, every fault named), and the inbox that hands accepted
+// requests from the HTTP threads to the base's thread with their sequence numbers.
+//   POST /api/commands  {"robot": 1 | "all", "kind": "goto"|"stop"|"resume"|"home", "x_m": .., "y_m": ..}
+//   with "Authorization: Bearer <token>"; the point is in the merged map's frame (goto only).
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "base_station/core/operator_commands.h"
+
+namespace cairn::base {
+
+/// True when `authorization` (the request's Authorization header) is "Bearer <token>". Compares in
+/// time independent of where the strings differ; an empty token never matches.
+bool operator_token_matches(const std::string& authorization, const std::string& token);
+
+/// Parses a request body. "all" goes to every robot in `known_robots`. nullopt with `error` naming
+/// the field for bad JSON, a missing or unknown kind, a robot that is not a number or "all", or a
+/// goto without numeric x_m and y_m. (Whether the robot exists or the point is on the map is
+/// check_command()'s decision.)
+std::optional<CommandRequest> parse_command_request(const std::string& body, const std::vector<RobotId>& known_robots,
+                                                    std::string* error);
+
+/// Accepted requests waiting for the base's thread. Thread-safe. Sequence numbers are given here,
+/// one per robot a request goes to, so the console can answer with them at once.
+class CommandInbox {
+ public:
+  struct Entry {
+    uint32_t seq = 0;
+    RobotId robot;
+    CommandRequest request;
+  };
+  /// Sequence numbers continue after `last_seq` (the journal's newest, after a restart).
+  void start_after(uint32_t last_seq);
+  std::vector<uint32_t> push(const CommandRequest& request);
+  std::vector<Entry> take_all();
+
+ private:
+  std::mutex mutex_;
+  uint32_t next_seq_ = 1;
+  std::vector<Entry> entries_;
+};
+
+/// The console's list of commands, newest first: seq, robot, kind, x_m, y_m, sent_s, state, note.
+nlohmann::json commands_json(const std::vector<CommandRecord>& records, size_t max_entries = 50);
+
+}  // namespace cairn::base

@@ -1,0 +1,115 @@
+// POST /api/commands end to end through the HTTP server: who may command, and every bad request
+// refused with a message and nothing queued.
+// Eigen (through console_server.h) before httplib.h: <resolv.h>'s _res macro breaks Eigen's headers.
+#include "base_station/console/console_server.h"
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+namespace cairn::base {
+namespace {
+
+const char* kToken = "0123456789abcdef0123456789abcdef";
+
+ConsoleSnapshot snapshot_with_two_robots() {
+  ConsoleSnapshot s;
+  s.command_context.placements = {{RobotId(0), SE2(1.0, 2.0, M_PI / 2)}, {RobotId(3), std::nullopt}};
+  s.command_context.has_map = true;
+  s.command_context.map_min_m = {-1, -1};
+  s.command_context.map_max_m = {10, 8};
+  s.commands = nlohmann::json::array({{{"seq", 4}, {"robot", 0}, {"kind", "stop"}, {"state", "done"}}});
+  return s;
+}
+
+class ConsoleCommands : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    latest_.publish(snapshot_with_two_robots());
+    server_ = std::make_unique<ConsoleServer>(ConsoleOptions{"127.0.0.1", 0, ""},
+                                              ConsoleServer::SharedProvider([this] { return latest_.get(); }));
+    server_->accept_commands(kToken, &inbox_);
+    std::string error;
+    ASSERT_TRUE(server_->start(&error)) << error;
+    client_ = std::make_unique<httplib::Client>("127.0.0.1", server_->port());
+    client_->set_connection_timeout(5);
+  }
+  void TearDown() override { server_->stop(); }
+
+  /// Status and error message of a POST with `authorization` (empty: no header).
+  std::pair<int, std::string> post(const std::string& body, const std::string& authorization) {
+    httplib::Headers headers;
+    if (!authorization.empty()) headers.emplace("Authorization", authorization);
+    const auto res = client_->Post("/api/commands", headers, body, "application/json");
+    if (!res) return {-1, "no answer"};
+    const auto j = nlohmann::json::parse(res->body, nullptr, false);
+    return {res->status, j.is_object() && j.contains("error") ? j["error"].get<std::string>() : res->body};
+  }
+  std::pair<int, std::string> post(const std::string& body) { return post(body, std::string("Bearer ") + kToken); }
+
+  LatestSnapshot latest_;
+  CommandInbox inbox_;
+  std::unique_ptr<ConsoleServer> server_;
+  std::unique_ptr<httplib::Client> client_;
+};
+
+TEST_F(ConsoleCommands, WithoutTheTokenNothingIsQueued) {
+  const std::string stop = R"({"robot": 0, "kind": "stop"})";
+  EXPECT_EQ(post(stop, "").first, 401);
+  EXPECT_EQ(post(stop, "Bearer wrong").first, 401);
+  EXPECT_EQ(post(stop, kToken).first, 401);  // the token without "Bearer "
+  EXPECT_TRUE(inbox_.take_all().empty());
+}
+
+TEST_F(ConsoleCommands, BadRequestsAreRefusedWithTheirFaultNamedAndNothingQueued) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{not json", "not JSON"},
+      {R"({"robot": 0, "kind": "dance"})", "unknown kind"},
+      {R"({"robot": 7, "kind": "stop"})", "unknown robot 7"},
+      {R"({"robot": 3, "kind": "goto", "x_m": 1, "y_m": 1})", "not placed"},
+      {R"({"robot": 0, "kind": "goto", "x_m": null, "y_m": 1})", "x_m"},
+      {R"({"robot": 0, "kind": "goto", "x_m": 1e308, "y_m": 1e308})", "outside the map"},
+      {R"({"robot": 0, "kind": "goto", "x_m": 30, "y_m": 1})", "outside the map"},
+  };
+  for (const auto& [body, fault] : cases) {
+    const auto [status, message] = post(body);
+    EXPECT_EQ(status, 400) << body;
+    EXPECT_NE(message.find(fault), std::string::npos) << body << " -> " << message;
+  }
+  EXPECT_TRUE(inbox_.take_all().empty());
+}
+
+TEST_F(ConsoleCommands, AGoodCommandIsQueuedWithItsSequenceNumbers) {
+  const auto go = client_->Post("/api/commands", {{"Authorization", std::string("Bearer ") + kToken}},
+                                R"({"robot": 0, "kind": "goto", "x_m": 4.5, "y_m": 3})", "application/json");
+  ASSERT_TRUE(go);
+  EXPECT_EQ(go->status, 202);
+  EXPECT_EQ(nlohmann::json::parse(go->body)["seqs"], nlohmann::json::array({1}));
+  const auto all = post(R"({"robot": "all", "kind": "home"})");  // every robot, placed or not
+  EXPECT_EQ(all.first, 202) << all.second;
+  const auto queued = inbox_.take_all();
+  ASSERT_EQ(queued.size(), 3u);
+  EXPECT_EQ(queued[0].request.kind, CommandKind::kGoTo);
+  EXPECT_DOUBLE_EQ(queued[0].request.point_global_m.x(), 4.5);
+  EXPECT_EQ(queued[1].robot, RobotId(0));
+  EXPECT_EQ(queued[2].robot, RobotId(3));
+  EXPECT_EQ(queued[2].seq, 3u);
+  // The list of commands is open to every viewer.
+  const auto list = client_->Get("/api/commands");
+  ASSERT_TRUE(list);
+  EXPECT_EQ(nlohmann::json::parse(list->body)[0]["state"], "done");
+}
+
+TEST(ConsoleCommandsOff, WithoutAnOperatorTokenCommandsAreOff) {
+  ConsoleServer server({"127.0.0.1", 0, ""}, [] { return ConsoleSnapshot{}; });
+  std::string error;
+  ASSERT_TRUE(server.start(&error)) << error;
+  httplib::Client client("127.0.0.1", server.port());
+  const auto res = client.Post("/api/commands", {{"Authorization", "Bearer x"}}, R"({"robot": 0, "kind": "stop"})",
+                               "application/json");
+  ASSERT_TRUE(res);
+  EXPECT_EQ(res->status, 403);
+  EXPECT_NE(res->body.find("without an operator token"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace cairn::base

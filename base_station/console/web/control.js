@@ -1,0 +1,128 @@
+// Cairn console, control-centre part: select a robot (its marker on the map, or its row), then
+// click the map to send it there; stop / resume / home one robot or all; the commands and their
+// states. Commands carry the operator token (from the link the base prints: ...#token=<token>),
+// kept in this browser's storage; without it the page only watches.
+"use strict";
+
+const Control = (() => {
+  const TOKEN_KEY = "cairn-operator-token";
+  let selected = null;   // robot id
+  let geometry = null;   // X-Map-Image: where the map image's pixels are
+  let robots = [];
+
+  function token() { return localStorage.getItem(TOKEN_KEY) || ""; }
+
+  // The token arrives in the address's fragment (never sent to a server); keep it, then hide it.
+  function takeTokenFromAddress() {
+    const m = /(?:^#|&)token=([0-9A-Za-z_-]+)/.exec(window.location.hash);
+    if (!m) return;
+    localStorage.setItem(TOKEN_KEY, m[1]);
+    history.replaceState(null, "", window.location.pathname + window.location.search);
+  }
+
+  function say(text, level) {
+    const box = document.getElementById("command-feedback");
+    box.textContent = text;
+    box.className = `feedback ${level || ""}`;
+  }
+
+  async function send(body) {
+    if (!token()) return say("Watching only: open the operator link the base printed (…/#token=…) to command.", "bad");
+    try {
+      const res = await fetch("/api/commands", {
+        method: "POST",
+        headers: { "Content-Type": "application/json", Authorization: `Bearer ${token()}` },
+        body: JSON.stringify(body),
+      });
+      const reply = await res.json().catch(() => ({}));
+      if (res.status === 202) {
+        const who = body.robot === "all" ? "every robot" : `Robot ${body.robot}`;
+        const where = body.kind === "goto" ? ` to (${body.x_m.toFixed(1)}, ${body.y_m.toFixed(1)}) m` : "";
+        say(`Sent ${body.kind}${where} to ${who} (command ${(reply.seqs || []).join(", ")}).`, "ok");
+      } else if (res.status === 401) {
+        localStorage.removeItem(TOKEN_KEY);
+        say(`Refused: ${reply.error || "wrong operator token"}. Open the operator link again.`, "bad");
+      } else {
+        say(`Refused: ${reply.error || `HTTP ${res.status}`}`, "bad");
+      }
+    } catch (e) {
+      say("The base station is unreachable: nothing was sent.", "bad");
+    }
+    renderBar();
+  }
+
+  function select(id) {
+    selected = selected === id ? null : id;
+    renderBar();
+    renderMarkers();
+  }
+
+  function renderBar() {
+    const label = document.getElementById("selected-robot");
+    const mode = document.getElementById("operator-mode");
+    mode.textContent = token() ? "operator" : "watching only";
+    mode.className = token() ? "badge ok" : "badge warn";
+    label.textContent = selected === null ? "no robot selected: click a robot on the map" :
+      `Robot ${selected} selected: click the map to send it there`;
+    for (const b of document.querySelectorAll("[data-one]")) b.disabled = selected === null || !token();
+    for (const b of document.querySelectorAll("[data-all]")) b.disabled = !token();
+  }
+
+  // Markers over the map image at each placed robot's newest pose, pointing where it heads.
+  function renderMarkers() {
+    const layer = document.getElementById("robot-markers");
+    layer.replaceChildren();
+    if (!geometry || !geometry.valid) return;
+    for (const r of robots) {
+      if (!r.pose_m) continue;
+      const [x, y, yaw] = r.pose_m;
+      const u = (x - geometry.x0_m) / geometry.m_per_px, v = (geometry.y_top_m - y) / geometry.m_per_px;
+      const b = document.createElement("button");
+      b.className = `robot-marker${r.id === selected ? " selected" : ""}`;
+      b.style.left = `${(100 * u) / geometry.width_px}%`;
+      b.style.top = `${(100 * v) / geometry.height_px}%`;
+      b.style.setProperty("--yaw", `${-yaw}rad`);
+      b.title = `Robot ${r.id}: ${(r.link && r.link.activity) || "?"}`;
+      b.textContent = r.id;
+      b.addEventListener("click", (e) => { e.stopPropagation(); select(r.id); });
+      layer.appendChild(b);
+    }
+  }
+
+  function onMapClick(e) {
+    if (selected === null || !geometry || !geometry.valid) return;
+    const img = e.currentTarget;
+    const u = (e.offsetX * img.naturalWidth) / img.clientWidth, v = (e.offsetY * img.naturalHeight) / img.clientHeight;
+    send({ robot: selected, kind: "goto", x_m: geometry.x0_m + u * geometry.m_per_px, y_m: geometry.y_top_m - v * geometry.m_per_px });
+  }
+
+  function renderCommands(commands) {
+    const rows = commands.map((c) => el("tr", {}, [
+      el("td", { class: "num", text: c.seq }),
+      el("td", { text: `Robot ${c.robot}` }),
+      el("td", { text: c.kind === "goto" ? `go to (${c.x_m.toFixed(1)}, ${c.y_m.toFixed(1)}) m` : c.kind }),
+      el("td", { text: fmtTime(c.sent_s) }),
+      el("td", {}, [el("span", { class: `state ${c.state}`, text: c.state })]),
+      el("td", { class: "muted", text: c.note || "" }),
+    ]));
+    replaceRows(document.getElementById("commands"), rows, "No commands sent", 6);
+  }
+
+  function init() {
+    takeTokenFromAddress();
+    document.getElementById("map").addEventListener("click", onMapClick);
+    for (const b of document.querySelectorAll("[data-one]")) {
+      b.addEventListener("click", () => selected !== null && send({ robot: selected, kind: b.dataset.one }));
+    }
+    for (const b of document.querySelectorAll("[data-all]")) {
+      b.addEventListener("click", () => send({ robot: "all", kind: b.dataset.all }));
+    }
+    renderBar();
+  }
+
+  return {
+    init,
+    setGeometry(g) { geometry = g; renderMarkers(); },
+    update(newRobots, commands) { robots = newRobots; renderMarkers(); renderCommands(commands); },
+  };
+})();

@@ -1,0 +1,161 @@
+// The control centre's commands end to end, over real processes: a mission runs (cairn_mission:
+// simulator, agent, base), and the test acts as the console's operator over HTTP: a command
+// without the token is refused, "go to" drives the simulated robot to the point (checked against
+// the simulator's ground truth) and is reported done, "home" brings it back and ends the mission.
+// Eigen (through trajectory.h) before httplib.h: <resolv.h>'s _res macro breaks Eigen's headers.
+#include "common/trajectory.h"
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "run_command.h"
+
+namespace cairn::test {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+const char* kToken = "feedc0de0123456789abcdef01234567";
+
+class Operator {
+ public:
+  explicit Operator(int port) : client_("127.0.0.1", port) { client_.set_connection_timeout(2); }
+
+  nlohmann::json get(const std::string& path) {
+    const auto res = client_.Get(path);
+    if (!res || res->status != 200) return nlohmann::json();
+    return nlohmann::json::parse(res->body, nullptr, false);
+  }
+  /// HTTP status of a command (-1: no answer).
+  int post(const nlohmann::json& body, const std::string& token = kToken) {
+    httplib::Headers headers;
+    if (!token.empty()) headers.emplace("Authorization", "Bearer " + token);
+    const auto res = client_.Post("/api/commands", headers, body.dump(), "application/json");
+    last_body_ = res ? res->body : "no answer";
+    return res ? res->status : -1;
+  }
+  const std::string& last_body() const { return last_body_; }
+
+  /// Robot `id`'s entry in /api/robots (null until the base knows it).
+  nlohmann::json robot(int id) {
+    const nlohmann::json robots = get("/api/robots");
+    if (robots.is_array())
+      for (const auto& r : robots)
+        if (r["id"] == id) return r;
+    return nlohmann::json();
+  }
+  /// Command `seq`'s entry in /api/commands.
+  nlohmann::json command(int seq) {
+    const nlohmann::json commands = get("/api/commands");
+    if (commands.is_array())
+      for (const auto& c : commands)
+        if (c["seq"] == seq) return c;
+    return nlohmann::json();
+  }
+
+ private:
+  httplib::Client client_;
+  std::string last_body_;
+};
+
+/// A TCP port free right now (the kernel's pick), for the mission's console.
+int free_port() {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t len = sizeof addr;
+  int port = -1;
+  if (fd >= 0 && bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0 &&
+      getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len) == 0)
+    port = ntohs(addr.sin_port);
+  if (fd >= 0) close(fd);
+  return port;
+}
+
+/// Polls `done` every 200 ms for up to `timeout_s`; true once it holds.
+template <typename Done>
+bool wait_for(double timeout_s, Done&& done) {
+  const auto until = Clock::now() + std::chrono::duration<double>(timeout_s);
+  while (Clock::now() < until) {
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  return false;
+}
+
+TEST(OperatorCommands, GoToDrivesTheSimulatedRobotThereAndHomeEndsTheMission) {
+  const fs::path out = fs::path(::testing::TempDir()) / ("operator_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  const int port = free_port();
+  ASSERT_GT(port, 0);
+  auto mission = std::async(std::launch::async, [&] {
+    return run_command(bin("cairn_mission") + " --world " + source_path("tests/worlds/operator_one_robot.yaml") +
+                       " --out " + out.string() + " --port " + std::to_string(port) + " --operator-token " + kToken +
+                       " --timeout 300");
+  });
+  Operator op(port);
+  const Eigen::Vector2d target(6.0, 7.5);  // down the corridor from where it entered (1.2, 7.5)
+  const nlohmann::json go = {{"robot", 0}, {"kind", "goto"}, {"x_m", target.x()}, {"y_m", target.y()}};
+  ASSERT_TRUE(wait_for(120, [&] { return op.robot(0).is_object() && !op.robot(0)["pose_m"].is_null(); }))
+      << "robot 0 never appeared placed on the console";
+
+  // Without the operator token: refused, nothing sent.
+  EXPECT_EQ(op.post(go, ""), 401);
+  EXPECT_EQ(op.post(go, "not-the-token"), 401);
+  EXPECT_TRUE(op.get("/api/commands").empty());
+
+  // Go to the point (the map must reach it first: 400 "outside the map" until then).
+  int seq = 0;
+  ASSERT_TRUE(wait_for(60, [&] {
+    if (op.post(go) != 202) return false;
+    seq = nlohmann::json::parse(op.last_body())["seqs"][0];
+    return true;
+  })) << op.last_body();
+  nlohmann::json command;
+  ASSERT_TRUE(wait_for(120, [&] {
+    command = op.command(seq);
+    return command.is_object() && (command["state"] == "done" || command["state"] == "failed");
+  })) << command.dump();
+  EXPECT_EQ(command["state"], "done") << command.dump();
+  const nlohmann::json pose = op.robot(0)["pose_m"];
+  ASSERT_EQ(pose.size(), 3u);
+  EXPECT_LT((Eigen::Vector2d(pose[0], pose[1]) - target).norm(), 0.8) << pose.dump();
+
+  // Home: back where it entered, and the mission ends.
+  ASSERT_EQ(op.post({{"robot", "all"}, {"kind", "home"}}), 202) << op.last_body();
+  const CommandResult result = mission.get();
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("#token="), std::string::npos) << "the operator's link is printed";
+
+  // The simulator's truth: the robot was at the point, and ended near where it entered.
+  const Trajectory truth = read_trajectory_csv((out / "ground_truth" / "gt_robot0.csv").string());
+  ASSERT_FALSE(truth.empty());
+  double closest_m = 1e9;
+  for (const auto& s : truth) closest_m = std::min(closest_m, (s.pose.translation() - target).norm());
+  EXPECT_LT(closest_m, 0.6);
+  EXPECT_LT((truth.back().pose.translation() - Eigen::Vector2d(1.2, 7.5)).norm(), 1.5);
+  // Every command and its end are in the mission's summary.
+  std::ifstream in(out / "map" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["commands"].size(), 2u) << summary["commands"].dump();
+  EXPECT_EQ(summary["commands"][1]["kind"], "goto");  // newest first
+  EXPECT_EQ(summary["commands"][1]["state"], "done");
+  EXPECT_EQ(summary["commands"][0]["kind"], "home");
+  EXPECT_EQ(summary["commands"][0]["state"], "done") << summary["commands"].dump();
+}
+
+}  // namespace
+}  // namespace cairn::test
