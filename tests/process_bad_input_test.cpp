@@ -10,6 +10,7 @@
 
 #include "base_station/store/journal.h"
 #include "cairn_msgsPubSubTypes.h"
+#include "common/navigation.h"
 #include "dds/cdr.h"
 #include "dds/domain_lease.h"
 #include "run_command.h"
@@ -146,6 +147,55 @@ TEST(ProcessBadInput, ARobotKnownOnlyFromItsStatusesIsInTheSummary) {
   EXPECT_EQ(summary["robots"][0]["linked"], false);
   EXPECT_EQ(summary["robots"][0]["keyframes"], 0);
   EXPECT_EQ(summary["unlinked_robots"], nlohmann::json::array({5}));
+}
+
+// The operator's commands survive a base restart, with what the robot last said of them; a damaged
+// command record is named and kept, not fatal.
+TEST(ProcessBadInput, OperatorCommandsSurviveABaseRestartAndADamagedOneIsNamed) {
+  const std::string dir = ::testing::TempDir() + "/base_commands_" + std::to_string(getpid());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::string error;
+  {
+    auto journal = base::Journal::open(dir + "/journal.sqlite", {}, &error);
+    ASSERT_TRUE(journal) << error;
+    cairn_msgs::RobotStatus status;
+    status.robot_id(5);
+    status.finished(true);
+    status.command_seq(7);
+    status.command_state(uint8_t(CommandState::kDone));
+    status.command_note("stopped; holding until resumed");
+    auto record = [](base::JournalKind kind, int64_t key, std::vector<uint8_t> payload) {
+      base::JournalRecord r;
+      r.kind = kind;
+      r.robot = RobotId(5);
+      r.key = key;
+      r.payload = std::move(payload);
+      return r;
+    };
+    const std::string stop =
+        R"({"seq": 7, "robot": 5, "kind": 1, "local_m": [0, 0], "global_m": [0, 0], "sent_ns": 4000000000})";
+    ASSERT_TRUE(
+        journal->append({record(base::JournalKind::kStatus, 0, dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(status)),
+                         record(base::JournalKind::kCommand, 7, {stop.begin(), stop.end()}),
+                         record(base::JournalKind::kCommand, 8, {'{', '"', 's'})},
+                        &error))
+        << error;
+  }
+  const auto lease = dds::DomainLease::claim({}, &error);
+  ASSERT_TRUE(lease) << error;
+  const auto r = run_command("timeout 30 " + bin("cairn_base") + " --domain " + std::to_string(lease->domain_id()) +
+                             " --out " + dir + " --port 0 --robots 1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("skipped operator command 8 of robot5"), std::string::npos) << r.output;
+  std::ifstream in(dir + "/summary.json");
+  const auto summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["commands"].size(), 1u) << summary.dump();
+  EXPECT_EQ(summary["commands"][0]["seq"], 7);
+  EXPECT_EQ(summary["commands"][0]["kind"], "stop");
+  EXPECT_EQ(summary["commands"][0]["state"], "done");
+  EXPECT_EQ(summary["journal"]["skipped_records"], 1);
+  EXPECT_EQ(summary["journal"]["records"], 3) << "the damaged record is kept for a later look";
 }
 
 TEST(ProcessBadInput, EveryProcessNamesTheSecurityFileItCannotRead) {

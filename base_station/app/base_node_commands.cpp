@@ -6,20 +6,6 @@
 
 namespace cairn::base {
 
-namespace {
-
-nlohmann::json command_record_json(const CommandRecord& r) {
-  return {{"seq", r.seq},
-          {"robot", r.robot.value},
-          {"kind", int(r.kind)},
-          {"kind_name", to_string(r.kind)},  // for a person reading the journal
-          {"local_m", {r.point_local_m.x(), r.point_local_m.y()}},
-          {"global_m", {r.point_global_m.x(), r.point_global_m.y()}},
-          {"sent_ns", r.sent_ns}};
-}
-
-}  // namespace
-
 void BaseNode::send_operator_commands() {
   const std::vector<CommandInbox::Entry> entries = inbox_.take_all();
   if (entries.empty()) return;
@@ -36,7 +22,7 @@ void BaseNode::send_operator_commands() {
     const OperatorCommand sent = commands_.add(e.seq, e.robot, one.kind, one.point_global_m,
                                                context.placements.at(e.robot), merged.data->latest_stamp_ns);
     const CommandRecord& record = commands_.records().back();
-    const std::string payload = command_record_json(record).dump();
+    const std::string payload = command_record_to_json(record);
     journal(JournalKind::kCommand, e.robot.value, e.seq, std::vector<uint8_t>(payload.begin(), payload.end()));
     if (!command_out_->write(dds::to_msg(sent))) {
       log_->warn(
@@ -56,25 +42,14 @@ void BaseNode::send_operator_commands() {
 }
 
 bool BaseNode::restore_command(const JournalRecord& r, std::string* error) {
-  const nlohmann::json j =
-      nlohmann::json::parse(r.payload.begin(), r.payload.end(), nullptr, /*allow_exceptions=*/false);
-  std::optional<CommandKind> kind;
-  if (j.is_object() && j.contains("kind") && j["kind"].is_number_unsigned() && j["kind"].get<uint64_t>() < 256)
-    kind = command_kind_from(uint8_t(j["kind"].get<uint64_t>()));
-  const auto point = [&](const char* key) -> std::optional<Eigen::Vector2d> {
-    if (!j.contains(key) || !j[key].is_array() || j[key].size() != 2 || !j[key][0].is_number() ||
-        !j[key][1].is_number())
-      return std::nullopt;
-    return Eigen::Vector2d(j[key][0].get<double>(), j[key][1].get<double>());
-  };
-  const auto local = j.is_object() ? point("local_m") : std::nullopt;
-  const auto global = j.is_object() ? point("global_m") : std::nullopt;
-  if (!kind || !local || !global || !j.contains("sent_ns") || !j["sent_ns"].is_number_integer() || r.key <= 0 ||
-      r.key > int64_t(UINT32_MAX)) {
-    *error = "not an operator command record";
+  const auto record = command_record_from_json(std::string(r.payload.begin(), r.payload.end()), error);
+  if (!record) return false;
+  if (record->robot != r.robot || int64_t(record->seq) != r.key) {
+    *error = "operator command record: its robot and seq differ from the journal's key";
     return false;
   }
-  commands_.restore({r.robot, uint32_t(r.key), *kind, *local}, *global, j["sent_ns"].get<int64_t>());
+  commands_.restore({record->robot, record->seq, record->kind, record->point_local_m}, record->point_global_m,
+                    record->sent_ns);
   return true;
 }
 

@@ -84,6 +84,54 @@ std::vector<CommandInbox::Entry> CommandInbox::take_all() {
   return std::exchange(entries_, {});
 }
 
+std::string command_record_to_json(const CommandRecord& r) {
+  return nlohmann::json{{"seq", r.seq},
+                        {"robot", r.robot.value},
+                        {"kind", int(r.kind)},
+                        {"kind_name", to_string(r.kind)},  // for a person reading the journal
+                        {"local_m", {r.point_local_m.x(), r.point_local_m.y()}},
+                        {"global_m", {r.point_global_m.x(), r.point_global_m.y()}},
+                        {"sent_ns", r.sent_ns}}
+      .dump();
+}
+
+std::optional<CommandRecord> command_record_from_json(const std::string& text, std::string* error) {
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_object()) return fail(error, "an operator command record must be a JSON object");
+  const auto integer = [&](const char* key, int64_t lo, int64_t hi) -> std::optional<int64_t> {
+    if (!j.contains(key) || !j[key].is_number_integer()) return std::nullopt;
+    const int64_t v = j[key].get<int64_t>();
+    return v >= lo && v <= hi ? std::optional<int64_t>(v) : std::nullopt;
+  };
+  const auto point = [&](const char* key) -> std::optional<Eigen::Vector2d> {
+    if (!j.contains(key) || !j[key].is_array() || j[key].size() != 2 || !j[key][0].is_number() ||
+        !j[key][1].is_number())
+      return std::nullopt;
+    const Eigen::Vector2d p(j[key][0].get<double>(), j[key][1].get<double>());
+    return p.allFinite() ? std::optional<Eigen::Vector2d>(p) : std::nullopt;
+  };
+  const auto seq = integer("seq", 1, UINT32_MAX);
+  const auto robot = integer("robot", 0, 1000);
+  const auto kind_value = integer("kind", 0, 255);
+  const auto kind = kind_value ? command_kind_from(uint8_t(*kind_value)) : std::nullopt;
+  const auto sent_ns = integer("sent_ns", 0, INT64_MAX);
+  const auto local = point("local_m");
+  const auto global = point("global_m");
+  if (!seq) return fail(error, "operator command record: \"seq\" must be 1..4294967295");
+  if (!robot) return fail(error, "operator command record: \"robot\" must be 0..1000");
+  if (!kind) return fail(error, "operator command record: unknown \"kind\"");
+  if (!sent_ns) return fail(error, "operator command record: \"sent_ns\" must be a time in ns");
+  if (!local || !global) return fail(error, "operator command record: \"local_m\" and \"global_m\" must be [x, y]");
+  CommandRecord r;
+  r.seq = uint32_t(*seq);
+  r.robot = RobotId(int(*robot));
+  r.kind = *kind;
+  r.point_local_m = *local;
+  r.point_global_m = *global;
+  r.sent_ns = *sent_ns;
+  return r;
+}
+
 nlohmann::json commands_json(const std::vector<CommandRecord>& records, size_t max_entries) {
   nlohmann::json out = nlohmann::json::array();
   for (auto it = records.rbegin(); it != records.rend() && out.size() < max_entries; ++it) {

@@ -48,6 +48,11 @@ class CommandInbox {
   std::vector<Entry> entries_;
 };
 
+/// One sent command as the base journals it (JSON: seq, robot, kind, both points, sent_ns), and
+/// back. from: nullopt with `error` naming what is wrong for anything that is not such a record.
+std::string command_record_to_json(const CommandRecord& record);
+std::optional<CommandRecord> command_record_from_json(const std::string& text, std::string* error);
+
 /// The console's list of commands, newest first: seq, robot, kind, x_m, y_m, sent_s, state, note.
 nlohmann::json commands_json(const std::vector<CommandRecord>& records, size_t max_entries = 50);
 

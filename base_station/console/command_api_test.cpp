@@ -76,5 +76,45 @@ TEST(CommandInbox, GivesOneSequenceNumberPerRobotAndContinuesAfterRestart) {
   EXPECT_EQ(inbox.push(all).front(), 44u);
 }
 
+TEST(CommandRecordJson, RoundTripsAndNamesWhatIsWrong) {
+  CommandRecord r;
+  r.seq = 12;
+  r.robot = RobotId(3);
+  r.kind = CommandKind::kGoTo;
+  r.point_global_m = {4.5, -2.25};
+  r.point_local_m = {1.0, 0.5};
+  r.sent_ns = 123456789012;
+  std::string error;
+  const auto back = command_record_from_json(command_record_to_json(r), &error);
+  ASSERT_TRUE(back.has_value()) << error;
+  EXPECT_EQ(back->seq, 12u);
+  EXPECT_EQ(back->robot, RobotId(3));
+  EXPECT_EQ(back->kind, CommandKind::kGoTo);
+  EXPECT_EQ(back->point_global_m, r.point_global_m);
+  EXPECT_EQ(back->point_local_m, r.point_local_m);
+  EXPECT_EQ(back->sent_ns, r.sent_ns);
+
+  nlohmann::json j = nlohmann::json::parse(command_record_to_json(r));
+  const auto fault = [&](nlohmann::json bad) {
+    std::string why;
+    EXPECT_FALSE(command_record_from_json(bad.dump(), &why).has_value()) << bad.dump();
+    return why;
+  };
+  EXPECT_NE(fault(nlohmann::json::array()).find("object"), std::string::npos);
+  auto bad = j;
+  bad["seq"] = 0;
+  EXPECT_NE(fault(bad).find("seq"), std::string::npos);
+  bad = j;
+  bad["kind"] = 9;
+  EXPECT_NE(fault(bad).find("kind"), std::string::npos);
+  bad = j;
+  bad["global_m"] = {1.0};
+  EXPECT_NE(fault(bad).find("global_m"), std::string::npos);
+  bad = j;
+  bad.erase("sent_ns");
+  EXPECT_NE(fault(bad).find("sent_ns"), std::string::npos);
+  EXPECT_FALSE(command_record_from_json("{truncated", &error).has_value());
+}
+
 }  // namespace
 }  // namespace cairn::base
