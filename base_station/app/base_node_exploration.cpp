@@ -54,7 +54,10 @@ void BaseNode::plan_and_publish_goals(bool send) {
       robots_m[r.id] = trajectory.back().pose.translation();
     }
   }
-  if (robots_m.empty()) return;  // nothing placed to plan for (and an empty map has no frontier)
+  if (robots_m.empty()) {  // nothing placed (or all driven by the operator) to plan for
+    plan_.goals.clear();   // no stale "next" goal on the map
+    return;
+  }
   std::vector<Eigen::Vector2d> victims_m;
   for (const GlobalObject& o : merged.objects) {
     if (o.class_name == "victim") victims_m.push_back(o.position_m.head<2>());
