@@ -7,8 +7,6 @@
 
 #include <gtest/gtest.h>
 #include <httplib.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -20,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "run_command.h"
+#include "tools/mission/ports.h"
 
 namespace cairn::test {
 namespace {
@@ -70,21 +69,6 @@ class Operator {
   std::string last_body_;
 };
 
-/// A TCP port free right now (the kernel's pick), for the mission's console.
-int free_port() {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t len = sizeof addr;
-  int port = -1;
-  if (fd >= 0 && bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0 &&
-      getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len) == 0)
-    port = ntohs(addr.sin_port);
-  if (fd >= 0) close(fd);
-  return port;
-}
-
 /// Polls `done` every 200 ms for up to `timeout_s`; true once it holds.
 template <typename Done>
 bool wait_for(double timeout_s, Done&& done) {
@@ -99,7 +83,7 @@ bool wait_for(double timeout_s, Done&& done) {
 TEST(OperatorCommands, GoToDrivesTheSimulatedRobotThereAndHomeEndsTheMission) {
   const fs::path out = fs::path(::testing::TempDir()) / ("operator_" + std::to_string(getpid()));
   fs::remove_all(out);
-  const int port = free_port();
+  const int port = mission::free_port();
   ASSERT_GT(port, 0);
   auto mission = std::async(std::launch::async, [&] {
     return run_command(bin("cairn_mission") + " --world " + source_path("tests/worlds/operator_one_robot.yaml") +
@@ -130,9 +114,12 @@ TEST(OperatorCommands, GoToDrivesTheSimulatedRobotThereAndHomeEndsTheMission) {
     return command.is_object() && (command["state"] == "done" || command["state"] == "failed");
   })) << command.dump();
   EXPECT_EQ(command["state"], "done") << command.dump();
-  const nlohmann::json pose = op.robot(0)["pose_m"];
-  ASSERT_EQ(pose.size(), 3u);
-  EXPECT_LT((Eigen::Vector2d(pose[0], pose[1]) - target).norm(), 0.8) << pose.dump();
+  // The console's robot list (rebuilt every second) shows it there too, holding.
+  nlohmann::json pose;
+  EXPECT_TRUE(wait_for(5, [&] {
+    pose = op.robot(0)["pose_m"];
+    return pose.size() == 3u && (Eigen::Vector2d(pose[0], pose[1]) - target).norm() < 0.8;
+  })) << pose.dump();
 
   // Home: back where it entered, and the mission ends.
   ASSERT_EQ(op.post({{"robot", "all"}, {"kind", "home"}}), 202) << op.last_body();

@@ -72,7 +72,7 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   n->console_ = std::make_unique<ConsoleServer>(
       options.console, ConsoleServer::SharedProvider([self] { return self->latest_snapshot_.get(); }));
   n->refresh_snapshot();  // the console's first answers (and command checks) see the restored mission
-  if (!options.operator_token.empty()) n->console_->accept_commands(options.operator_token, &n->inbox_);
+  n->console_->accept_commands(options.operator_token, &n->inbox_);  // an empty token: the list only
   if (!n->console_->start(error)) return nullptr;
   return n;
 }
@@ -212,7 +212,6 @@ nlohmann::json BaseNode::link_stats() const {
 void BaseNode::refresh_snapshot() {
   const MergedMap merged = mapper_.merged();
   ConsoleSnapshot snapshot = make_snapshot(merged, link_stats(), {}, &plan_);
-  snapshot.commands = commands_json(commands_.records());
   snapshot.command_context = command_context(merged);
   latest_snapshot_.publish(std::move(snapshot));
 }

@@ -38,6 +38,7 @@ void BaseNode::send_operator_commands() {
     }
   }
   flush_journal();
+  inbox_.post_states(commands_json(commands_.records()));
   replan_now_ = true;  // a robot left to, or taken back from, the operator
 }
 
@@ -57,11 +58,14 @@ void BaseNode::after_restore_commands() {
   // Statuses are replayed before commands: apply each robot's newest report to its commands now.
   for (const auto& [robot, nav] : navigation_) commands_.on_report(robot, nav.command);
   inbox_.start_after(commands_.last_seq());
+  inbox_.post_states(commands_json(commands_.records()));
   if (!commands_.records().empty()) log_->info("journal: {} operator commands", commands_.records().size());
 }
 
 void BaseNode::note_command_report(RobotId robot, const CommandReport& report, bool live) {
-  if (!commands_.on_report(robot, report) || !live) return;
+  if (!commands_.on_report(robot, report)) return;
+  inbox_.post_states(commands_json(commands_.records()));
+  if (!live) return;
   for (const CommandRecord& r : commands_.records()) {
     if (r.robot == robot && r.seq == report.seq) {
       log_->info("operator command {} to {}: {}{}{}", r.seq, to_string(robot), to_string(r.state),

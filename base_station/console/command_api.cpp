@@ -132,6 +132,16 @@ std::optional<CommandRecord> command_record_from_json(const std::string& text, s
   return r;
 }
 
+void CommandInbox::post_states(nlohmann::json states) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  states_ = std::move(states);
+}
+
+nlohmann::json CommandInbox::states() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return states_;
+}
+
 nlohmann::json commands_json(const std::vector<CommandRecord>& records, size_t max_entries) {
   nlohmann::json out = nlohmann::json::array();
   for (auto it = records.rbegin(); it != records.rend() && out.size() < max_entries; ++it) {

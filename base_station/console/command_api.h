@@ -28,8 +28,10 @@ bool operator_token_matches(const std::string& authorization, const std::string&
 std::optional<CommandRequest> parse_command_request(const std::string& body, const std::vector<RobotId>& known_robots,
                                                     std::string* error);
 
-/// Accepted requests waiting for the base's thread. Thread-safe. Sequence numbers are given here,
-/// one per robot a request goes to, so the console can answer with them at once.
+/// The desk between the console's HTTP threads and the base's thread, both ways: accepted requests
+/// wait here for the base (sequence numbers are given here, one per robot a request goes to, so the
+/// console can answer with them at once), and the base posts every command's newest state here the
+/// moment it changes (not with the next console snapshot, a second later). Thread-safe.
 class CommandInbox {
  public:
   struct Entry {
@@ -41,9 +43,13 @@ class CommandInbox {
   void start_after(uint32_t last_seq);
   std::vector<uint32_t> push(const CommandRequest& request);
   std::vector<Entry> take_all();
+  /// The commands and their states (commands_json), as the base last posted them.
+  void post_states(nlohmann::json states);
+  nlohmann::json states() const;
 
  private:
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
+  nlohmann::json states_ = nlohmann::json::array();
   uint32_t next_seq_ = 1;
   std::vector<Entry> entries_;
 };

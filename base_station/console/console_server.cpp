@@ -100,8 +100,9 @@ void ConsoleServer::register_routes() {
                  if (it == s->clouds.end()) return reply_not_found(res, "object");
                  reply_json(res, it->second);
                });
-  server_->Get("/api/commands",
-               [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->commands); });
+  server_->Get("/api/commands", [this](const httplib::Request&, httplib::Response& res) {
+    reply_json(res, inbox_ ? inbox_->states() : nlohmann::json::array());
+  });
   server_->Post("/api/commands",
                 [this](const httplib::Request& req, httplib::Response& res) { handle_command(req, res); });
 }

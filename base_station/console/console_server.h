@@ -46,8 +46,9 @@ class ConsoleServer {
   ConsoleServer(const ConsoleServer&) = delete;
   ConsoleServer& operator=(const ConsoleServer&) = delete;
 
-  /// Commands are off (403) until this is called: requests carrying `operator_token` go to `inbox`
-  /// once check_command() accepts them against the newest snapshot. Call before start().
+  /// GET /api/commands lists `inbox`'s states. POST: requests carrying `operator_token` go to
+  /// `inbox` once check_command() accepts them against the newest snapshot; commands are off (403)
+  /// with an empty token or until this is called. Call before start().
   void accept_commands(const std::string& operator_token, CommandInbox* inbox);
 
   /// Binds and starts serving on a background thread. False, with `error` set, if the bind fails.

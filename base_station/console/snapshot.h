@@ -23,9 +23,8 @@ struct ConsoleSnapshot {
   std::map<std::string, std::vector<uint8_t>> thumbnails;  ///< object key ("1-3") -> JPEG
   std::map<std::string, nlohmann::json> clouds;            ///< object key -> [[x,y,z,r,g,b],...]
   std::map<std::string, std::vector<uint8_t>> own_maps;    ///< unlinked robot id -> its own map (PNG)
-  nlohmann::json map_image;  ///< map_png's geometry (map_image_geometry), sent with it as X-Map-Image
-  nlohmann::json commands = nlohmann::json::array();  ///< the operator's commands (commands_json)
-  CommandCheckContext command_context;                ///< what a new command is checked against
+  nlohmann::json map_image;             ///< map_png's geometry (map_image_geometry), sent with it as X-Map-Image
+  CommandCheckContext command_context;  ///< what a new command is checked against
 };
 
 struct SnapshotOptions {

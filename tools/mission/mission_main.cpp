@@ -105,7 +105,12 @@ int main(int argc, char** argv) {
     }
     opt.domain = domain_lease->domain_id();
   }
-  if (opt.port != 0 && !cairn::mission::port_is_free(opt.port)) opt.port = 0;
+  if (opt.port != 0 && !cairn::mission::port_is_free(opt.port)) {
+    const int taken = opt.port;
+    opt.port = cairn::mission::free_port();
+    std::cout << "console port " << taken << " is in use (another console or program listens there): using " << opt.port
+              << " instead (--port to choose)\n";
+  }
   if (opt.port == 0) opt.port = cairn::mission::free_port();
   const fs::path out(opt.out);
   std::error_code ec;

@@ -7,9 +7,6 @@
 #include "tools/mission/exploration_report.h"
 
 #include <httplib.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <fstream>
@@ -23,23 +20,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-int bind_port(int port) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  if (fd < 0) return -1;
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  addr.sin_port = htons(uint16_t(port));
-  int result = -1;
-  if (bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) == 0) {
-    socklen_t len = sizeof(addr);
-    getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
-    result = ntohs(addr.sin_port);
-  }
-  close(fd);
-  return result;
-}
 
 std::optional<json> get_json(httplib::Client& cli, const char* path) {
   auto res = cli.Get(path);
@@ -62,9 +42,6 @@ double simulated_time_s(const fs::path& gt_dir) {
 }
 
 }  // namespace
-
-bool port_is_free(int port) { return bind_port(port) == port; }
-int free_port() { return bind_port(0); }
 
 std::string ProgressPoller::line(double wall_s) const {
   std::ostringstream s;

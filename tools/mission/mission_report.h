@@ -9,11 +9,9 @@
 #include <vector>
 
 #include "tools/mission/child_process.h"
+#include "tools/mission/ports.h"
 
 namespace cairn::mission {
-
-bool port_is_free(int port);
-int free_port();
 
 /// Polls http://<host>:<port>/api/status and /api/robots for one progress line.
 class ProgressPoller {
