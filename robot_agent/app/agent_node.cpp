@@ -148,6 +148,7 @@ void AgentNode::publish(const AgentOutputs& outputs) {
 }
 
 void AgentNode::publish_status(bool finished) {
+  published_command_ = operator_.report();
   const AgentStats s = pipeline_.stats();
   cairn_msgs::RobotStatus st;
   st.robot_id(robot_.value);
@@ -213,7 +214,10 @@ int AgentNode::run() {
       publish(outputs);
       drive(outputs);
     }
-    if (Clock::now() >= next_status) {
+    // A command's new state goes out at once: the operator waits for it (not for the next period).
+    const bool command_news =
+        operator_.report().seq != published_command_.seq || operator_.report().state != published_command_.state;
+    if (Clock::now() >= next_status || command_news) {
       publish_status(false);
       next_status = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                        std::chrono::duration<double>(options_.status_period_s));

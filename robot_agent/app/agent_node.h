@@ -96,7 +96,8 @@ class AgentNode {
   NavStatus nav_status() const;
   Navigator navigator_;
   MissionBehaviour behaviour_;
-  OperatorOrders operator_;  ///< the operator's commands outrank behaviour_ until resumed
+  OperatorOrders operator_;          ///< the operator's commands outrank behaviour_ until resumed
+  CommandReport published_command_;  ///< the command report in the newest status sent
   OwnExplorationOptions own_options_;
   Breadcrumbs breadcrumbs_;  ///< the way back home if its own map shows none
   std::unique_ptr<dds::Writer<dds::CmdVelTopic>> cmd_out_;
