@@ -14,7 +14,10 @@ PACKAGES=(
   iproute2 nftables                     # emulated radio link (cairn_mission --link-loss/--link-kbit)
   openssl                               # DDS Security certificates (deploy/security/make_certs.sh)
   clang-format                          # house style, checked by the Style.Format test
+  chromium fonts-dejavu-core            # the console's browser tests (tests/browser)
 )
+# Node (for the browser tests' npm packages): Debian's, unless a newer one is already installed.
+command -v npm >/dev/null 2>&1 || PACKAGES+=(nodejs npm)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -25,13 +28,21 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install_deps: all ${#PACKAGES[@]} packages present"
-  exit 0
+else
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  echo "install_deps: installing ${#missing[@]} packages: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  echo "install_deps: done"
 fi
 
-SUDO=""
-[ "$(id -u)" -eq 0 ] || SUDO="sudo"
-echo "install_deps: installing ${#missing[@]} packages: ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-echo "install_deps: done"
+# npm packages, pinned in their package-lock.json (the field has no internet: nothing is fetched
+# at run time, and the console serves only its own files).
+browser_tests="$(dirname "$0")/../tests/browser"
+if ! cmp -s "$browser_tests/package-lock.json" "$browser_tests/node_modules/.installed-lock.json" 2>/dev/null; then
+  npm ci --prefix "$browser_tests" --no-audit --no-fund --loglevel=error >/dev/null
+  cp "$browser_tests/package-lock.json" "$browser_tests/node_modules/.installed-lock.json"
+  echo "install_deps: npm packages for tests/browser installed"
+fi

@@ -122,7 +122,8 @@ function renderGoals(exploration) {
   for (const r of exploration.idle || []) {
     rows.push(el("tr", {}, [el("td", { text: `Robot ${r}` }), el("td", { colspan: 4, class: "muted", text: "nothing reachable left to explore" })]));
   }
-  replaceRows(document.getElementById("goals"), rows, "Nothing left to explore", 5);
+  const none = exploration.frontiers > 0 ? "Frontiers are left, but no robot is free to explore them (the operator drives them)" : "Nothing left to explore";
+  replaceRows(document.getElementById("goals"), rows, none, 5);
 }
 
 async function getJson(path) {

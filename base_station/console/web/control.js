@@ -123,6 +123,13 @@ const Control = (() => {
   return {
     init,
     setGeometry(g) { geometry = g; renderMarkers(); },
+    /// Where map point (x_m, y_m) is on the image as shown, in CSS px from its top-left corner (tests).
+    pixelOf(x_m, y_m) {
+      const img = document.getElementById("map");
+      if (!geometry || !geometry.valid) return null;
+      const u = (x_m - geometry.x0_m) / geometry.m_per_px, v = (geometry.y_top_m - y_m) / geometry.m_per_px;
+      return { x: (u * img.clientWidth) / img.naturalWidth, y: (v * img.clientHeight) / img.naturalHeight };
+    },
     update(newRobots, commands) { robots = newRobots; renderMarkers(); renderCommands(commands); },
   };
 })();

@@ -1,0 +1,133 @@
+// The console as an operator uses it, in a real browser (playwright-core driving Debian's chromium)
+// against a live mission (cairn_mission, one robot, real time):
+//   - watching without the operator token: the map and the robot are shown, commands are refused
+//     in the page and nothing is sent;
+//   - with the token: click the robot's marker, then a point on the map; the simulated robot drives
+//     there and the command shows as done; "All home" ends the mission;
+//   - at 400 px wide the page has no horizontal scroll.
+// Exit 0 passed, 1 failed, 77 skipped (no chromium or no node_modules: said loudly).
+//   node tests/browser/console_commands.mjs <bin dir> <source dir> <out dir>
+import { spawn } from "node:child_process";
+import { existsSync, mkdirSync } from "node:fs";
+import { createServer } from "node:net";
+import { join } from "node:path";
+
+const [binDir, sourceDir, outDir] = process.argv.slice(2);
+const CHROMIUM = process.env.CAIRN_CHROMIUM || "/usr/bin/chromium";
+const TOKEN = "b0a7c0de0123456789abcdef01234567";
+const TARGET = { x: 6.0, y: 7.5 }; // down the office corridor from where robot 0 entered (1.2, 7.5)
+
+function skip(why) {
+  console.log(`SKIPPED: ${why}`);
+  process.exit(77);
+}
+let playwright;
+try {
+  playwright = await import("playwright-core");
+} catch {
+  skip("playwright-core is not installed (scripts/install_deps.sh runs npm ci in tests/browser)");
+}
+if (!existsSync(CHROMIUM)) skip(`no chromium at ${CHROMIUM} (apt-get install chromium)`);
+
+const failures = [];
+function check(ok, what) {
+  console.log(`${ok ? "ok  " : "FAIL"} ${what}`);
+  if (!ok) failures.push(what);
+}
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+async function waitFor(what, timeoutMs, probe) {
+  const until = Date.now() + timeoutMs;
+  while (Date.now() < until) {
+    const v = await probe().catch(() => null);
+    if (v) return v;
+    await sleep(250);
+  }
+  throw new Error(`timed out after ${timeoutMs / 1000} s waiting for ${what}`);
+}
+function freePort() {
+  return new Promise((resolve) => {
+    const s = createServer().listen(0, "127.0.0.1", () => {
+      const { port } = s.address();
+      s.close(() => resolve(port));
+    });
+  });
+}
+
+mkdirSync(outDir, { recursive: true });
+const port = await freePort();
+const base = `http://127.0.0.1:${port}`;
+const mission = spawn(join(binDir, "cairn_mission"), [
+  "--world", join(sourceDir, "tests/worlds/operator_one_robot.yaml"), "--out", join(outDir, "mission"),
+  "--port", String(port), "--operator-token", TOKEN, "--speed", "1", "--timeout", "240",
+], { stdio: ["ignore", "pipe", "pipe"] });
+let missionOutput = "";
+mission.stdout.on("data", (d) => { missionOutput += d; });
+mission.stderr.on("data", (d) => { missionOutput += d; });
+const missionExit = new Promise((resolve) => mission.on("exit", (code) => resolve(code)));
+
+const getJson = async (path) => (await fetch(base + path)).json();
+const browser = await playwright.chromium.launch({ executablePath: CHROMIUM, args: ["--no-sandbox"] });
+try {
+  await waitFor("robot 0 placed on the map", 90000, async () => {
+    const robots = await getJson("/api/robots");
+    return robots.some((r) => r.id === 0 && r.pose_m);
+  });
+
+  // Watching only: no token.
+  const viewer = await browser.newPage({ viewport: { width: 1400, height: 1100 } });
+  await viewer.goto(base + "/");
+  await viewer.waitForSelector(".robot-marker", { timeout: 15000 });
+  check((await viewer.textContent("#operator-mode")) === "watching only", "without the token the page says it only watches");
+  check(await viewer.isDisabled("button[data-all='stop']"), "without the token the command buttons are off");
+  await viewer.click(".robot-marker");
+  const p0 = await viewer.evaluate(([x, y]) => Control.pixelOf(x, y), [TARGET.x, TARGET.y]);
+  await viewer.click("#map", { position: p0 });
+  await viewer.waitForFunction(() => document.getElementById("command-feedback").textContent.includes("Watching only"));
+  check((await getJson("/api/commands")).length === 0, "a click without the token sends nothing");
+  await viewer.close();
+
+  // The operator: click the robot, then the point.
+  const page = await browser.newPage({ viewport: { width: 1400, height: 1100 } });
+  await page.goto(`${base}/#token=${TOKEN}`);
+  await page.waitForSelector(".robot-marker", { timeout: 15000 });
+  check((await page.textContent("#operator-mode")) === "operator", "the operator link turns commands on");
+  check(!page.url().includes(TOKEN), "the token is taken out of the address bar");
+  await page.click(".robot-marker");
+  check((await page.textContent("#selected-robot")).startsWith("Robot 0 selected"), "clicking the marker selects robot 0");
+  const p = await page.evaluate(([x, y]) => Control.pixelOf(x, y), [TARGET.x, TARGET.y]);
+  await page.click("#map", { position: p });
+  await page.waitForFunction(() => document.getElementById("command-feedback").textContent.startsWith("Sent goto"));
+  const sent = (await getJson("/api/commands"))[0];
+  check(sent && sent.kind === "goto" && Math.hypot(sent.x_m - TARGET.x, sent.y_m - TARGET.y) < 0.3,
+    `the click named the point (${sent && sent.x_m.toFixed(2)}, ${sent && sent.y_m.toFixed(2)}) m`);
+  await waitFor("the command shown as done", 60000, async () =>
+    (await page.textContent("#commands")).includes("done"));
+  const robot = await waitFor("robot 0 at the point", 10000, async () => {
+    const r = (await getJson("/api/robots")).find((x) => x.id === 0);
+    return r && r.pose_m && Math.hypot(r.pose_m[0] - TARGET.x, r.pose_m[1] - TARGET.y) < 0.8 ? r : null;
+  });
+  check(true, `robot 0 drove there: (${robot.pose_m[0].toFixed(2)}, ${robot.pose_m[1].toFixed(2)}) m`);
+  await page.screenshot({ path: join(outDir, "console_operator.png"), fullPage: true });
+
+  // A phone: 400 px wide, no horizontal scroll.
+  await page.setViewportSize({ width: 400, height: 900 });
+  await sleep(300);
+  const overflow = await page.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+  check(overflow <= 0, `no horizontal scroll at 400 px (${overflow} px too wide)`);
+  await page.setViewportSize({ width: 1400, height: 1100 });
+
+  await page.click("button[data-all='home']");
+  const code = await Promise.race([missionExit, sleep(120000).then(() => "timeout")]);
+  check(code === 0, `"All home" ends the mission (exit ${code})`);
+} catch (e) {
+  check(false, e.message);
+} finally {
+  await browser.close();
+  if (mission.exitCode === null) mission.kill("SIGTERM");
+}
+if (failures.length) {
+  console.log(`--- mission output ---\n${missionOutput}`);
+  console.log(`${failures.length} check(s) failed`);
+  process.exit(1);
+}
+console.log(`all checks passed; screenshot ${join(outDir, "console_operator.png")}`);
