@@ -149,9 +149,9 @@ TEST(ProcessBadInput, ARobotKnownOnlyFromItsStatusesIsInTheSummary) {
   EXPECT_EQ(summary["unlinked_robots"], nlohmann::json::array({5}));
 }
 
-// The operator's commands survive a base restart, with what the robot last said of them; a damaged
-// command record is named and kept, not fatal.
-TEST(ProcessBadInput, OperatorCommandsSurviveABaseRestartAndADamagedOneIsNamed) {
+// The operator's commands and verdicts survive a base restart (a command with what the robot last
+// said of it); a damaged command record is named and kept, not fatal.
+TEST(ProcessBadInput, OperatorCommandsAndVerdictsSurviveABaseRestartAndADamagedOneIsNamed) {
   const std::string dir = ::testing::TempDir() + "/base_commands_" + std::to_string(getpid());
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
@@ -175,10 +175,12 @@ TEST(ProcessBadInput, OperatorCommandsSurviveABaseRestartAndADamagedOneIsNamed) 
     };
     const std::string stop =
         R"({"seq": 7, "robot": 5, "kind": 1, "local_m": [0, 0], "global_m": [0, 0], "sent_ns": 4000000000})";
+    const std::string verdict = R"({"robot": 5, "seq": 3, "verdict": "confirmed", "note": "alive", "at_ns": 1})";
     ASSERT_TRUE(
         journal->append({record(base::JournalKind::kStatus, 0, dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(status)),
                          record(base::JournalKind::kCommand, 7, {stop.begin(), stop.end()}),
-                         record(base::JournalKind::kCommand, 8, {'{', '"', 's'})},
+                         record(base::JournalKind::kCommand, 8, {'{', '"', 's'}),
+                         record(base::JournalKind::kVerdict, 3, {verdict.begin(), verdict.end()})},
                         &error))
         << error;
   }
@@ -195,7 +197,11 @@ TEST(ProcessBadInput, OperatorCommandsSurviveABaseRestartAndADamagedOneIsNamed) 
   EXPECT_EQ(summary["commands"][0]["kind"], "stop");
   EXPECT_EQ(summary["commands"][0]["state"], "done");
   EXPECT_EQ(summary["journal"]["skipped_records"], 1);
-  EXPECT_EQ(summary["journal"]["records"], 3) << "the damaged record is kept for a later look";
+  EXPECT_EQ(summary["journal"]["records"], 4) << "the damaged record is kept for a later look";
+  ASSERT_EQ(summary["verdicts"].size(), 1u) << summary.dump();
+  EXPECT_EQ(summary["verdicts"][0]["object"], "5-3");
+  EXPECT_EQ(summary["verdicts"][0]["verdict"], "confirmed");
+  EXPECT_EQ(summary["verdicts"][0]["note"], "alive");
 }
 
 TEST(ProcessBadInput, EveryProcessNamesTheSecurityFileItCannotRead) {

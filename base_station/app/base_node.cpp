@@ -210,7 +210,7 @@ nlohmann::json BaseNode::link_stats() const {
 }
 
 void BaseNode::refresh_snapshot() {
-  const MergedMap merged = mapper_.merged();
+  const MergedMap merged = judged_map();
   ConsoleSnapshot snapshot = make_snapshot(merged, link_stats(), {}, &plan_);
   snapshot.command_context = command_context(merged);
   latest_snapshot_.publish(std::move(snapshot));
@@ -292,7 +292,7 @@ int BaseNode::finish() {
   for (int i = 0; i < 50 && mapper_.refinement_pending(); ++i) r = mapper_.optimize();
   plan_and_publish_goals(/*send=*/false);  // where to search next, on the final map (the robots are done)
   refresh_snapshot();
-  const MergedMap merged = mapper_.merged();
+  const MergedMap merged = judged_map();
   const ExportSummary exported = export_all(merged, options_.out_dir, {}, &plan_);
   for (const auto& f : exported.files) {
     if (!f.ok) log_->error("export of {} failed: {}", f.path, f.error);
@@ -350,6 +350,9 @@ int BaseNode::finish() {
   if (const auto home_ns = goals_.sent_home_at_ns()) summary["exploration"]["sent_home_at_s"] = ns_to_sec(*home_ns);
   summary["coverage_series"] = coverage_series_;
   summary["commands"] = commands_json(commands_.records(), commands_.records().size());
+  summary["verdicts"] = nlohmann::json::array();  // the operator's, as given (objects.csv: as applied)
+  for (const auto& [id, v] : verdicts_.records())
+    summary["verdicts"].push_back({{"object", object_key(id)}, {"verdict", to_string(v.verdict)}, {"note", v.note}});
   summary["rejected_samples"] = rejected_samples_;
   summary["journal"] = {{"path", journal_->path()},
                         {"records", journal_->size()},

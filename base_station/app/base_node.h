@@ -20,6 +20,7 @@
 #include "base_station/core/exploration.h"
 #include "base_station/core/goal_allocator.h"
 #include "base_station/core/multi_robot_mapper.h"
+#include "base_station/core/object_verdicts.h"
 #include "base_station/core/operator_commands.h"
 #include "base_station/core/saliency_layer.h"
 #include "base_station/store/journal.h"
@@ -90,6 +91,9 @@ class BaseNode {
   // Operator commands (base_node_commands.cpp): console inbox -> CommandBook, journal, DDS.
   void send_operator_commands();
   bool restore_command(const JournalRecord& r, std::string* error);
+  bool restore_verdict(const JournalRecord& r, std::string* error);
+  /// The merged map with the operator's verdicts on its objects (what the console and exports show).
+  MergedMap judged_map() const;
   void after_restore_commands();
   void note_command_report(RobotId robot, const CommandReport& report, bool live);
   CommandCheckContext command_context(const MergedMap& merged) const;
@@ -112,8 +116,9 @@ class BaseNode {
   std::unique_ptr<dds::Writer<dds::CorrectionTopic>> correction_out_;
   std::unique_ptr<dds::Writer<dds::GoalTopic>> goal_out_;
   std::unique_ptr<dds::Writer<dds::OperatorCommandTopic>> command_out_;
-  CommandInbox inbox_;    ///< commands the console accepted, for this thread (before console_: it points here)
-  CommandBook commands_;  ///< every operator command sent and what became of it
+  CommandInbox inbox_;       ///< commands the console accepted, for this thread (before console_: it points here)
+  CommandBook commands_;     ///< every operator command sent and what became of it
+  ObjectVerdicts verdicts_;  ///< the operator's verdicts on objects (applied to every merged map shown)
   std::unique_ptr<ConsoleServer> console_;
   std::unique_ptr<Journal> journal_;
   ExplorationPlan plan_;                     ///< the newest exploration plan (console, goal topic, final export)

@@ -7,6 +7,17 @@
 namespace cairn::base {
 
 void BaseNode::send_operator_commands() {
+  for (const VerdictRequest& v : inbox_.take_verdicts()) {
+    const VerdictRecord record{v.object, v.verdict, v.note, mapper_.data().latest_stamp_ns};
+    verdicts_.set(record);
+    const std::string payload = verdict_record_to_json(record);
+    journal(JournalKind::kVerdict, v.object.robot.value, v.object.seq,
+            std::vector<uint8_t>(payload.begin(), payload.end()));
+    flush_journal();
+    log_->info("operator: object {} {}{}{}", object_key(v.object), to_string(v.verdict), v.note.empty() ? "" : ": ",
+               v.note);
+    refresh_snapshot();  // the console shows it at once
+  }
   const std::vector<CommandInbox::Entry> entries = inbox_.take_all();
   if (entries.empty()) return;
   const MergedMap merged = mapper_.merged();
@@ -52,6 +63,24 @@ bool BaseNode::restore_command(const JournalRecord& r, std::string* error) {
   commands_.restore({record->robot, record->seq, record->kind, record->point_local_m}, record->point_global_m,
                     record->sent_ns);
   return true;
+}
+
+bool BaseNode::restore_verdict(const JournalRecord& r, std::string* error) {
+  const auto record = verdict_record_from_json(std::string(r.payload.begin(), r.payload.end()), error);
+  if (!record) return false;
+  if (record->object.robot != r.robot || record->object.seq != r.key) {
+    *error = "verdict record: its object differs from the journal's key";
+    return false;
+  }
+  verdicts_.set(*record);
+  return true;
+}
+
+MergedMap BaseNode::judged_map() const {
+  MergedMap merged = mapper_.merged();
+  verdicts_.apply(&merged.objects);
+  verdicts_.apply(&merged.unplaced_objects);
+  return merged;
 }
 
 void BaseNode::after_restore_commands() {

@@ -90,6 +90,9 @@ void BaseNode::restore(const JournalContents& contents) {
       case JournalKind::kCommand:
         restored = restore_command(r, &why);
         break;
+      case JournalKind::kVerdict:
+        restored = restore_verdict(r, &why);
+        break;
     }
     if (restored)
       ++restored_records_;

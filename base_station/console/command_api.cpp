@@ -132,6 +132,16 @@ std::optional<CommandRecord> command_record_from_json(const std::string& text, s
   return r;
 }
 
+void CommandInbox::push_verdict(const VerdictRequest& request) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  verdicts_.push_back(request);
+}
+
+std::vector<VerdictRequest> CommandInbox::take_verdicts() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(verdicts_, {});
+}
+
 void CommandInbox::post_states(nlohmann::json states) {
   std::lock_guard<std::mutex> lock(mutex_);
   states_ = std::move(states);
@@ -140,6 +150,60 @@ void CommandInbox::post_states(nlohmann::json states) {
 nlohmann::json CommandInbox::states() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return states_;
+}
+
+namespace {
+
+std::optional<ObjectVerdict> verdict_from(const std::string& name) {
+  for (ObjectVerdict v : {ObjectVerdict::kUnreviewed, ObjectVerdict::kConfirmed, ObjectVerdict::kFalse}) {
+    if (name == to_string(v)) return v;
+  }
+  return std::nullopt;
+}
+
+constexpr size_t kMaxNoteChars = 200;
+
+}  // namespace
+
+std::optional<VerdictRequest> parse_verdict_request(ObjectId object, const std::string& body, std::string* error) {
+  const nlohmann::json j = nlohmann::json::parse(body, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) return fail(error, "the body is not JSON");
+  if (!j.is_object()) return fail(error, "the body must be a JSON object");
+  if (!j.contains("verdict") || !j["verdict"].is_string())
+    return fail(error, "\"verdict\" is missing (confirmed, false, unreviewed)");
+  const auto verdict = verdict_from(j["verdict"].get<std::string>());
+  if (!verdict)
+    return fail(error, "unknown verdict \"" + j["verdict"].get<std::string>() + "\" (confirmed, false, unreviewed)");
+  VerdictRequest r{object, *verdict, ""};
+  if (j.contains("note")) {
+    if (!j["note"].is_string()) return fail(error, "\"note\" must be text");
+    r.note = j["note"].get<std::string>();
+    if (r.note.size() > kMaxNoteChars) return fail(error, "\"note\" is longer than 200 characters");
+  }
+  return r;
+}
+
+std::string verdict_record_to_json(const VerdictRecord& r) {
+  return nlohmann::json{{"robot", r.object.robot.value},
+                        {"seq", r.object.seq},
+                        {"verdict", to_string(r.verdict)},
+                        {"note", r.note},
+                        {"at_ns", r.at_ns}}
+      .dump();
+}
+
+std::optional<VerdictRecord> verdict_record_from_json(const std::string& text, std::string* error) {
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_object()) return fail(error, "a verdict record must be a JSON object");
+  const bool ids = j.contains("robot") && j["robot"].is_number_integer() && j.contains("seq") &&
+                   j["seq"].is_number_integer() && j["robot"].get<int64_t>() >= 0 && j["seq"].get<int64_t>() >= 0;
+  if (!ids) return fail(error, "verdict record: \"robot\" and \"seq\" must be object ids");
+  const auto verdict = j.contains("verdict") && j["verdict"].is_string() ? verdict_from(j["verdict"]) : std::nullopt;
+  if (!verdict) return fail(error, "verdict record: unknown \"verdict\"");
+  if (!j.contains("note") || !j["note"].is_string()) return fail(error, "verdict record: \"note\" must be text");
+  if (!j.contains("at_ns") || !j["at_ns"].is_number_integer()) return fail(error, "verdict record: \"at_ns\" missing");
+  return VerdictRecord{ObjectId{RobotId(int(j["robot"].get<int64_t>())), int32_t(j["seq"].get<int64_t>())}, *verdict,
+                       j["note"].get<std::string>(), j["at_ns"].get<int64_t>()};
 }
 
 nlohmann::json commands_json(const std::vector<CommandRecord>& records, size_t max_entries) {

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base_station/core/object_verdicts.h"
 #include "base_station/core/operator_commands.h"
 
 namespace cairn::base {
@@ -27,6 +28,20 @@ bool operator_token_matches(const std::string& authorization, const std::string&
 /// check_command()'s decision.)
 std::optional<CommandRequest> parse_command_request(const std::string& body, const std::vector<RobotId>& known_robots,
                                                     std::string* error);
+
+/// A verdict request: POST /api/objects/<robot>-<seq>/verdict {"verdict": "confirmed" | "false" |
+/// "unreviewed", "note": "..."} (note optional, at most 200 characters). nullopt with `error` naming
+/// the fault. (Whether the object exists is the server's check, against the newest snapshot.)
+struct VerdictRequest {
+  ObjectId object;
+  ObjectVerdict verdict = ObjectVerdict::kUnreviewed;
+  std::string note;
+};
+std::optional<VerdictRequest> parse_verdict_request(ObjectId object, const std::string& body, std::string* error);
+
+/// A verdict as the base journals it (JSON), and back; from: nullopt with `error` naming the fault.
+std::string verdict_record_to_json(const VerdictRecord& record);
+std::optional<VerdictRecord> verdict_record_from_json(const std::string& text, std::string* error);
 
 /// The desk between the console's HTTP threads and the base's thread, both ways: accepted requests
 /// wait here for the base (sequence numbers are given here, one per robot a request goes to, so the
@@ -43,6 +58,8 @@ class CommandInbox {
   void start_after(uint32_t last_seq);
   std::vector<uint32_t> push(const CommandRequest& request);
   std::vector<Entry> take_all();
+  void push_verdict(const VerdictRequest& request);
+  std::vector<VerdictRequest> take_verdicts();
   /// The commands and their states (commands_json), as the base last posted them.
   void post_states(nlohmann::json states);
   nlohmann::json states() const;
@@ -52,6 +69,7 @@ class CommandInbox {
   nlohmann::json states_ = nlohmann::json::array();
   uint32_t next_seq_ = 1;
   std::vector<Entry> entries_;
+  std::vector<VerdictRequest> verdicts_;
 };
 
 /// One sent command as the base journals it (JSON: seq, robot, kind, both points, sent_ns), and

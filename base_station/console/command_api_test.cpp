@@ -116,5 +116,24 @@ TEST(CommandRecordJson, RoundTripsAndNamesWhatIsWrong) {
   EXPECT_FALSE(command_record_from_json("{truncated", &error).has_value());
 }
 
+TEST(VerdictRecordJson, RoundTripsAndNamesWhatIsWrong) {
+  const VerdictRecord r{{RobotId(2), 7}, ObjectVerdict::kFalse, "a mannequin", 99};
+  std::string error;
+  const auto back = verdict_record_from_json(verdict_record_to_json(r), &error);
+  ASSERT_TRUE(back.has_value()) << error;
+  EXPECT_EQ(back->object, r.object);
+  EXPECT_EQ(back->verdict, ObjectVerdict::kFalse);
+  EXPECT_EQ(back->note, "a mannequin");
+  EXPECT_EQ(back->at_ns, 99);
+  EXPECT_FALSE(verdict_record_from_json("[]", &error).has_value());
+  EXPECT_FALSE(
+      verdict_record_from_json(R"({"robot": 2, "seq": 7, "verdict": "perhaps", "note": "", "at_ns": 1})", &error)
+          .has_value());
+  EXPECT_NE(error.find("verdict"), std::string::npos) << error;
+  EXPECT_FALSE(
+      verdict_record_from_json(R"({"robot": -1, "seq": 7, "verdict": "false", "note": "", "at_ns": 1})", &error)
+          .has_value());
+}
+
 }  // namespace
 }  // namespace cairn::base

@@ -17,6 +17,7 @@ ConsoleSnapshot snapshot_with_two_robots() {
   s.command_context.has_map = true;
   s.command_context.map_min_m = {-1, -1};
   s.command_context.map_max_m = {10, 8};
+  s.objects = nlohmann::json::array({{{"id", "0-2"}, {"aliases", {"1-0"}}}});
   return s;
 }
 
@@ -97,6 +98,33 @@ TEST_F(ConsoleCommands, AGoodCommandIsQueuedWithItsSequenceNumbers) {
   const auto list = client_->Get("/api/commands");
   ASSERT_TRUE(list);
   EXPECT_EQ(nlohmann::json::parse(list->body)[0]["state"], "done");
+}
+
+TEST_F(ConsoleCommands, VerdictsNeedTheTokenAKnownObjectAndAKnownWord) {
+  const auto verdict = [&](const std::string& key, const std::string& body, const std::string& auth) {
+    httplib::Headers headers;
+    if (!auth.empty()) headers.emplace("Authorization", auth);
+    const auto res = client_->Post("/api/objects/" + key + "/verdict", headers, body, "application/json");
+    return std::make_pair(res ? res->status : -1, res ? res->body : std::string());
+  };
+  const std::string bearer = std::string("Bearer ") + kToken;
+  EXPECT_EQ(verdict("0-2", R"({"verdict": "confirmed"})", "").first, 401);
+  EXPECT_EQ(verdict("5-5", R"({"verdict": "confirmed"})", bearer).first, 404);
+  const auto bad = verdict("0-2", R"({"verdict": "maybe"})", bearer);
+  EXPECT_EQ(bad.first, 400);
+  EXPECT_NE(bad.second.find("unknown verdict"), std::string::npos) << bad.second;
+  EXPECT_EQ(verdict("0-2", R"({"verdict": "false", "note": 7})", bearer).first, 400);
+  EXPECT_EQ(verdict("0-2", nlohmann::json{{"verdict", "false"}, {"note", std::string(201, 'x')}}.dump(), bearer).first,
+            400);
+  EXPECT_TRUE(inbox_.take_verdicts().empty());
+  EXPECT_EQ(verdict("0-2", R"({"verdict": "confirmed", "note": "alive"})", bearer).first, 202);
+  EXPECT_EQ(verdict("1-0", R"({"verdict": "false"})", bearer).first, 202);  // the id it was first shown under
+  const auto taken = inbox_.take_verdicts();
+  ASSERT_EQ(taken.size(), 2u);
+  EXPECT_EQ(taken[0].object, (ObjectId{RobotId(0), 2}));
+  EXPECT_EQ(taken[0].verdict, ObjectVerdict::kConfirmed);
+  EXPECT_EQ(taken[0].note, "alive");
+  EXPECT_EQ(taken[1].object, (ObjectId{RobotId(1), 0}));
 }
 
 TEST(ConsoleCommandsOff, WithoutAnOperatorTokenCommandsAreOff) {

@@ -103,6 +103,8 @@ void ConsoleServer::register_routes() {
   server_->Get("/api/commands", [this](const httplib::Request&, httplib::Response& res) {
     reply_json(res, inbox_ ? inbox_->states() : nlohmann::json::array());
   });
+  server_->Post(R"(/api/objects/([0-9]{1,6})-([0-9]{1,9})/verdict)",
+                [this](const httplib::Request& req, httplib::Response& res) { handle_verdict(req, res); });
   server_->Post("/api/commands",
                 [this](const httplib::Request& req, httplib::Response& res) { handle_command(req, res); });
 }
@@ -112,14 +114,40 @@ void ConsoleServer::accept_commands(const std::string& operator_token, CommandIn
   inbox_ = inbox;
 }
 
-void ConsoleServer::handle_command(const httplib::Request& req, httplib::Response& res) {
+bool ConsoleServer::authorized(const httplib::Request& req, httplib::Response& res) const {
   if (!inbox_ || operator_token_.empty()) {
-    return reply_error(res, 403, "commands are off: this base was started without an operator token");
+    reply_error(res, 403, "commands are off: this base was started without an operator token");
+    return false;
   }
   if (!operator_token_matches(req.get_header_value("Authorization"), operator_token_)) {
     res.set_header("WWW-Authenticate", "Bearer");
-    return reply_error(res, 401, "a command needs the operator token (Authorization: Bearer <token>)");
+    reply_error(res, 401, "a command needs the operator token (Authorization: Bearer <token>)");
+    return false;
   }
+  return true;
+}
+
+void ConsoleServer::handle_verdict(const httplib::Request& req, httplib::Response& res) {
+  if (!authorized(req, res)) return;
+  const ObjectId object{RobotId(std::stoi(req.matches[1].str())), std::stoi(req.matches[2].str())};
+  const std::string key = req.matches[1].str() + "-" + req.matches[2].str();
+  const std::shared_ptr<const ConsoleSnapshot> s = provider_ ? provider_() : nullptr;
+  bool known = false;  // shown under this id, now or before a merge
+  for (const nlohmann::json& o : s ? s->objects : nlohmann::json::array()) {
+    known = known || o["id"] == key;
+    for (const auto& alias : o["aliases"]) known = known || alias == key;
+  }
+  if (!known) return reply_not_found(res, "object " + key);
+  std::string error;
+  const std::optional<VerdictRequest> request = parse_verdict_request(object, req.body, &error);
+  if (!request) return reply_error(res, 400, error);
+  inbox_->push_verdict(*request);
+  res.status = 202;
+  reply_json(res, {{"object", key}, {"verdict", to_string(request->verdict)}});
+}
+
+void ConsoleServer::handle_command(const httplib::Request& req, httplib::Response& res) {
+  if (!authorized(req, res)) return;
   const std::shared_ptr<const ConsoleSnapshot> s = provider_ ? provider_() : nullptr;
   const CommandCheckContext context = s ? s->command_context : CommandCheckContext{};
   std::vector<RobotId> known;

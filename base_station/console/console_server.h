@@ -11,6 +11,8 @@
 //   GET /api/commands                                the operator's commands and their states
 //   POST /api/commands                               a command (command_api.h); needs the operator
 //        token: 401 without it, 400 naming the fault of a bad one, 202 {"seqs": [...]} when queued
+//   POST /api/objects/<robot>-<seq>/verdict          the operator's verdict on an object (same token;
+//        404 for an object never shown under that id)
 #include <functional>
 #include <memory>
 #include <string>
@@ -62,6 +64,9 @@ class ConsoleServer {
  private:
   void register_routes();
   void handle_command(const httplib::Request& req, httplib::Response& res);
+  void handle_verdict(const httplib::Request& req, httplib::Response& res);
+  /// The operator token checked: false with 403 (commands off) or 401 (no or wrong token) replied.
+  bool authorized(const httplib::Request& req, httplib::Response& res) const;
 
   ConsoleOptions options_;
   SharedProvider provider_;

@@ -103,7 +103,9 @@ nlohmann::json object_json(const GlobalObject& o, const MergedMap& merged) {
           {"thumbnail",
            o.thumbnail_jpeg.empty() ? nlohmann::json() : nlohmann::json("/api/objects/" + key + "/thumbnail.jpg")},
           {"cloud", "/api/objects/" + key + "/cloud"},
-          {"cloud_points", o.cloud_global.size()}};
+          {"cloud_points", o.cloud_global.size()},
+          {"verdict", to_string(o.verdict)},
+          {"verdict_note", o.verdict_note}};
 }
 
 namespace {

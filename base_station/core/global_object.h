@@ -24,6 +24,12 @@
 
 namespace cairn::base {
 
+/// The operator's word on an object (the console): a person looked at its photo and cloud.
+enum class ObjectVerdict : uint8_t { kUnreviewed = 0, kConfirmed = 1, kFalse = 2 };
+inline const char* to_string(ObjectVerdict v) {
+  return v == ObjectVerdict::kConfirmed ? "confirmed" : v == ObjectVerdict::kFalse ? "false" : "unreviewed";
+}
+
 struct GlobalObject {
   /// The id the team first saw it under (ObjectIdRegistry); merge_object_reports gives the smallest
   /// ObjectId among its reports.
@@ -39,11 +45,13 @@ struct GlobalObject {
   Eigen::Vector3f size_m = Eigen::Vector3f::Zero();                 ///< max extent over reports
   int observations = 0;                                             ///< sum over reports
   StampNs last_stamp_ns = 0;
-  std::vector<ObjectId> reports;        ///< sorted
-  std::vector<RobotId> robots;          ///< sorted, unique
-  ColoredCloud cloud_global;            ///< union of the reports' aligned clouds, voxel-downsampled
-  std::vector<uint8_t> thumbnail_jpeg;  ///< of the most confident report (may be empty)
-  std::string merge_reason;             ///< how the reports were joined (empty for a single report)
+  std::vector<ObjectId> reports;                       ///< sorted
+  std::vector<RobotId> robots;                         ///< sorted, unique
+  ColoredCloud cloud_global;                           ///< union of the reports' aligned clouds, voxel-downsampled
+  std::vector<uint8_t> thumbnail_jpeg;                 ///< of the most confident report (may be empty)
+  std::string merge_reason;                            ///< how the reports were joined (empty for a single report)
+  ObjectVerdict verdict = ObjectVerdict::kUnreviewed;  ///< the operator's (ObjectVerdicts::apply)
+  std::string verdict_note;                            ///< the operator's note, if any
 };
 
 struct ObjectMergeOptions {

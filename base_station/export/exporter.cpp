@@ -86,7 +86,9 @@ bool write_objects_geojson(const MergedMap& merged, const std::string& path, std
                                  {"z_m", o.position_m.z()},
                                  {"robots", robots},
                                  {"observations", o.observations},
-                                 {"size", {o.size_m.x(), o.size_m.y(), o.size_m.z()}}};
+                                 {"size", {o.size_m.x(), o.size_m.y(), o.size_m.z()}},
+                                 {"verdict", to_string(o.verdict)},
+                                 {"verdict_note", o.verdict_note}};
     nlohmann::json geometry = nullptr;  // GeoJSON: an unlocated feature (its robot is not placed)
     if (o.frame.valid()) {
       const FromEntry w = from_entry(*merged.data, o.frame, o.position_m.head<2>());
@@ -111,13 +113,27 @@ bool write_objects_geojson(const MergedMap& merged, const std::string& path, std
   return write_text(path, doc.dump(2) + "\n", error);
 }
 
+namespace {
+
+/// Free text in one CSV field without quoting: commas become semicolons, line breaks spaces.
+std::string csv_safe(std::string text) {
+  for (char& c : text) {
+    if (c == ',') c = ';';
+    if (c == '\n' || c == '\r' || c == '"') c = ' ';
+  }
+  return text;
+}
+
+}  // namespace
+
 bool write_objects_csv(const MergedMap& merged, const std::string& path, std::string* error) {
   std::ostringstream s;
   s << std::setprecision(9);
   // x_m, y_m, z_m are in `frame`: "global", or "robotN" (robot N's own frame, it is not placed yet).
   // local_*: in the frame of the object's first robot (its own for an unplaced object).
+  // verdict: the operator's (unreviewed, confirmed, false); verdict_note with commas as semicolons.
   s << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m,frame,aliases,"
-       "local_robot,local_x_m,local_y_m\n";
+       "local_robot,local_x_m,local_y_m,verdict,verdict_note\n";
   for (const GlobalObject* object : merged.all_objects()) {
     const GlobalObject& o = *object;
     const Eigen::Vector2d local = local_position(*merged.data, o);
@@ -125,7 +141,7 @@ bool write_objects_csv(const MergedMap& merged, const std::string& path, std::st
       << o.position_m.y() << ',' << o.position_m.z() << ',' << join_robots(o.robots, ";") << ',' << o.observations
       << ',' << o.size_m.x() << ',' << o.size_m.y() << ',' << o.size_m.z() << ',' << frame_name(o.frame) << ','
       << join_ids(o.aliases) << ',' << (o.robots.empty() ? -1 : o.robots.front().value) << ',' << local.x() << ','
-      << local.y() << '\n';
+      << local.y() << ',' << to_string(o.verdict) << ',' << csv_safe(o.verdict_note) << '\n';
   }
   return write_text(path, s.str(), error);
 }

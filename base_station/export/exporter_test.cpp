@@ -1,5 +1,6 @@
 #include "base_station/export/exporter.h"
 #include "base_station/core/multi_robot_mapper.h"
+#include "base_station/core/object_verdicts.h"
 
 #include <gtest/gtest.h>
 #include <octomap/OcTree.h>
@@ -188,6 +189,32 @@ TEST(Exporter, AnUnlinkedRobotsVictimIsInEveryExportFlaggedInItsOwnFrame) {
   EXPECT_NEAR(f["properties"]["robot_frame_m"][0].get<double>(), 4.0, 0.05);
   EXPECT_NE(f["properties"]["where"].get<std::string>().find("robot 1 entered"), std::string::npos);
   EXPECT_TRUE(std::filesystem::file_size(dir + "/robot1_own_frame.png") > 100);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Exporter, TheOperatorsVerdictIsInEveryObjectExport) {
+  MergedMap merged = make_mapper().merged();
+  ASSERT_FALSE(merged.objects.empty());
+  ObjectVerdicts verdicts;
+  verdicts.set({merged.objects[0].id, ObjectVerdict::kConfirmed, "alive, trapped, needs a stretcher", sec_to_ns(5)});
+  verdicts.apply(&merged.objects);
+  const std::string dir = temp_dir("verdicts");
+  fs::create_directories(dir);
+  std::string error;
+  ASSERT_TRUE(write_objects_csv(merged, dir + "/objects.csv", &error)) << error;
+  ASSERT_TRUE(write_objects_geojson(merged, dir + "/objects.geojson", &error)) << error;
+  std::ifstream csv(dir + "/objects.csv");
+  std::string header, first, second;
+  std::getline(csv, header);
+  std::getline(csv, first);
+  std::getline(csv, second);
+  EXPECT_NE(header.find(",verdict,verdict_note"), std::string::npos) << header;
+  EXPECT_NE(first.find(",confirmed,alive; trapped; needs a stretcher"), std::string::npos) << first;
+  EXPECT_NE(second.find(",unreviewed,"), std::string::npos) << second;
+  std::ifstream geo_in(dir + "/objects.geojson");
+  const nlohmann::json geo = nlohmann::json::parse(geo_in);
+  EXPECT_EQ(geo["features"][0]["properties"]["verdict"], "confirmed");
+  EXPECT_EQ(geo["features"][0]["properties"]["verdict_note"], "alive, trapped, needs a stretcher");
   std::filesystem::remove_all(dir);
 }
 

@@ -18,7 +18,7 @@ constexpr const char* kSchema =
     "  kind INTEGER NOT NULL, robot INTEGER NOT NULL, key INTEGER NOT NULL, payload BLOB NOT NULL,"
     "  PRIMARY KEY (kind, robot, key));";
 
-bool known_kind(int64_t kind) { return kind >= 0 && kind <= int64_t(JournalKind::kCommand); }
+bool known_kind(int64_t kind) { return kind >= 0 && kind <= int64_t(JournalKind::kVerdict); }
 
 }  // namespace
 
@@ -34,6 +34,8 @@ const char* to_string(JournalKind kind) {
       return "status";
     case JournalKind::kCommand:
       return "operator command";
+    case JournalKind::kVerdict:
+      return "object verdict";
   }
   return "unknown";
 }

@@ -19,8 +19,16 @@ struct sqlite3;
 namespace cairn::base {
 
 /// Replay order on load: a keyframe before the objects anchored on it and the poses that move it.
-/// kCommand: an operator's command as sent (JSON), keyed by its sequence number.
-enum class JournalKind : int32_t { kKeyframe = 0, kObject = 1, kKeyframePoses = 2, kStatus = 3, kCommand = 4 };
+/// kCommand: an operator's command as sent (JSON), keyed by its sequence number; kVerdict: the
+/// operator's verdict on an object (JSON), keyed by the object's robot and seq.
+enum class JournalKind : int32_t {
+  kKeyframe = 0,
+  kObject = 1,
+  kKeyframePoses = 2,
+  kStatus = 3,
+  kCommand = 4,
+  kVerdict = 5
+};
 const char* to_string(JournalKind kind);
 
 struct JournalRecord {

@@ -105,9 +105,10 @@ function renderObjects(objects) {
       el("td", { class: "num", text: p[2].toFixed(2) }),
       el("td", { text: (o.robots || []).map((r) => `Robot ${r}`).join(", ") }),
       el("td", {}, [photo]),
+      Control.verdictCell(o),
     ]);
   });
-  replaceRows(document.getElementById("objects"), rows, "No objects yet", 9);
+  replaceRows(document.getElementById("objects"), rows, "No objects yet", 10);
 }
 
 function renderGoals(exploration) {

@@ -96,6 +96,40 @@ const Control = (() => {
     send({ robot: selected, kind: "goto", x_m: geometry.x0_m + u * geometry.m_per_px, y_m: geometry.y_top_m - v * geometry.m_per_px });
   }
 
+  // The operator's word on an object: confirmed, false, or a note; journaled with the map and in
+  // every export.
+  async function judge(id, verdict, note) {
+    if (!token()) return say("Watching only: open the operator link the base printed (…/#token=…) to judge objects.", "bad");
+    const res = await fetch(`/api/objects/${id}/verdict`, {
+      method: "POST",
+      headers: { "Content-Type": "application/json", Authorization: `Bearer ${token()}` },
+      body: JSON.stringify({ verdict, note }),
+    }).catch(() => null);
+    const reply = res ? await res.json().catch(() => ({})) : {};
+    if (res && res.status === 202) say(`Object ${id}: ${verdict}${note ? ` (${note})` : ""}.`, "ok");
+    else say(`Refused: ${reply.error || "the base station is unreachable"}`, "bad");
+  }
+
+  function verdictCell(o) {
+    const cell = el("td", { class: "verdict" }, [
+      el("span", { class: `verdict-badge ${o.verdict}`, text: o.verdict || "unreviewed" }),
+    ]);
+    if (o.verdict_note) cell.appendChild(el("div", { class: "muted", text: o.verdict_note }));
+    if (!token()) return cell;
+    const button = (text, verdict, asksNote) => {
+      const b = el("button", { class: `judge ${verdict}`, text });
+      b.addEventListener("click", () => {
+        const note = asksNote ? window.prompt(`Note on ${o.class} ${o.id}:`, o.verdict_note || "") : o.verdict_note || "";
+        if (note !== null) judge(o.id, asksNote ? o.verdict || "unreviewed" : verdict, note);
+      });
+      return b;
+    };
+    cell.appendChild(el("div", { class: "judge-buttons" }, [
+      button("Confirm", "confirmed", false), button("False", "false", false), button("Note…", "note", true),
+    ]));
+    return cell;
+  }
+
   function renderCommands(commands) {
     const rows = commands.map((c) => el("tr", {}, [
       el("td", { class: "num", text: c.seq }),
@@ -122,6 +156,7 @@ const Control = (() => {
 
   return {
     init,
+    verdictCell,
     setGeometry(g) { geometry = g; renderMarkers(); },
     /// Where map point (x_m, y_m) is on the image as shown, in CSS px from its top-left corner (tests).
     pixelOf(x_m, y_m) {
