@@ -145,6 +145,12 @@ std::vector<VerdictRequest> CommandInbox::take_verdicts() {
 void CommandInbox::post_states(nlohmann::json states) {
   std::lock_guard<std::mutex> lock(mutex_);
   states_ = std::move(states);
+  ++generation_;
+}
+
+uint64_t CommandInbox::generation() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return generation_;
 }
 
 nlohmann::json CommandInbox::states() const {

@@ -63,10 +63,13 @@ class CommandInbox {
   /// The commands and their states (commands_json), as the base last posted them.
   void post_states(nlohmann::json states);
   nlohmann::json states() const;
+  /// How many times states were posted (the console's event stream watches it).
+  uint64_t generation() const;
 
  private:
   mutable std::mutex mutex_;
   nlohmann::json states_ = nlohmann::json::array();
+  uint64_t generation_ = 0;
   uint32_t next_seq_ = 1;
   std::vector<Entry> entries_;
   std::vector<VerdictRequest> verdicts_;

@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 #include <httplib.h>
 
+#include <chrono>
+#include <thread>
+
 namespace cairn::base {
 namespace {
 
@@ -125,6 +128,26 @@ TEST_F(ConsoleCommands, VerdictsNeedTheTokenAKnownObjectAndAKnownWord) {
   EXPECT_EQ(taken[0].verdict, ObjectVerdict::kConfirmed);
   EXPECT_EQ(taken[0].note, "alive");
   EXPECT_EQ(taken[1].object, (ObjectId{RobotId(1), 0}));
+}
+
+TEST_F(ConsoleCommands, TheEventStreamSaysAtOnceThatTheCommandsChanged) {
+  std::string stream;
+  int events = 0;
+  std::thread poster([this] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    inbox_.post_states(nlohmann::json::array({{{"seq", 1}, {"state", "active"}}}));
+  });
+  client_->set_read_timeout(5, 0);  // nothing pushed: the stream stays silent and this gives up
+  client_->Get("/api/events", [&](const char* data, size_t length) {
+    stream.append(data, length);
+    events = 0;
+    for (size_t at = stream.find("data: "); at != std::string::npos; at = stream.find("data: ", at + 1)) ++events;
+    return events < 2;  // the first event (at once), then the change
+  });
+  poster.join();
+  ASSERT_EQ(events, 2) << stream;
+  EXPECT_NE(stream.find(R"("commands":0)"), std::string::npos) << stream;
+  EXPECT_NE(stream.find(R"("commands":1)"), std::string::npos) << stream;
 }
 
 TEST(ConsoleCommandsOff, WithoutAnOperatorTokenCommandsAreOff) {

@@ -2,8 +2,10 @@
 
 #include <httplib.h>
 
+#include <chrono>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #ifndef CAIRN_WEB_DIR
 #define CAIRN_WEB_DIR "base_station/console/web"
@@ -103,6 +105,7 @@ void ConsoleServer::register_routes() {
   server_->Get("/api/commands", [this](const httplib::Request&, httplib::Response& res) {
     reply_json(res, inbox_ ? inbox_->states() : nlohmann::json::array());
   });
+  server_->Get("/api/events", [this](const httplib::Request&, httplib::Response& res) { stream_events(res); });
   server_->Post(R"(/api/objects/([0-9]{1,6})-([0-9]{1,9})/verdict)",
                 [this](const httplib::Request& req, httplib::Response& res) { handle_verdict(req, res); });
   server_->Post("/api/commands",
@@ -112,6 +115,41 @@ void ConsoleServer::register_routes() {
 void ConsoleServer::accept_commands(const std::string& operator_token, CommandInbox* inbox) {
   operator_token_ = operator_token;
   inbox_ = inbox;
+}
+
+void ConsoleServer::stream_events(httplib::Response& res) {
+  res.set_header("Cache-Control", "no-store");
+  // One event whenever the map or the commands changed, the first at once. The stream polls the
+  // two version numbers every 50 ms instead of waiting on a condition variable: it keeps the
+  // snapshot and the inbox free of any notion of listeners, at no measurable cost for a few pages.
+  struct Seen {
+    int64_t map = -1, commands = -1;
+    std::chrono::steady_clock::time_point last_write = std::chrono::steady_clock::now();
+  };
+  auto seen = std::make_shared<Seen>();
+  res.set_chunked_content_provider("text/event-stream", [this, seen](size_t, httplib::DataSink& sink) {
+    for (int i = 0; i < 20 && !stopping_; ++i) {
+      const auto s = provider_ ? provider_() : nullptr;
+      const int64_t map = s && s->status.contains("version") ? s->status["version"].get<int64_t>() : 0;
+      const int64_t commands = inbox_ ? int64_t(inbox_->generation()) : 0;
+      if (map != seen->map || commands != seen->commands) {
+        seen->map = map;
+        seen->commands = commands;
+        seen->last_write = std::chrono::steady_clock::now();
+        const std::string event =
+            "data: " + nlohmann::json{{"map_version", map}, {"commands", commands}}.dump() + "\n\n";
+        return sink.write(event.data(), event.size());
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    if (stopping_ || !sink.is_writable()) return false;
+    if (std::chrono::steady_clock::now() - seen->last_write > std::chrono::seconds(10)) {
+      seen->last_write = std::chrono::steady_clock::now();
+      const std::string keep_alive = ": still here\n\n";  // proxies and the browser see a live stream
+      return sink.write(keep_alive.data(), keep_alive.size());
+    }
+    return true;
+  });
 }
 
 bool ConsoleServer::authorized(const httplib::Request& req, httplib::Response& res) const {
@@ -181,6 +219,7 @@ bool ConsoleServer::start(std::string* error) {
 
 void ConsoleServer::stop() {
   if (!thread_.joinable()) return;
+  stopping_ = true;  // open event streams end within one poll
   server_->stop();
   thread_.join();
 }

@@ -9,10 +9,12 @@
 //   GET /api/objects/<robot>-<seq>/thumbnail.jpg     object thumbnail
 //   GET /api/objects/<robot>-<seq>/cloud             JSON [[x,y,z,r,g,b],...] (<= 2000 points)
 //   GET /api/commands                                the operator's commands and their states
+//   GET /api/events                                  Server-Sent Events: the map or the commands changed
 //   POST /api/commands                               a command (command_api.h); needs the operator
 //        token: 401 without it, 400 naming the fault of a bad one, 202 {"seqs": [...]} when queued
 //   POST /api/objects/<robot>-<seq>/verdict          the operator's verdict on an object (same token;
 //        404 for an object never shown under that id)
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <string>
@@ -65,6 +67,8 @@ class ConsoleServer {
   void register_routes();
   void handle_command(const httplib::Request& req, httplib::Response& res);
   void handle_verdict(const httplib::Request& req, httplib::Response& res);
+  /// GET /api/events (Server-Sent Events): {"map_version", "commands"} whenever either changed.
+  void stream_events(httplib::Response& res);
   /// The operator token checked: false with 403 (commands off) or 401 (no or wrong token) replied.
   bool authorized(const httplib::Request& req, httplib::Response& res) const;
 
@@ -75,6 +79,7 @@ class ConsoleServer {
   CommandInbox* inbox_ = nullptr;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
+  std::atomic<bool> stopping_{false};
   int port_ = -1;
 };
 

@@ -32,6 +32,7 @@ std::vector<std::map<std::string, std::string>> read_csv(const std::string& path
     std::stringstream ss(line);
     std::string cell;
     while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    if (line.back() == ',') cells.emplace_back();  // an empty last field (getline drops it)
     if (header.empty()) {
       header = cells;
       continue;

@@ -39,9 +39,9 @@ TEST(MissionEval, ScoresTrajectoryAndObjects) {
   const Dirs d = make_dirs("eval_ok");
   // One victim 0.1 m off, one exit labelled hazard (a false positive), one victim missed.
   std::ofstream(d.res / "objects.csv")
-      << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m\n"
-         "0-0,victim,0.9,1.1,1,0.2,0,5,1,1,1\n"
-         "0-1,hazard,0.9,3,3,1.0,0,5,1,1,1\n";
+      << "id,class,confidence,x_m,y_m,z_m,robots,observations,size_x_m,size_y_m,size_z_m,verdict,verdict_note\n"
+         "0-0,victim,0.9,1.1,1,0.2,0,5,1,1,1,confirmed,alive\n"
+         "0-1,hazard,0.9,3,3,1.0,0,5,1,1,1,unreviewed,\n";  // an empty last field is a field
   const MissionScore s = evaluate_mission(d.gt.string(), d.res.string());
   ASSERT_EQ(s.robots.size(), 1u);
   ASSERT_TRUE(s.robots[0].global);

@@ -1,8 +1,8 @@
-// Cairn console: polls the base station's JSON API every 2 s and refreshes the map image; the
-// operator's commands are in control.js. Plain JS, no build step.
+// Cairn console: fetches the base station's JSON API and map image when the base's event stream
+// says they changed; the operator's commands are in control.js. Plain JS, no build step.
 "use strict";
 
-const REFRESH_MS = 2000;
+const REFRESH_MS = 10000;  // the slow poll; changes are pushed (listen())
 const CLASS_COLOURS = { victim: "#dc1e1e", hazard: "#ff8c00", exit: "#28a028" };
 
 function el(tag, attrs = {}, children = []) {
@@ -170,6 +170,29 @@ async function refresh() {
   }
 }
 
+// Pushed: the base's event stream (/api/events) says when the map or the commands changed and the
+// page fetches then; EventSource reconnects by itself. A slow poll keeps the robots' link ages
+// fresh while nothing changes, and covers a stream that cannot be opened.
+let mapVersion = null;
+function listen() {
+  const events = new EventSource("/api/events");
+  events.onmessage = (e) => {
+    const v = JSON.parse(e.data);
+    if (v.map_version !== mapVersion) {
+      mapVersion = v.map_version;
+      refresh();
+    } else {
+      getJson("/api/commands").then(Control.updateCommands).catch(() => {});
+    }
+  };
+  events.onerror = () => {
+    const conn = document.getElementById("connection");
+    conn.textContent = "reconnecting…";
+    conn.className = "connection bad";
+  };
+}
+
 Control.init();
 refresh();
+listen();
 setInterval(refresh, REFRESH_MS);

@@ -166,5 +166,6 @@ const Control = (() => {
       return { x: (u * img.clientWidth) / img.naturalWidth, y: (v * img.clientHeight) / img.naturalHeight };
     },
     update(newRobots, commands) { robots = newRobots; renderMarkers(); renderCommands(commands); },
+    updateCommands: renderCommands,
   };
 })();
