@@ -297,6 +297,7 @@ int BaseNode::finish() {
   for (const auto& f : exported.files) {
     if (!f.ok) log_->error("export of {} failed: {}", f.path, f.error);
   }
+  console_->offer_exports(options_.out_dir);  // downloadable from the console from now on
   nlohmann::json summary;
   summary["robots"] = nlohmann::json::array();
   const nlohmann::json links = link_stats();

@@ -2,8 +2,11 @@
 
 #include <httplib.h>
 
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <thread>
 
@@ -66,7 +69,10 @@ void ConsoleServer::register_routes() {
   server_->Get("/", asset("index.html", "text/html; charset=utf-8"));
   server_->Get("/index.html", asset("index.html", "text/html; charset=utf-8"));
   server_->Get("/app.js", asset("app.js", "application/javascript; charset=utf-8"));
+  server_->Get("/common.js", asset("common.js", "application/javascript; charset=utf-8"));
   server_->Get("/control.js", asset("control.js", "application/javascript; charset=utf-8"));
+  server_->Get("/report.html", asset("report.html", "text/html; charset=utf-8"));
+  server_->Get("/report.js", asset("report.js", "application/javascript; charset=utf-8"));
   server_->Get("/style.css", asset("style.css", "text/css; charset=utf-8"));
   server_->Get("/api/status",
                [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->status); });
@@ -105,6 +111,7 @@ void ConsoleServer::register_routes() {
   server_->Get("/api/commands", [this](const httplib::Request&, httplib::Response& res) {
     reply_json(res, inbox_ ? inbox_->states() : nlohmann::json::array());
   });
+  serve_exports();
   server_->Get("/api/events", [this](const httplib::Request&, httplib::Response& res) { stream_events(res); });
   server_->Post(R"(/api/objects/([0-9]{1,6})-([0-9]{1,9})/verdict)",
                 [this](const httplib::Request& req, httplib::Response& res) { handle_verdict(req, res); });
@@ -115,6 +122,68 @@ void ConsoleServer::register_routes() {
 void ConsoleServer::accept_commands(const std::string& operator_token, CommandInbox* inbox) {
   operator_token_ = operator_token;
   inbox_ = inbox;
+}
+
+void ConsoleServer::offer_exports(const std::string& dir) {
+  std::lock_guard<std::mutex> lock(exports_mutex_);
+  exports_dir_ = dir;
+}
+
+namespace {
+
+/// The export files a console hands out, by extension (not the journal: it is live, and the base's).
+const char* export_type(const std::string& name) {
+  static const std::map<std::string, const char*> types = {{".png", "image/png"},
+                                                           {".pgm", "image/x-portable-graymap"},
+                                                           {".yaml", "text/yaml"},
+                                                           {".csv", "text/csv"},
+                                                           {".geojson", "application/geo+json"},
+                                                           {".json", "application/json"},
+                                                           {".ply", "application/octet-stream"},
+                                                           {".bt", "application/octet-stream"},
+                                                           {".g2o", "text/plain"}};
+  const auto dot = name.rfind('.');
+  const auto it = dot == std::string::npos ? types.end() : types.find(name.substr(dot));
+  return it == types.end() ? nullptr : it->second;
+}
+
+}  // namespace
+
+void ConsoleServer::serve_exports() {
+  server_->Get("/api/exports", [this](const httplib::Request&, httplib::Response& res) {
+    std::string dir;
+    {
+      std::lock_guard<std::mutex> lock(exports_mutex_);
+      dir = exports_dir_;
+    }
+    nlohmann::json files = nlohmann::json::array();
+    std::error_code ec;
+    if (!dir.empty()) {
+      for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (entry.is_regular_file(ec) && export_type(name))
+          files.push_back({{"name", name}, {"bytes", entry.file_size(ec)}, {"url", "/exports/" + name}});
+      }
+    }
+    std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a["name"] < b["name"]; });
+    reply_json(res, {{"ready", !dir.empty()},
+                     {"note", dir.empty() ? "the exports are written when the mission ends" : ""},
+                     {"files", files}});
+  });
+  server_->Get(R"(/exports/([A-Za-z0-9_.-]{1,100}))", [this](const httplib::Request& req, httplib::Response& res) {
+    const std::string name = req.matches[1].str();
+    std::string dir;
+    {
+      std::lock_guard<std::mutex> lock(exports_mutex_);
+      dir = exports_dir_;
+    }
+    const char* type = export_type(name);
+    if (dir.empty() || !type || name.find("..") != std::string::npos) return reply_not_found(res, "export " + name);
+    const std::optional<std::string> body = read_file(dir + "/" + name);
+    if (!body) return reply_not_found(res, "export " + name);
+    res.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
+    res.set_content(*body, type);
+  });
 }
 
 void ConsoleServer::stream_events(httplib::Response& res) {

@@ -10,6 +10,7 @@
 //   GET /api/objects/<robot>-<seq>/cloud             JSON [[x,y,z,r,g,b],...] (<= 2000 points)
 //   GET /api/commands                                the operator's commands and their states
 //   GET /api/events                                  Server-Sent Events: the map or the commands changed
+//   GET /api/exports, /exports/<name>                the mission's exports, once written (offer_exports)
 //   POST /api/commands                               a command (command_api.h); needs the operator
 //        token: 401 without it, 400 naming the fault of a bad one, 202 {"seqs": [...]} when queued
 //   POST /api/objects/<robot>-<seq>/verdict          the operator's verdict on an object (same token;
@@ -17,6 +18,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -55,6 +57,10 @@ class ConsoleServer {
   /// with an empty token or until this is called. Call before start().
   void accept_commands(const std::string& operator_token, CommandInbox* inbox);
 
+  /// The mission's exports are written (export_all) in `dir`: from now on GET /api/exports lists
+  /// them and GET /exports/<name> serves them. Before, the list is empty and says why. Thread-safe.
+  void offer_exports(const std::string& dir);
+
   /// Binds and starts serving on a background thread. False, with `error` set, if the bind fails.
   bool start(std::string* error);
   void stop();
@@ -69,6 +75,7 @@ class ConsoleServer {
   void handle_verdict(const httplib::Request& req, httplib::Response& res);
   /// GET /api/events (Server-Sent Events): {"map_version", "commands"} whenever either changed.
   void stream_events(httplib::Response& res);
+  void serve_exports();
   /// The operator token checked: false with 403 (commands off) or 401 (no or wrong token) replied.
   bool authorized(const httplib::Request& req, httplib::Response& res) const;
 
@@ -80,6 +87,8 @@ class ConsoleServer {
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   std::atomic<bool> stopping_{false};
+  mutable std::mutex exports_mutex_;
+  std::string exports_dir_;  ///< empty until offer_exports()
   int port_ = -1;
 };
 

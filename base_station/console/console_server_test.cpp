@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 #include <httplib.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 
 #include "base_station/core/synthetic_world_test_util.h"
 #include "base_station/core/unlinked_robot_test_util.h"
@@ -117,7 +121,7 @@ TEST(ConsoleServer, ServesPagesAndApi) {
   ASSERT_TRUE(index);
   EXPECT_EQ(index->status, 200);
   EXPECT_NE(index->body.find("<html"), std::string::npos);
-  for (const char* path : {"/app.js", "/control.js", "/style.css"}) {
+  for (const char* path : {"/app.js", "/common.js", "/control.js", "/style.css", "/report.html", "/report.js"}) {
     auto r = client.Get(path);
     ASSERT_TRUE(r) << path;
     EXPECT_EQ(r->status, 200) << path;
@@ -156,6 +160,40 @@ TEST(ConsoleServer, ServesPagesAndApi) {
   EXPECT_EQ(missing->status, 404);
   server.stop();
   EXPECT_FALSE(server.running());
+}
+
+TEST(ConsoleServer, ExportsAreOfferedOnceWrittenAndNothingElseIsServed) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("cairn_console_exports_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "objects.csv") << "id,class\n0-1,victim\n";
+  std::ofstream(dir / "journal.sqlite") << "not for download";
+  ConsoleServer server({"127.0.0.1", 0, ""}, [] { return ConsoleSnapshot{}; });
+  std::string error;
+  ASSERT_TRUE(server.start(&error)) << error;
+  httplib::Client client("127.0.0.1", server.port());
+  auto before = client.Get("/api/exports");
+  ASSERT_TRUE(before);
+  const auto none = nlohmann::json::parse(before->body);
+  EXPECT_FALSE(none["ready"].get<bool>());
+  EXPECT_TRUE(none["files"].empty());
+  EXPECT_EQ(client.Get("/exports/objects.csv")->status, 404);  // not offered yet
+
+  server.offer_exports(dir.string());
+  const auto list = nlohmann::json::parse(client.Get("/api/exports")->body);
+  EXPECT_TRUE(list["ready"].get<bool>());
+  ASSERT_EQ(list["files"].size(), 1u) << list.dump();  // not the journal
+  EXPECT_EQ(list["files"][0]["name"], "objects.csv");
+  auto csv = client.Get("/exports/objects.csv");
+  ASSERT_TRUE(csv);
+  EXPECT_EQ(csv->status, 200);
+  EXPECT_EQ(csv->body, "id,class\n0-1,victim\n");
+  EXPECT_NE(csv->get_header_value("Content-Disposition").find("objects.csv"), std::string::npos);
+  EXPECT_EQ(client.Get("/exports/journal.sqlite")->status, 404);
+  EXPECT_EQ(client.Get("/exports/..%2Fetc%2Fpasswd")->status, 404);
+  EXPECT_EQ(client.Get("/exports/missing.csv")->status, 404);
+  server.stop();
+  fs::remove_all(dir);
 }
 
 TEST(ConsoleServer, CopyingProviderAndEmptySnapshot) {

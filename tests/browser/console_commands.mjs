@@ -4,7 +4,8 @@
 //     in the page and nothing is sent;
 //   - with the token: click the robot's marker, then a point on the map; the simulated robot drives
 //     there and the command shows as done; "All home" ends the mission;
-//   - at 400 px wide the page has no horizontal scroll.
+//   - at 400 px wide the page has no horizontal scroll;
+//   - the printable mission report shows the map and the commands.
 // Exit 0 passed, 1 failed, 77 skipped (no chromium or no node_modules: said loudly).
 //   node tests/browser/console_commands.mjs <bin dir> <source dir> <out dir>
 import { spawn } from "node:child_process";
@@ -115,6 +116,20 @@ try {
   const overflow = await page.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
   check(overflow <= 0, `no horizontal scroll at 400 px (${overflow} px too wide)`);
   await page.setViewportSize({ width: 1400, height: 1100 });
+
+  // The printable mission report, from the same live API.
+  const report = await browser.newPage({ viewport: { width: 1000, height: 1400 } });
+  await report.goto(`${base}/report.html`);
+  await report.waitForFunction(() => document.getElementById("r-robot-rows").textContent.includes("Robot 0"));
+  check((await report.textContent("#r-commands")).includes("goto"), "the mission report lists the operator's commands");
+  check(await report.evaluate(() => new Promise((ok) => {
+    const img = document.getElementById("r-map");
+    if (img.complete && img.naturalWidth > 0) ok(true);
+    img.onload = () => ok(true);
+    img.onerror = () => ok(false);
+  })), "the mission report shows the map");
+  await report.screenshot({ path: join(outDir, "mission_report.png"), fullPage: true });
+  await report.close();
 
   await page.click("button[data-all='home']");
   const code = await Promise.race([missionExit, sleep(120000).then(() => "timeout")]);

@@ -5,38 +5,6 @@
 const REFRESH_MS = 10000;  // the slow poll; changes are pushed (listen())
 const CLASS_COLOURS = { victim: "#dc1e1e", hazard: "#ff8c00", exit: "#28a028" };
 
-function el(tag, attrs = {}, children = []) {
-  const e = document.createElement(tag);
-  for (const [k, v] of Object.entries(attrs)) {
-    if (k === "text") e.textContent = v;
-    else e.setAttribute(k, v);
-  }
-  for (const c of children) e.appendChild(c);
-  return e;
-}
-
-function fmtTime(seconds) {
-  const s = Math.max(0, Math.floor(seconds || 0));
-  const h = Math.floor(s / 3600), m = Math.floor((s % 3600) / 60), r = s % 60;
-  return `${String(h).padStart(2, "0")}:${String(m).padStart(2, "0")}:${String(r).padStart(2, "0")}`;
-}
-
-function fmtBytes(n) {
-  if (n === undefined || n === null) return "–";
-  if (n < 1024) return `${n} B`;
-  if (n < 1024 * 1024) return `${(n / 1024).toFixed(1)} kB`;
-  return `${(n / 1024 / 1024).toFixed(1)} MB`;
-}
-
-function replaceRows(tbody, rows, emptyText, columns) {
-  tbody.replaceChildren();
-  if (rows.length === 0) {
-    tbody.appendChild(el("tr", {}, [el("td", { colspan: columns, class: "empty", text: emptyText })]));
-    return;
-  }
-  rows.forEach((r) => tbody.appendChild(r));
-}
-
 function renderStatus(status) {
   document.getElementById("mission-time").textContent = fmtTime(status.mission_time_s);
   document.getElementById("mapped-area").textContent = `${(status.mapped_area_m2 || 0).toFixed(0)} m²`;
@@ -127,12 +95,6 @@ function renderGoals(exploration) {
   replaceRows(document.getElementById("goals"), rows, none, 5);
 }
 
-async function getJson(path) {
-  const res = await fetch(path, { cache: "no-store" });
-  if (!res.ok) throw new Error(`${path}: HTTP ${res.status}`);
-  return res.json();
-}
-
 // The map image with its geometry (X-Map-Image header: where its pixels are on the map), fetched
 // together so that a click always names the point under it.
 let mapUrl = null;
@@ -150,12 +112,24 @@ async function refreshMap() {
   img.src = url;
 }
 
+function renderExports(exports) {
+  const list = document.getElementById("exports");
+  list.replaceChildren();
+  if (!exports.ready) list.appendChild(el("li", { class: "empty", text: exports.note }));
+  for (const f of exports.files || []) {
+    list.appendChild(el("li", {}, [el("a", { href: f.url, download: f.name, text: f.name }),
+      document.createTextNode(` (${fmtBytes(f.bytes)})`)]));
+  }
+}
+
 async function refresh() {
   const conn = document.getElementById("connection");
   try {
-    const [status, robots, objects, commands] = await Promise.all([
+    const [status, robots, objects, commands, exports] = await Promise.all([
       getJson("/api/status"), getJson("/api/robots"), getJson("/api/objects"), getJson("/api/commands"),
+      getJson("/api/exports"),
     ]);
+    renderExports(exports);
     renderStatus(status);
     renderGoals(status.exploration);
     renderRobots(robots);
