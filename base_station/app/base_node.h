@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base_station/console/alert_log.h"
 #include "base_station/console/console_server.h"
 #include "base_station/console/snapshot.h"
 #include "base_station/core/exploration.h"
@@ -118,6 +119,7 @@ class BaseNode {
   std::unique_ptr<dds::Writer<dds::OperatorCommandTopic>> command_out_;
   CommandInbox inbox_;       ///< commands the console accepted, for this thread (before console_: it points here)
   CommandBook commands_;     ///< every operator command sent and what became of it
+  AlertLog alert_log_;       ///< every alert raised, first seen, acknowledged
   ObjectVerdicts verdicts_;  ///< the operator's verdicts on objects (applied to every merged map shown)
   std::unique_ptr<ConsoleServer> console_;
   std::unique_ptr<Journal> journal_;

@@ -142,6 +142,16 @@ std::vector<VerdictRequest> CommandInbox::take_verdicts() {
   return std::exchange(verdicts_, {});
 }
 
+void CommandInbox::ack_alert(const std::string& key) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  acked_alerts_.insert(key);
+}
+
+std::set<std::string> CommandInbox::acked_alerts() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return acked_alerts_;
+}
+
 void CommandInbox::post_states(nlohmann::json states) {
   std::lock_guard<std::mutex> lock(mutex_);
   states_ = std::move(states);

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,6 +60,9 @@ class CommandInbox {
   std::vector<uint32_t> push(const CommandRequest& request);
   std::vector<Entry> take_all();
   void push_verdict(const VerdictRequest& request);
+  /// An operator acknowledged the alert `key` (AlertLog keys); kept for the rest of the mission.
+  void ack_alert(const std::string& key);
+  std::set<std::string> acked_alerts() const;
   std::vector<VerdictRequest> take_verdicts();
   /// The commands and their states (commands_json), as the base last posted them.
   void post_states(nlohmann::json states);
@@ -73,6 +77,7 @@ class CommandInbox {
   uint32_t next_seq_ = 1;
   std::vector<Entry> entries_;
   std::vector<VerdictRequest> verdicts_;
+  std::set<std::string> acked_alerts_;
 };
 
 /// One sent command as the base journals it (JSON: seq, robot, kind, both points, sent_ns), and

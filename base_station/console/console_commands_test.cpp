@@ -21,6 +21,8 @@ ConsoleSnapshot snapshot_with_two_robots() {
   s.command_context.map_min_m = {-1, -1};
   s.command_context.map_max_m = {10, 8};
   s.objects = nlohmann::json::array({{{"id", "0-2"}, {"aliases", {"1-0"}}}});
+  s.status = {{"alerts", nlohmann::json::array({{{"key", "object:0-2"}, {"text", "Victim found"}}})}};
+  s.alert_log = nlohmann::json::array({{{"key", "object:0-2"}, {"text", "Victim found"}}});
   return s;
 }
 
@@ -148,6 +150,26 @@ TEST_F(ConsoleCommands, TheEventStreamSaysAtOnceThatTheCommandsChanged) {
   ASSERT_EQ(events, 2) << stream;
   EXPECT_NE(stream.find(R"("commands":0)"), std::string::npos) << stream;
   EXPECT_NE(stream.find(R"("commands":1)"), std::string::npos) << stream;
+}
+
+TEST_F(ConsoleCommands, AnAlertIsAcknowledgedWithTheTokenAndShowsAtOnce) {
+  const std::string bearer = std::string("Bearer ") + kToken;
+  EXPECT_EQ(post(R"({"key": "object:0-2"})", "").first, 401);  // (the commands route; same check below)
+  const auto ack = [&](const std::string& body, const std::string& auth) {
+    httplib::Headers headers;
+    if (!auth.empty()) headers.emplace("Authorization", auth);
+    const auto res = client_->Post("/api/alerts/ack", headers, body, "application/json");
+    return res ? res->status : -1;
+  };
+  EXPECT_EQ(ack(R"({"key": "object:0-2"})", ""), 401);
+  EXPECT_EQ(ack(R"({"key": "contact:9"})", bearer), 404);
+  EXPECT_EQ(ack(R"({"nope": 1})", bearer), 400);
+  EXPECT_TRUE(inbox_.acked_alerts().empty());
+  EXPECT_EQ(ack(R"({"key": "object:0-2"})", bearer), 202);
+  EXPECT_EQ(inbox_.acked_alerts(), (std::set<std::string>{"object:0-2"}));
+  const auto status = nlohmann::json::parse(client_->Get("/api/status")->body);
+  EXPECT_TRUE(status["alerts"][0]["acked"].get<bool>()) << status.dump();
+  EXPECT_EQ(nlohmann::json::parse(client_->Get("/api/alerts/log")->body).size(), 1u);
 }
 
 TEST(ConsoleCommandsOff, WithoutAnOperatorTokenCommandsAreOff) {

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -74,8 +75,30 @@ void ConsoleServer::register_routes() {
   server_->Get("/report.html", asset("report.html", "text/html; charset=utf-8"));
   server_->Get("/report.js", asset("report.js", "application/javascript; charset=utf-8"));
   server_->Get("/style.css", asset("style.css", "text/css; charset=utf-8"));
-  server_->Get("/api/status",
-               [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->status); });
+  server_->Get("/api/status", [this, snapshot](const httplib::Request&, httplib::Response& res) {
+    nlohmann::json status = snapshot()->status;
+    // An acknowledgement shows at once, not with the next snapshot.
+    const std::set<std::string> acked = inbox_ ? inbox_->acked_alerts() : std::set<std::string>{};
+    if (status.contains("alerts"))
+      for (nlohmann::json& a : status["alerts"])
+        if (a.contains("key") && acked.count(a["key"].get<std::string>())) a["acked"] = true;
+    reply_json(res, status);
+  });
+  server_->Get("/api/alerts/log",
+               [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->alert_log); });
+  server_->Post("/api/alerts/ack", [this, snapshot](const httplib::Request& req, httplib::Response& res) {
+    if (!authorized(req, res)) return;
+    const nlohmann::json j = nlohmann::json::parse(req.body, nullptr, /*allow_exceptions=*/false);
+    if (!j.is_object() || !j.contains("key") || !j["key"].is_string())
+      return reply_error(res, 400, "the body must be {\"key\": \"<alert key>\"}");
+    const std::string key = j["key"];
+    bool known = false;
+    for (const nlohmann::json& a : snapshot()->alert_log) known = known || a["key"] == key;
+    if (!known) return reply_not_found(res, "alert " + key);
+    inbox_->ack_alert(key);
+    res.status = 202;
+    reply_json(res, {{"acked", key}});
+  });
   server_->Get("/api/robots",
                [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->robots); });
   server_->Get("/api/objects",

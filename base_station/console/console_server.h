@@ -10,6 +10,7 @@
 //   GET /api/objects/<robot>-<seq>/cloud             JSON [[x,y,z,r,g,b],...] (<= 2000 points)
 //   GET /api/commands                                the operator's commands and their states
 //   GET /api/events                                  Server-Sent Events: the map or the commands changed
+//   GET /api/alerts/log, POST /api/alerts/ack {"key"}  the alert log; acknowledge one (operator token)
 //   GET /api/exports, /exports/<name>                the mission's exports, once written (offer_exports)
 //   POST /api/commands                               a command (command_api.h); needs the operator
 //        token: 401 without it, 400 naming the fault of a bad one, 202 {"seqs": [...]} when queued

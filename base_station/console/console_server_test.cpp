@@ -5,6 +5,7 @@
 #include <httplib.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -50,6 +51,16 @@ TEST(Snapshot, DescribesRobotsObjectsAndAlerts) {
   EXPECT_EQ(s.status["alerts"][0]["level"], "critical");
   EXPECT_NE(s.status["alerts"][0]["text"].get<std::string>().find("Victim found by robot 0"), std::string::npos);
   EXPECT_EQ(s.status["alerts"].size(), 2u);  // + robot 3 not linked
+  EXPECT_EQ(s.status["alerts"][0]["key"], "object:0-2");
+  // Out of contact for 10 s or more, and stuck, from the robots' links.
+  const ConsoleSnapshot lost =
+      make_snapshot(mapper.merged(), {{"0", {{"state", "lost"}, {"last_heard_age_s", 12.5}, {"nav_state", "stuck"}}},
+                                      {"3", {{"state", "stale"}, {"last_heard_age_s", 4.0}}}});
+  std::vector<std::string> keys;
+  for (const auto& a : lost.status["alerts"]) keys.push_back(a["key"]);
+  EXPECT_NE(std::find(keys.begin(), keys.end(), "contact:0"), keys.end());
+  EXPECT_NE(std::find(keys.begin(), keys.end(), "stuck:0"), keys.end());
+  EXPECT_EQ(std::find(keys.begin(), keys.end(), "contact:3"), keys.end()) << "stale for 4 s is not lost";
   EXPECT_GT(s.map_png.size(), 8u);
   EXPECT_LE(s.clouds.at("0-2").size(), 2000u);
 }

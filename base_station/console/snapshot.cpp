@@ -110,7 +110,7 @@ nlohmann::json object_json(const GlobalObject& o, const MergedMap& merged) {
 
 namespace {
 
-nlohmann::json alerts_json(const MergedMap& merged) {
+nlohmann::json alerts_json(const MergedMap& merged, const nlohmann::json& link_stats) {
   const std::vector<RobotSummary>& robots = merged.robots;
   nlohmann::json alerts = nlohmann::json::array();
   for (const GlobalObject* object : merged.all_objects()) {
@@ -124,7 +124,8 @@ nlohmann::json alerts_json(const MergedMap& merged) {
     }
     std::string what = o.class_name;
     if (!what.empty()) what[0] = char(std::toupper(static_cast<unsigned char>(what[0])));
-    alerts.push_back({{"level", level},
+    alerts.push_back({{"key", "object:" + object_key(o.id)},
+                      {"level", level},
                       {"object", object_key(o.id)},
                       {"stamp_s", ns_to_sec(o.last_stamp_ns)},
                       {"frame", frame_name(o.frame)},
@@ -133,11 +134,33 @@ nlohmann::json alerts_json(const MergedMap& merged) {
   for (const RobotSummary& r : robots) {
     if (!r.linked) {
       alerts.push_back(
-          {{"level", "warning"},
+          {{"key", "unlinked:" + std::to_string(r.id.value)},
+           {"level", "warning"},
            {"robot", r.id.value},
            {"stamp_s", ns_to_sec(r.last_stamp_ns)},
            {"text", "Robot " + std::to_string(r.id.value) +
                         " is not linked to the global map: its map and finds are shown in its own frame"}});
+    }
+  }
+  // What the robots' links and statuses say: out of contact (nothing heard for 10 s), stuck.
+  for (const RobotSummary& r : robots) {
+    const std::string id = std::to_string(r.id.value);
+    if (!link_stats.is_object() || !link_stats.contains(id)) continue;
+    const nlohmann::json& link = link_stats[id];
+    const double age_s = link.value("last_heard_age_s", -1.0);
+    if (link.value("state", "") == "lost" && age_s >= 10.0) {
+      alerts.push_back({{"key", "contact:" + id},
+                        {"level", "critical"},
+                        {"robot", r.id.value},
+                        {"stamp_s", ns_to_sec(r.last_stamp_ns)},
+                        {"text", "Robot " + id + " out of contact for " + std::to_string(int(age_s)) + " s"}});
+    }
+    if (link.value("nav_state", "") == "stuck") {
+      alerts.push_back({{"key", "stuck:" + id},
+                        {"level", "warning"},
+                        {"robot", r.id.value},
+                        {"stamp_s", ns_to_sec(r.last_stamp_ns)},
+                        {"text", "Robot " + id + " is stuck"}});
     }
   }
   // Most urgent first, then newest.
@@ -204,7 +227,7 @@ ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& lin
               {"unlinked_robots", unlinked},
               {"pending_objects", merged.data->pending_objects().size()},
               {"version", merged.version},
-              {"alerts", alerts_json(merged)}};
+              {"alerts", alerts_json(merged, link_stats)}};
   if (plan) s.status["exploration"] = exploration_json(*plan);
   s.map_png = render_map_png(merged, {}, plan);
   const MapImageGeometry g = map_image_geometry(*merged.grid);

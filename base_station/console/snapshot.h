@@ -23,8 +23,9 @@ struct ConsoleSnapshot {
   std::map<std::string, std::vector<uint8_t>> thumbnails;  ///< object key ("1-3") -> JPEG
   std::map<std::string, nlohmann::json> clouds;            ///< object key -> [[x,y,z,r,g,b],...]
   std::map<std::string, std::vector<uint8_t>> own_maps;    ///< unlinked robot id -> its own map (PNG)
-  nlohmann::json map_image;             ///< map_png's geometry (map_image_geometry), sent with it as X-Map-Image
-  CommandCheckContext command_context;  ///< what a new command is checked against
+  nlohmann::json map_image;  ///< map_png's geometry (map_image_geometry), sent with it as X-Map-Image
+  nlohmann::json alert_log = nlohmann::json::array();  ///< every alert ever raised (AlertLog::log)
+  CommandCheckContext command_context;                 ///< what a new command is checked against
 };
 
 struct SnapshotOptions {

@@ -14,7 +14,17 @@ function renderStatus(status) {
   list.replaceChildren();
   const alerts = status.alerts || [];
   if (alerts.length === 0) list.appendChild(el("li", { class: "empty", text: "No alerts" }));
-  for (const a of alerts) list.appendChild(el("li", { class: `alert ${a.level}`, text: a.text }));
+  for (const a of alerts) {
+    const since = a.first_seen_s ? ` · since ${new Date(a.first_seen_s * 1000).toLocaleTimeString()}` : "";
+    const item = el("li", { class: `alert ${a.level}${a.acked ? " acked" : ""}` }, [
+      el("span", { text: a.text }), el("span", { class: "when", text: `${a.acked ? "acknowledged" : ""}${since}` }),
+    ]);
+    if (!a.acked && a.key) {
+      const ack = Control.ackButton(a.key);
+      if (ack) item.appendChild(ack);
+    }
+    list.appendChild(item);
+  }
 }
 
 function renderRobots(robots) {
@@ -112,6 +122,12 @@ async function refreshMap() {
   img.src = url;
 }
 
+function renderAlertLog(entries) {
+  const list = document.getElementById("alert-log");
+  list.replaceChildren(...entries.map((e) => el("li", { class: e.active ? "" : "muted", text:
+    `${new Date(e.first_seen_s * 1000).toLocaleTimeString()} ${e.text}${e.acked ? " (acknowledged)" : ""}${e.active ? "" : " (over)"}` })));
+}
+
 function renderExports(exports) {
   const list = document.getElementById("exports");
   list.replaceChildren();
@@ -125,11 +141,12 @@ function renderExports(exports) {
 async function refresh() {
   const conn = document.getElementById("connection");
   try {
-    const [status, robots, objects, commands, exports] = await Promise.all([
+    const [status, robots, objects, commands, exports, alertLog] = await Promise.all([
       getJson("/api/status"), getJson("/api/robots"), getJson("/api/objects"), getJson("/api/commands"),
-      getJson("/api/exports"),
+      getJson("/api/exports"), getJson("/api/alerts/log"),
     ]);
     renderExports(exports);
+    renderAlertLog(alertLog);
     renderStatus(status);
     renderGoals(status.exploration);
     renderRobots(robots);

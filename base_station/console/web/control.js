@@ -9,6 +9,7 @@ const Control = (() => {
   let selected = null;   // robot id
   let geometry = null;   // X-Map-Image: where the map image's pixels are
   let robots = [];
+  let commands = [];
 
   function token() { return localStorage.getItem(TOKEN_KEY) || ""; }
 
@@ -73,6 +74,19 @@ const Control = (() => {
     const layer = document.getElementById("robot-markers");
     layer.replaceChildren();
     if (!geometry || !geometry.valid) return;
+    // Where the operator sent a robot, while it drives there or holds there.
+    const latest = new Map();
+    for (const c of commands) if (!latest.has(c.robot)) latest.set(c.robot, c);  // newest first
+    for (const c of latest.values()) {
+      if (c.kind !== "goto" || !["sent", "received", "active", "done"].includes(c.state)) continue;
+      const t = document.createElement("div");
+      t.className = "operator-target";
+      t.style.left = `${(100 * (c.x_m - geometry.x0_m)) / geometry.m_per_px / geometry.width_px}%`;
+      t.style.top = `${(100 * (geometry.y_top_m - c.y_m)) / geometry.m_per_px / geometry.height_px}%`;
+      t.title = `Robot ${c.robot}: the operator's point (command ${c.seq}, ${c.state})`;
+      t.textContent = `${c.robot}`;
+      layer.appendChild(t);
+    }
     for (const r of robots) {
       if (!r.pose_m) continue;
       const [x, y, yaw] = r.pose_m;
@@ -142,6 +156,12 @@ const Control = (() => {
     replaceRows(document.getElementById("commands"), rows, "No commands sent", 6);
   }
 
+  function updateCommands(newCommands) {
+    commands = newCommands;
+    renderMarkers();
+    renderCommands(commands);
+  }
+
   function init() {
     takeTokenFromAddress();
     document.getElementById("map").addEventListener("click", onMapClick);
@@ -154,8 +174,29 @@ const Control = (() => {
     renderBar();
   }
 
+  // "Acknowledge" for an alert (null without the token: watching only).
+  function ackButton(key) {
+    if (!token()) return null;
+    const b = el("button", { class: "ack", text: "Acknowledge" });
+    b.addEventListener("click", async () => {
+      const res = await fetch("/api/alerts/ack", {
+        method: "POST",
+        headers: { "Content-Type": "application/json", Authorization: `Bearer ${token()}` },
+        body: JSON.stringify({ key }),
+      }).catch(() => null);
+      if (res && res.status === 202) {
+        b.closest("li").classList.add("acked");
+        b.remove();
+      } else {
+        say("The acknowledgement did not reach the base station.", "bad");
+      }
+    });
+    return b;
+  }
+
   return {
     init,
+    ackButton,
     verdictCell,
     setGeometry(g) { geometry = g; renderMarkers(); },
     /// Where map point (x_m, y_m) is on the image as shown, in CSS px from its top-left corner (tests).
@@ -165,7 +206,7 @@ const Control = (() => {
       const u = (x_m - geometry.x0_m) / geometry.m_per_px, v = (geometry.y_top_m - y_m) / geometry.m_per_px;
       return { x: (u * img.clientWidth) / img.naturalWidth, y: (v * img.clientHeight) / img.naturalHeight };
     },
-    update(newRobots, commands) { robots = newRobots; renderMarkers(); renderCommands(commands); },
-    updateCommands: renderCommands,
+    update(newRobots, newCommands) { robots = newRobots; updateCommands(newCommands); },
+    updateCommands,
   };
 })();
