@@ -305,14 +305,28 @@ bool ConsoleServer::start(std::string* error) {
     *error = "cannot start the console on " + options_.bind_address + ":" + std::to_string(options_.port);
     return false;
   }
-  thread_ = std::thread([this] { server_->listen_after_bind(); });
+  listen_ended_ = false;
+  thread_ = std::thread([this] {
+    server_->listen_after_bind();
+    listen_ended_ = true;
+  });
+  // Answer only once it listens (a caller may connect at once), or after 5 s at most.
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (!server_->is_running() && !listen_ended_ && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
   return true;
 }
 
 void ConsoleServer::stop() {
   if (!thread_.joinable()) return;
   stopping_ = true;  // open event streams end within one poll
-  server_->stop();
+  // httplib's stop() does nothing until its listening loop runs: a stop() right after start() (a
+  // mission that ends at once) would leave that loop, and the join, waiting forever. Repeat it.
+  while (!listen_ended_) {
+    server_->stop();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
   thread_.join();
 }
 

@@ -88,6 +88,7 @@ class ConsoleServer {
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   std::atomic<bool> stopping_{false};
+  std::atomic<bool> listen_ended_{false};  ///< the listening thread returned
   mutable std::mutex exports_mutex_;
   std::string exports_dir_;  ///< empty until offer_exports()
   int port_ = -1;

@@ -207,6 +207,18 @@ TEST(ConsoleServer, ExportsAreOfferedOnceWrittenAndNothingElseIsServed) {
   fs::remove_all(dir);
 }
 
+TEST(ConsoleServer, AStopRightAfterTheStartEnds) {
+  // A mission that ends at once stops the console right after starting it; httplib ignores a stop
+  // before its listening loop runs, which used to leave the join waiting forever.
+  for (int i = 0; i < 50; ++i) {
+    ConsoleServer server({"127.0.0.1", 0, ""}, [] { return ConsoleSnapshot{}; });
+    std::string error;
+    ASSERT_TRUE(server.start(&error)) << error;
+    server.stop();
+    EXPECT_FALSE(server.running());
+  }
+}
+
 TEST(ConsoleServer, CopyingProviderAndEmptySnapshot) {
   ConsoleServer server({"127.0.0.1", 0, ""}, [] { return ConsoleSnapshot{}; });
   std::string error;
