@@ -118,8 +118,10 @@ TEST(MissionIntegration, TwoRobotsOverSecureDdsMatchGroundTruth) {
   // Robot 1's start is not told to the base: it must be linked by verified cross-robot closures.
   // With --secure every process authenticates with its own certificate of a CA made for this
   // mission, and every message is encrypted (a process without one hears nothing: dds/security_test).
+  // At 4x real time, not as fast as possible: the base plans on its own clock (every 2 s), and an
+  // unpaced 69 s mission can end (5 s of wall time on a loaded machine) before its first plan.
   const std::string world = "tests/worlds/two_robots_meet.yaml";
-  const MissionRun run = run_mission(world, "mission", "--timeout 400 --secure");
+  const MissionRun run = run_mission(world, "mission", "--timeout 400 --secure --speed 4");
   const fs::path& out = run.out;
   const CommandResult& r = run.result;
   ASSERT_EQ(r.exit_code, 0) << r.output;
