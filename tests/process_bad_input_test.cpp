@@ -116,32 +116,50 @@ TEST(ProcessBadInput, BaseSkipsAndNamesDamagedJournalRecordsAndKeepsThem) {
   EXPECT_EQ(summary["journal"]["records"], 1) << summary.dump();  // still there for a later look
 }
 
+/// One journal record of robot 5 (the robot of the tests below).
+base::JournalRecord robot5_record(base::JournalKind kind, int64_t key, std::vector<uint8_t> payload) {
+  base::JournalRecord r;
+  r.kind = kind;
+  r.robot = RobotId(5);
+  r.key = key;
+  r.payload = std::move(payload);
+  return r;
+}
+
+/// A fresh folder `name` whose journal holds `records`: a base started on it resumes from them.
+std::string folder_with_journal(const std::string& name, const std::vector<base::JournalRecord>& records) {
+  const std::string dir = ::testing::TempDir() + "/" + name + "_" + std::to_string(getpid());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string error;
+  const auto journal = base::Journal::open(dir + "/journal.sqlite", {}, &error);
+  EXPECT_TRUE(journal && journal->append(records, &error)) << error;
+  return dir;
+}
+
+/// Runs cairn_base on `dir` until its one robot is finished: its output and its summary.json.
+std::pair<CommandResult, nlohmann::json> run_base_on(const std::string& dir) {
+  std::string error;
+  const auto lease = dds::DomainLease::claim({}, &error);
+  EXPECT_TRUE(lease) << error;
+  if (!lease) return {};
+  const auto r = run_command("timeout 30 " + bin("cairn_base") + " --domain " + std::to_string(lease->domain_id()) +
+                             " --out " + dir + " --port 0 --robots 1");
+  std::ifstream in(dir + "/summary.json");
+  return {r, nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false)};
+}
+
 // Not bad input, but the same journal path: a robot the base knows only from its statuses (none of
 // its data got through) is in the summary, flagged not linked, not left out.
 TEST(ProcessBadInput, ARobotKnownOnlyFromItsStatusesIsInTheSummary) {
-  const std::string dir = ::testing::TempDir() + "/base_status_only_" + std::to_string(getpid());
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  std::string error;
-  {
-    auto journal = base::Journal::open(dir + "/journal.sqlite", {}, &error);
-    ASSERT_TRUE(journal) << error;
-    cairn_msgs::RobotStatus status;
-    status.robot_id(5);
-    status.finished(true);
-    base::JournalRecord record;
-    record.kind = base::JournalKind::kStatus;
-    record.robot = RobotId(5);
-    record.payload = dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(status);
-    ASSERT_TRUE(journal->append({record}, &error)) << error;
-  }
-  const auto lease = dds::DomainLease::claim({}, &error);
-  ASSERT_TRUE(lease) << error;
-  const auto r = run_command("timeout 30 " + bin("cairn_base") + " --domain " + std::to_string(lease->domain_id()) +
-                             " --out " + dir + " --port 0 --robots 1");
+  cairn_msgs::RobotStatus status;
+  status.robot_id(5);
+  status.finished(true);
+  const std::string dir = folder_with_journal(
+      "base_status_only",
+      {robot5_record(base::JournalKind::kStatus, 0, dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(status))});
+  const auto [r, summary] = run_base_on(dir);
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  std::ifstream in(dir + "/summary.json");
-  const auto summary = nlohmann::json::parse(in);
   ASSERT_EQ(summary["robots"].size(), 1u) << summary.dump();
   EXPECT_EQ(summary["robots"][0]["id"], 5);
   EXPECT_EQ(summary["robots"][0]["linked"], false);
@@ -152,46 +170,24 @@ TEST(ProcessBadInput, ARobotKnownOnlyFromItsStatusesIsInTheSummary) {
 // The operator's commands and verdicts survive a base restart (a command with what the robot last
 // said of it); a damaged command record is named and kept, not fatal.
 TEST(ProcessBadInput, OperatorCommandsAndVerdictsSurviveABaseRestartAndADamagedOneIsNamed) {
-  const std::string dir = ::testing::TempDir() + "/base_commands_" + std::to_string(getpid());
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  std::string error;
-  {
-    auto journal = base::Journal::open(dir + "/journal.sqlite", {}, &error);
-    ASSERT_TRUE(journal) << error;
-    cairn_msgs::RobotStatus status;
-    status.robot_id(5);
-    status.finished(true);
-    status.command_seq(7);
-    status.command_state(uint8_t(CommandState::kDone));
-    status.command_note("stopped; holding until resumed");
-    auto record = [](base::JournalKind kind, int64_t key, std::vector<uint8_t> payload) {
-      base::JournalRecord r;
-      r.kind = kind;
-      r.robot = RobotId(5);
-      r.key = key;
-      r.payload = std::move(payload);
-      return r;
-    };
-    const std::string stop =
-        R"({"seq": 7, "robot": 5, "kind": 1, "local_m": [0, 0], "global_m": [0, 0], "sent_ns": 4000000000})";
-    const std::string verdict = R"({"robot": 5, "seq": 3, "verdict": "confirmed", "note": "alive", "at_ns": 1})";
-    ASSERT_TRUE(
-        journal->append({record(base::JournalKind::kStatus, 0, dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(status)),
-                         record(base::JournalKind::kCommand, 7, {stop.begin(), stop.end()}),
-                         record(base::JournalKind::kCommand, 8, {'{', '"', 's'}),
-                         record(base::JournalKind::kVerdict, 3, {verdict.begin(), verdict.end()})},
-                        &error))
-        << error;
-  }
-  const auto lease = dds::DomainLease::claim({}, &error);
-  ASSERT_TRUE(lease) << error;
-  const auto r = run_command("timeout 30 " + bin("cairn_base") + " --domain " + std::to_string(lease->domain_id()) +
-                             " --out " + dir + " --port 0 --robots 1");
+  cairn_msgs::RobotStatus status;
+  status.robot_id(5);
+  status.finished(true);
+  status.command_seq(7);
+  status.command_state(uint8_t(CommandState::kDone));
+  status.command_note("stopped; holding until resumed");
+  const std::string stop =
+      R"({"seq": 7, "robot": 5, "kind": 1, "local_m": [0, 0], "global_m": [0, 0], "sent_ns": 4000000000})";
+  const std::string verdict = R"({"robot": 5, "seq": 3, "verdict": "confirmed", "note": "alive", "at_ns": 1})";
+  const std::string dir = folder_with_journal(
+      "base_commands",
+      {robot5_record(base::JournalKind::kStatus, 0, dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(status)),
+       robot5_record(base::JournalKind::kCommand, 7, {stop.begin(), stop.end()}),
+       robot5_record(base::JournalKind::kCommand, 8, {'{', '"', 's'}),
+       robot5_record(base::JournalKind::kVerdict, 3, {verdict.begin(), verdict.end()})});
+  const auto [r, summary] = run_base_on(dir);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("skipped operator command 8 of robot5"), std::string::npos) << r.output;
-  std::ifstream in(dir + "/summary.json");
-  const auto summary = nlohmann::json::parse(in);
   ASSERT_EQ(summary["commands"].size(), 1u) << summary.dump();
   EXPECT_EQ(summary["commands"][0]["seq"], 7);
   EXPECT_EQ(summary["commands"][0]["kind"], "stop");
