@@ -47,22 +47,16 @@ class Operator {
   }
   const std::string& last_body() const { return last_body_; }
 
-  /// Robot `id`'s entry in /api/robots (null until the base knows it).
-  nlohmann::json robot(int id) {
-    const nlohmann::json robots = get("/api/robots");
-    if (robots.is_array())
-      for (const auto& r : robots)
-        if (r["id"] == id) return r;
+  /// The entry of list `path` whose `key` is `value` (null when there is none yet).
+  nlohmann::json entry(const std::string& path, const char* key, int value) {
+    const nlohmann::json list = get(path);
+    if (list.is_array())
+      for (const auto& e : list)
+        if (e[key] == value) return e;
     return nlohmann::json();
   }
-  /// Command `seq`'s entry in /api/commands.
-  nlohmann::json command(int seq) {
-    const nlohmann::json commands = get("/api/commands");
-    if (commands.is_array())
-      for (const auto& c : commands)
-        if (c["seq"] == seq) return c;
-    return nlohmann::json();
-  }
+  nlohmann::json robot(int id) { return entry("/api/robots", "id", id); }
+  nlohmann::json command(int seq) { return entry("/api/commands", "seq", seq); }
 
  private:
   httplib::Client client_;

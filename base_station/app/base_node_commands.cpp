@@ -105,9 +105,7 @@ void BaseNode::note_command_report(RobotId robot, const CommandReport& report, b
 
 CommandCheckContext BaseNode::command_context(const MergedMap& merged) const {
   CommandCheckContext c;
-  for (const RobotSummary& r : merged.robots) {
-    c.placements[r.id] = r.linked ? std::optional<SE2>(r.T_global_local) : std::nullopt;
-  }
+  c.placements = merged.placements();
   for (const auto& [robot, link] : links_) c.placements.emplace(robot, std::nullopt);  // heard of, no data yet
   const OccupancyGrid& grid = *merged.grid;
   c.has_map = grid.known_area_m2() > 0;

@@ -37,9 +37,8 @@ void BaseNode::plan_and_publish_goals(bool send) {
   const StampNs now_ns = merged.data->latest_stamp_ns;
   // Where the linked robots are: their newest reported pose, else their newest keyframe.
   std::map<RobotId, Eigen::Vector2d> robots_m;
-  std::map<RobotId, std::optional<SE2>> placements;
+  std::map<RobotId, std::optional<SE2>> placements = merged.placements();
   for (const RobotSummary& r : merged.robots) {
-    placements[r.id] = r.linked ? std::optional<SE2>(r.T_global_local) : std::nullopt;
     if (!r.linked) continue;
     if (commands_.under_operator(r.id)) {  // the operator decides where it goes: no orders, no share of goals
       placements.erase(r.id);

@@ -152,6 +152,11 @@ void ConsoleServer::offer_exports(const std::string& dir) {
   exports_dir_ = dir;
 }
 
+std::string ConsoleServer::exports_dir() const {
+  std::lock_guard<std::mutex> lock(exports_mutex_);
+  return exports_dir_;
+}
+
 namespace {
 
 /// The export files a console hands out, by extension (not the journal: it is live, and the base's).
@@ -174,11 +179,7 @@ const char* export_type(const std::string& name) {
 
 void ConsoleServer::serve_exports() {
   server_->Get("/api/exports", [this](const httplib::Request&, httplib::Response& res) {
-    std::string dir;
-    {
-      std::lock_guard<std::mutex> lock(exports_mutex_);
-      dir = exports_dir_;
-    }
+    const std::string dir = exports_dir();
     nlohmann::json files = nlohmann::json::array();
     std::error_code ec;
     if (!dir.empty()) {
@@ -195,11 +196,7 @@ void ConsoleServer::serve_exports() {
   });
   server_->Get(R"(/exports/([A-Za-z0-9_.-]{1,100}))", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string name = req.matches[1].str();
-    std::string dir;
-    {
-      std::lock_guard<std::mutex> lock(exports_mutex_);
-      dir = exports_dir_;
-    }
+    const std::string dir = exports_dir();
     const char* type = export_type(name);
     if (dir.empty() || !type || name.find("..") != std::string::npos) return reply_not_found(res, "export " + name);
     const std::optional<std::string> body = read_file(dir + "/" + name);

@@ -77,6 +77,7 @@ class ConsoleServer {
   /// GET /api/events (Server-Sent Events): {"map_version", "commands"} whenever either changed.
   void stream_events(httplib::Response& res);
   void serve_exports();
+  std::string exports_dir() const;  ///< empty until offer_exports()
   /// The operator token checked: false with 403 (commands off) or 401 (no or wrong token) replied.
   bool authorized(const httplib::Request& req, httplib::Response& res) const;
 

@@ -37,6 +37,14 @@ struct MergedMap {
     return all;
   }
 
+  /// Every robot heard of, with T_global_local once it is linked (nullopt before): what goal and
+  /// command frames are turned with.
+  std::map<RobotId, std::optional<SE2>> placements() const {
+    std::map<RobotId, std::optional<SE2>> out;
+    for (const RobotSummary& r : robots) out[r.id] = r.linked ? std::optional<SE2>(r.T_global_local) : std::nullopt;
+    return out;
+  }
+
   /// A linked robot's trajectory (empty when it is not linked).
   const Trajectory& trajectory(RobotId robot) const {
     static const Trajectory kNone;
