@@ -40,9 +40,12 @@ fi
 
 # npm packages, pinned in their package-lock.json (the field has no internet: nothing is fetched
 # at run time, and the console serves only its own files).
-browser_tests="$(dirname "$0")/../tests/browser"
-if ! cmp -s "$browser_tests/package-lock.json" "$browser_tests/node_modules/.installed-lock.json" 2>/dev/null; then
-  npm ci --prefix "$browser_tests" --no-audit --no-fund --loglevel=error >/dev/null
-  cp "$browser_tests/package-lock.json" "$browser_tests/node_modules/.installed-lock.json"
-  echo "install_deps: npm packages for tests/browser installed"
-fi
+# The console's own libraries (Leaflet) are served by the base; the browser tests' (playwright-core) drive it.
+for dir in base_station/console/web tests/browser; do
+  npm_dir="$(dirname "$0")/../$dir"
+  if ! cmp -s "$npm_dir/package-lock.json" "$npm_dir/node_modules/.installed-lock.json" 2>/dev/null; then
+    npm ci --prefix "$npm_dir" --no-audit --no-fund --loglevel=error >/dev/null
+    cp "$npm_dir/package-lock.json" "$npm_dir/node_modules/.installed-lock.json"
+    echo "install_deps: npm packages for $dir installed"
+  fi
+done

@@ -213,6 +213,9 @@ void BaseNode::refresh_snapshot() {
   const MergedMap merged = judged_map();
   ConsoleSnapshot snapshot = make_snapshot(merged, link_stats(), {}, &plan_);
   snapshot.command_context = command_context(merged);
+  for (const BlacklistedGoal& g : goals_.blacklisted())  // the map view's "could not reach" layer
+    snapshot.layers["unreachable"].push_back(
+        {{"x_m", g.position_m.x()}, {"y_m", g.position_m.y()}, {"robot", g.robot.value}, {"why", to_string(g.why)}});
   const double wall_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   snapshot.status["alerts"] = alert_log_.observe(snapshot.status["alerts"], wall_s, inbox_.acked_alerts());
   snapshot.alert_log = alert_log_.log();

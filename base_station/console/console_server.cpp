@@ -11,34 +11,17 @@
 #include <sstream>
 #include <thread>
 
+#include "base_station/console/http_reply.h"
+
 #ifndef CAIRN_WEB_DIR
 #define CAIRN_WEB_DIR "base_station/console/web"
 #endif
 
 namespace cairn::base {
-namespace {
-
-std::optional<std::string> read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void reply_json(httplib::Response& res, const nlohmann::json& j) {
-  res.set_header("Cache-Control", "no-store");
-  res.set_content(j.dump(), "application/json");
-}
-
-void reply_error(httplib::Response& res, int status, const std::string& message) {
-  res.status = status;
-  res.set_content(nlohmann::json{{"error", message}}.dump(), "application/json");
-}
-
-void reply_not_found(httplib::Response& res, const std::string& what) { reply_error(res, 404, what + " not found"); }
-
-}  // namespace
+using http::read_file;
+using http::reply_error;
+using http::reply_json;
+using http::reply_not_found;
 
 ConsoleServer::ConsoleServer(const ConsoleOptions& options, SharedProvider provider)
     : options_(options),
@@ -72,6 +55,7 @@ void ConsoleServer::register_routes() {
   server_->Get("/app.js", asset("app.js", "application/javascript; charset=utf-8"));
   server_->Get("/common.js", asset("common.js", "application/javascript; charset=utf-8"));
   server_->Get("/control.js", asset("control.js", "application/javascript; charset=utf-8"));
+  server_->Get("/mapview.js", asset("mapview.js", "application/javascript; charset=utf-8"));
   server_->Get("/report.html", asset("report.html", "text/html; charset=utf-8"));
   server_->Get("/report.js", asset("report.js", "application/javascript; charset=utf-8"));
   server_->Get("/style.css", asset("style.css", "text/css; charset=utf-8"));
@@ -135,6 +119,7 @@ void ConsoleServer::register_routes() {
     reply_json(res, inbox_ ? inbox_->states() : nlohmann::json::array());
   });
   serve_exports();
+  serve_map_view();
   server_->Get("/api/events", [this](const httplib::Request&, httplib::Response& res) { stream_events(res); });
   server_->Post(R"(/api/objects/([0-9]{1,6})-([0-9]{1,9})/verdict)",
                 [this](const httplib::Request& req, httplib::Response& res) { handle_verdict(req, res); });

@@ -4,7 +4,10 @@
 // with make_snapshot), never the mapper. Endpoints:
 //   GET /, /app.js, /style.css          web assets from ConsoleOptions::web_dir
 //   GET /api/status, /api/robots, /api/objects      JSON
-//   GET /api/map.png                                 the rendered map
+//   GET /api/map.png                                 the rendered map (the report's)
+//   GET /api/tiles/<z>/<x>/<y>.png                   the map view's tiles (map_tiles.h), ETag'd
+//   GET /api/layers                                  frontiers, saliency, unreachable points
+//   GET /vendor/leaflet/<file>                       Leaflet, from web_dir/node_modules (npm ci)
 //   GET /api/robots/<id>/own_map.png                 an unlinked robot's own map (its frame)
 //   GET /api/objects/<robot>-<seq>/thumbnail.jpg     object thumbnail
 //   GET /api/objects/<robot>-<seq>/cloud             JSON [[x,y,z,r,g,b],...] (<= 2000 points)
@@ -77,6 +80,7 @@ class ConsoleServer {
   /// GET /api/events (Server-Sent Events): {"map_version", "commands"} whenever either changed.
   void stream_events(httplib::Response& res);
   void serve_exports();
+  void serve_map_view();            ///< console_map_view.cpp: tiles, layers and the map library
   std::string exports_dir() const;  ///< empty until offer_exports()
   /// The operator token checked: false with 403 (commands off) or 401 (no or wrong token) replied.
   bool authorized(const httplib::Request& req, httplib::Response& res) const;

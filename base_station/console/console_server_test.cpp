@@ -80,6 +80,12 @@ TEST(Snapshot, ShowsWhereEachRobotShouldSearchNext) {
   EXPECT_DOUBLE_EQ(e["goals"][0]["path_m"].get<double>(), 4.2);
   EXPECT_DOUBLE_EQ(e["goals"][0]["frontier_m"].get<double>(), 1.5);
   EXPECT_EQ(e["idle"], nlohmann::json::array({3}));
+  // The map view's layers: the frontier where it is, and the known part of the map to show first.
+  ASSERT_EQ(s.layers["frontiers"].size(), 1u);
+  EXPECT_DOUBLE_EQ(s.layers["frontiers"][0]["x_m"].get<double>(), 6.0);
+  ASSERT_EQ(s.layers["bounds_m"].size(), 2u);
+  EXPECT_LT(s.layers["bounds_m"][0][0].get<double>(), s.layers["bounds_m"][1][0].get<double>());
+  EXPECT_GT(s.grid_cells.width, 0);
   // The goal is drawn on the map; without a plan there is no "exploration" entry.
   const ConsoleSnapshot without = make_snapshot(mapper.merged(), nlohmann::json::object());
   EXPECT_FALSE(without.status.contains("exploration"));

@@ -190,6 +190,25 @@ nlohmann::json exploration_json(const ExplorationPlan& plan) {
   return {{"frontiers", plan.frontiers.size()}, {"goals", goals}, {"idle", idle}, {"salient_cells", salient_cells}};
 }
 
+nlohmann::json plan_layers_json(const ExplorationPlan& plan) {
+  nlohmann::json frontiers = nlohmann::json::array();
+  for (const Frontier& f : plan.frontiers)
+    frontiers.push_back(
+        {{"x_m", f.centre_m.x()}, {"y_m", f.centre_m.y()}, {"length_m", f.length_m}, {"saliency", f.saliency}});
+  nlohmann::json saliency = {{"cell_m", 0.0}, {"cells", nlohmann::json::array()}};
+  if (plan.saliency) {
+    const SaliencyLayer& layer = *plan.saliency;
+    saliency["cell_m"] = layer.cell_m();
+    for (int r = 0; r < layer.height(); ++r)
+      for (int c = 0; c < layer.width(); ++c)
+        if (layer.value(c, r) >= 0.1) {
+          const Eigen::Vector2d p = layer.centre_m(c, r);
+          saliency["cells"].push_back(nlohmann::json::array({p.x(), p.y(), layer.value(c, r)}));
+        }
+  }
+  return {{"frontiers", frontiers}, {"saliency", saliency}, {"unreachable", nlohmann::json::array()}};
+}
+
 ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& link_stats, const SnapshotOptions& options,
                               const ExplorationPlan* plan) {
   ConsoleSnapshot s;
@@ -229,10 +248,15 @@ ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& lin
               {"version", merged.version},
               {"alerts", alerts_json(merged, link_stats)}};
   if (plan) s.status["exploration"] = exploration_json(*plan);
+  if (plan) s.layers = plan_layers_json(*plan);
+  s.grid_cells = GridCells::from(*merged.grid);
   s.map_png = render_map_png(merged, {}, plan);
   const MapImageGeometry g = map_image_geometry(*merged.grid);
   s.map_image = {{"valid", g.valid},       {"x0_m", g.x0_m},         {"y_top_m", g.y_top_m},
                  {"m_per_px", g.m_per_px}, {"width_px", g.width_px}, {"height_px", g.height_px}};
+  if (g.valid)  // what the map view shows first: the known part of the map, [[x0, y0], [x1, y1]]
+    s.layers["bounds_m"] = {{g.x0_m, g.y_top_m - g.height_px * g.m_per_px},
+                            {g.x0_m + g.width_px * g.m_per_px, g.y_top_m}};
   if (merged.robot_frame_maps)
     for (const RobotFrameMap& m : *merged.robot_frame_maps)
       s.own_maps[std::to_string(m.robot.value)] = render_robot_frame_png(m);

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "base_station/console/map_tiles.h"
 #include "base_station/core/exploration.h"
 #include "base_station/core/merged_map.h"
 #include "base_station/core/operator_commands.h"
@@ -20,6 +21,11 @@ struct ConsoleSnapshot {
   nlohmann::json robots = nlohmann::json::array();   ///< one entry per robot (see make_snapshot)
   nlohmann::json objects = nlohmann::json::array();  ///< one entry per merged object
   std::vector<uint8_t> map_png;
+  GridCells grid_cells;  ///< the merged grid, for the map view's tiles
+  /// The map view's switchable layers beyond the robots and objects: {"frontiers": [{x_m, y_m,
+  /// length_m, saliency}], "saliency": {"cell_m", "cells": [[x_m, y_m, value]]}, "unreachable":
+  /// [{x_m, y_m, robot, why}]} (the last filled by the base, which keeps the failed goals).
+  nlohmann::json layers = nlohmann::json::object();
   std::map<std::string, std::vector<uint8_t>> thumbnails;  ///< object key ("1-3") -> JPEG
   std::map<std::string, nlohmann::json> clouds;            ///< object key -> [[x,y,z,r,g,b],...]
   std::map<std::string, std::vector<uint8_t>> own_maps;    ///< unlinked robot id -> its own map (PNG)
@@ -48,6 +54,9 @@ nlohmann::json object_json(const GlobalObject& o, const MergedMap& merged);
 /// {"frontiers": n, "goals": [{"robot", "x_m", "y_m", "path_m", "frontier_m", "saliency"}], "idle": [robot ids],
 ///  "salient_cells": cells of the saliency layer of at least 0.1}
 nlohmann::json exploration_json(const ExplorationPlan& plan);
+
+/// The plan's frontiers and saliency cells (of at least 0.1) for the map view's layers.
+nlohmann::json plan_layers_json(const ExplorationPlan& plan);
 
 /// Thread-safe holder of the latest snapshot: the app publishes, the console reads.
 class LatestSnapshot {

@@ -78,10 +78,15 @@ try {
   const viewer = await browser.newPage({ viewport: { width: 1400, height: 1100 } });
   await viewer.goto(base + "/");
   await viewer.waitForSelector(".robot-marker", { timeout: 15000 });
+  await viewer.waitForFunction(() => [...document.querySelectorAll(".occupancy-tiles img")].some((i) => i.naturalWidth === 256),
+    null, { timeout: 15000 });
+  check(true, "the map view shows the merged map as tiles");
+  check((await viewer.textContent(".leaflet-control-scale")).trim().endsWith("m"), "the map view has a scale bar in metres");
+  check((await viewer.textContent(".leaflet-control-layers")).includes("Trajectories"), "the map's layers can be switched");
   check((await viewer.textContent("#operator-mode")) === "watching only", "without the token the page says it only watches");
   check(await viewer.isDisabled("button[data-all='stop']"), "without the token the command buttons are off");
   await viewer.click(".robot-marker");
-  const p0 = await viewer.evaluate(([x, y]) => Control.pixelOf(x, y), [TARGET.x, TARGET.y]);
+  const p0 = await viewer.evaluate(([x, y]) => MapView.pixelOf(x, y), [TARGET.x, TARGET.y]);
   await viewer.click("#map", { position: p0 });
   await viewer.waitForFunction(() => document.getElementById("command-feedback").textContent.includes("Watching only"));
   check((await getJson("/api/commands")).length === 0, "a click without the token sends nothing");
@@ -95,7 +100,7 @@ try {
   check(!page.url().includes(TOKEN), "the token is taken out of the address bar");
   await page.click(".robot-marker");
   check((await page.textContent("#selected-robot")).startsWith("Robot 0 selected"), "clicking the marker selects robot 0");
-  const p = await page.evaluate(([x, y]) => Control.pixelOf(x, y), [TARGET.x, TARGET.y]);
+  const p = await page.evaluate(([x, y]) => MapView.pixelOf(x, y), [TARGET.x, TARGET.y]);
   await page.click("#map", { position: p });
   await page.waitForFunction(() => document.getElementById("command-feedback").textContent.startsWith("Sent goto"));
   const sent = (await getJson("/api/commands"))[0];

@@ -1,5 +1,5 @@
-// Cairn console: fetches the base station's JSON API and map image when the base's event stream
-// says they changed; the operator's commands are in control.js. Plain JS, no build step.
+// Cairn console: fetches the base station's JSON API when the base's event stream says it changed;
+// the map view is mapview.js, the operator's commands control.js. Plain JS, no build step.
 "use strict";
 
 const REFRESH_MS = 10000;  // the slow poll; changes are pushed (listen())
@@ -105,21 +105,11 @@ function renderGoals(exploration) {
   replaceRows(document.getElementById("goals"), rows, none, 5);
 }
 
-// The map image with its geometry (X-Map-Image header: where its pixels are on the map), fetched
-// together so that a click always names the point under it.
-let mapUrl = null;
-async function refreshMap() {
-  const res = await fetch("/api/map.png", { cache: "no-store" });
-  if (!res.ok) return;
-  const geometry = JSON.parse(res.headers.get("X-Map-Image") || "null");
-  const url = URL.createObjectURL(await res.blob());
-  const img = document.getElementById("map");
-  img.onload = () => {
-    if (mapUrl) URL.revokeObjectURL(mapUrl);
-    mapUrl = url;
-    Control.setGeometry(geometry);
-  };
-  img.src = url;
+// What the map view draws besides its tiles, kept from the last fetch so that a selection or a
+// command redraws it at once.
+const view = { robots: [], objects: [], exploration: null, layers: {} };
+function drawMap() {
+  MapView.update({ ...view, commands: Control.commands(), selected: Control.selected() });
 }
 
 function renderAlertLog(entries) {
@@ -141,9 +131,9 @@ function renderExports(exports) {
 async function refresh() {
   const conn = document.getElementById("connection");
   try {
-    const [status, robots, objects, commands, exports, alertLog] = await Promise.all([
+    const [status, robots, objects, commands, exports, alertLog, layers] = await Promise.all([
       getJson("/api/status"), getJson("/api/robots"), getJson("/api/objects"), getJson("/api/commands"),
-      getJson("/api/exports"), getJson("/api/alerts/log"),
+      getJson("/api/exports"), getJson("/api/alerts/log"), getJson("/api/layers"),
     ]);
     renderExports(exports);
     renderAlertLog(alertLog);
@@ -151,8 +141,9 @@ async function refresh() {
     renderGoals(status.exploration);
     renderRobots(robots);
     renderObjects(objects);
-    Control.update(robots, commands);
-    await refreshMap();
+    Object.assign(view, { robots, objects, exploration: status.exploration, layers });
+    Control.updateCommands(commands);  // redraws the map view
+    MapView.refreshTiles();
     conn.textContent = "live";
     conn.className = "connection ok";
   } catch (e) {
@@ -183,7 +174,8 @@ function listen() {
   };
 }
 
-Control.init();
+MapView.init({ mapClick: Control.mapClicked, robotClick: Control.robotClicked });
+Control.init(drawMap);
 refresh();
 listen();
 setInterval(refresh, REFRESH_MS);

@@ -1,4 +1,4 @@
-// Cairn console, control-centre part: select a robot (its marker on the map, or its row), then
+// Cairn console, control-centre part: select a robot (its marker on the map view), then
 // click the map to send it there; stop / resume / home one robot or all; the commands and their
 // states. Commands carry the operator token (from the link the base prints: ...#token=<token>),
 // kept in this browser's storage; without it the page only watches.
@@ -7,9 +7,8 @@
 const Control = (() => {
   const TOKEN_KEY = "cairn-operator-token";
   let selected = null;   // robot id
-  let geometry = null;   // X-Map-Image: where the map image's pixels are
-  let robots = [];
   let commands = [];
+  let changed = () => {};  // the map view redraws (selection or commands changed)
 
   function token() { return localStorage.getItem(TOKEN_KEY) || ""; }
 
@@ -55,7 +54,7 @@ const Control = (() => {
   function select(id) {
     selected = selected === id ? null : id;
     renderBar();
-    renderMarkers();
+    changed();
   }
 
   function renderBar() {
@@ -69,45 +68,9 @@ const Control = (() => {
     for (const b of document.querySelectorAll("[data-all]")) b.disabled = !token();
   }
 
-  // Markers over the map image at each placed robot's newest pose, pointing where it heads.
-  function renderMarkers() {
-    const layer = document.getElementById("robot-markers");
-    layer.replaceChildren();
-    if (!geometry || !geometry.valid) return;
-    // Where the operator sent a robot, while it drives there or holds there.
-    const latest = new Map();
-    for (const c of commands) if (!latest.has(c.robot)) latest.set(c.robot, c);  // newest first
-    for (const c of latest.values()) {
-      if (c.kind !== "goto" || !["sent", "received", "active", "done"].includes(c.state)) continue;
-      const t = document.createElement("div");
-      t.className = "operator-target";
-      t.style.left = `${(100 * (c.x_m - geometry.x0_m)) / geometry.m_per_px / geometry.width_px}%`;
-      t.style.top = `${(100 * (geometry.y_top_m - c.y_m)) / geometry.m_per_px / geometry.height_px}%`;
-      t.title = `Robot ${c.robot}: the operator's point (command ${c.seq}, ${c.state})`;
-      t.textContent = `${c.robot}`;
-      layer.appendChild(t);
-    }
-    for (const r of robots) {
-      if (!r.pose_m) continue;
-      const [x, y, yaw] = r.pose_m;
-      const u = (x - geometry.x0_m) / geometry.m_per_px, v = (geometry.y_top_m - y) / geometry.m_per_px;
-      const b = document.createElement("button");
-      b.className = `robot-marker${r.id === selected ? " selected" : ""}`;
-      b.style.left = `${(100 * u) / geometry.width_px}%`;
-      b.style.top = `${(100 * v) / geometry.height_px}%`;
-      b.style.setProperty("--yaw", `${-yaw}rad`);
-      b.title = `Robot ${r.id}: ${(r.link && r.link.activity) || "?"}`;
-      b.textContent = r.id;
-      b.addEventListener("click", (e) => { e.stopPropagation(); select(r.id); });
-      layer.appendChild(b);
-    }
-  }
-
-  function onMapClick(e) {
-    if (selected === null || !geometry || !geometry.valid) return;
-    const img = e.currentTarget;
-    const u = (e.offsetX * img.naturalWidth) / img.clientWidth, v = (e.offsetY * img.naturalHeight) / img.clientHeight;
-    send({ robot: selected, kind: "goto", x_m: geometry.x0_m + u * geometry.m_per_px, y_m: geometry.y_top_m - v * geometry.m_per_px });
+  function mapClicked(x_m, y_m) {
+    if (selected === null) return;
+    send({ robot: selected, kind: "goto", x_m, y_m });
   }
 
   // The operator's word on an object: confirmed, false, or a note; journaled with the map and in
@@ -158,13 +121,13 @@ const Control = (() => {
 
   function updateCommands(newCommands) {
     commands = newCommands;
-    renderMarkers();
     renderCommands(commands);
+    changed();
   }
 
-  function init() {
+  function init(onChange) {
+    changed = onChange;
     takeTokenFromAddress();
-    document.getElementById("map").addEventListener("click", onMapClick);
     for (const b of document.querySelectorAll("[data-one]")) {
       b.addEventListener("click", () => selected !== null && send({ robot: selected, kind: b.dataset.one }));
     }
@@ -198,15 +161,10 @@ const Control = (() => {
     init,
     ackButton,
     verdictCell,
-    setGeometry(g) { geometry = g; renderMarkers(); },
-    /// Where map point (x_m, y_m) is on the image as shown, in CSS px from its top-left corner (tests).
-    pixelOf(x_m, y_m) {
-      const img = document.getElementById("map");
-      if (!geometry || !geometry.valid) return null;
-      const u = (x_m - geometry.x0_m) / geometry.m_per_px, v = (geometry.y_top_m - y_m) / geometry.m_per_px;
-      return { x: (u * img.clientWidth) / img.naturalWidth, y: (v * img.clientHeight) / img.naturalHeight };
-    },
-    update(newRobots, newCommands) { robots = newRobots; updateCommands(newCommands); },
+    mapClicked,
+    robotClicked: select,
+    selected: () => selected,
+    commands: () => commands,
     updateCommands,
   };
 })();

@@ -1,0 +1,70 @@
+// The console's map view routes: the merged grid as tiles (map_tiles.h), the plan's layers, and the
+// map library itself (Leaflet, installed by npm next to the web files and served from here: the
+// field has no internet, so no CDN).
+// Eigen (through console_server.h) must come before httplib.h: resolv.h's `_res` macro breaks Eigen.
+#include "base_station/console/console_server.h"
+
+#include <httplib.h>
+
+#include <map>
+#include <string>
+
+#include "base_station/console/http_reply.h"
+#include "base_station/console/map_tiles.h"
+
+namespace cairn::base {
+namespace {
+
+/// The files of the map library the page loads, by name: the only ones served from node_modules.
+const std::map<std::string, std::pair<std::string, std::string>>& vendor_files() {
+  static const std::map<std::string, std::pair<std::string, std::string>> files = {
+      {"leaflet.js", {"leaflet/dist/leaflet.js", "application/javascript; charset=utf-8"}},
+      {"leaflet.css", {"leaflet/dist/leaflet.css", "text/css; charset=utf-8"}},
+      {"images/layers.png", {"leaflet/dist/images/layers.png", "image/png"}},
+      {"images/layers-2x.png", {"leaflet/dist/images/layers-2x.png", "image/png"}},
+  };
+  return files;
+}
+
+}  // namespace
+
+void ConsoleServer::serve_map_view() {
+  server_->Get(R"(/api/tiles/(-?[0-9]{1,3})/(-?[0-9]{1,7})/(-?[0-9]{1,7})\.png)",
+               [this](const httplib::Request& req, httplib::Response& res) {
+                 const TileKey key{std::stoi(req.matches[1]), std::stoi(req.matches[2]), std::stoi(req.matches[3])};
+                 if (const auto error = tile_key_error(key))
+                   return http::reply_error(res, 404, "no such tile: " + *error);
+                 const auto s = provider_ ? provider_() : nullptr;
+                 if (!s) return http::reply_not_found(res, "map");
+                 const std::vector<uint8_t> rgba = tile_rgba(s->grid_cells, key);
+                 const std::string etag = tile_etag(rgba);
+                 // Revalidated on every use: a tile that did not change costs a 304 and no pixels.
+                 res.set_header("Cache-Control", "no-cache");
+                 res.set_header("ETag", etag);
+                 if (req.get_header_value("If-None-Match") == etag) {
+                   res.status = 304;
+                   return;
+                 }
+                 const std::vector<uint8_t> png = encode_rgba_png(TileOptions{}.tile_px, TileOptions{}.tile_px, rgba);
+                 if (png.empty()) return http::reply_error(res, 500, "the tile could not be encoded");
+                 res.set_content(reinterpret_cast<const char*>(png.data()), png.size(), "image/png");
+               });
+  server_->Get("/api/layers", [this](const httplib::Request&, httplib::Response& res) {
+    const auto s = provider_ ? provider_() : nullptr;
+    http::reply_json(res, s ? s->layers : nlohmann::json::object());
+  });
+  server_->Get(R"(/vendor/(.{1,60}))", [this](const httplib::Request& req, httplib::Response& res) {
+    const auto it = vendor_files().find(req.matches[1].str());
+    if (it == vendor_files().end()) return http::reply_not_found(res, "library file " + req.matches[1].str());
+    const auto body = http::read_file(web_dir_ + "/node_modules/" + it->second.first);
+    if (!body) {
+      return http::reply_error(res, 404,
+                               "the map library is not installed (" + it->second.first +
+                                   "): run scripts/install_deps.sh, which runs npm ci in base_station/console/web");
+    }
+    res.set_header("Cache-Control", "max-age=3600");
+    res.set_content(*body, it->second.second.c_str());
+  });
+}
+
+}  // namespace cairn::base
