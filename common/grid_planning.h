@@ -90,6 +90,8 @@ class PlanningGrid {
   bool is_frontier(int c, int r) const;
   /// What a step into cell i costs per metre: the near-wall and the unknown factors.
   double step_factor(size_t i) const { return double(step_factor_[i]); }
+  /// Cells whose centres lie in [min_m, max_m] become untraversable (an operator's keep-out area).
+  void forbid(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m);
 
  private:
   void classify(const OccupancyGrid& map, int k);

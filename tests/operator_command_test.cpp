@@ -1,7 +1,8 @@
 // The control centre's commands end to end, over real processes: a mission runs (cairn_mission:
 // simulator, agent, base), and the test acts as the console's operator over HTTP: a command
 // without the token is refused, "go to" drives the simulated robot to the point (checked against
-// the simulator's ground truth) and is reported done, "home" brings it back and ends the mission.
+// the simulator's ground truth) and is reported done, "home" brings it back and ends the mission;
+// pausing the exploration holds the robot, and no goal is planned into a keep-out area.
 // Eigen (through trajectory.h) before httplib.h: <resolv.h>'s _res macro breaks Eigen's headers.
 #include "common/trajectory.h"
 
@@ -10,6 +11,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -38,10 +40,10 @@ class Operator {
     return nlohmann::json::parse(res->body, nullptr, false);
   }
   /// HTTP status of a command (-1: no answer).
-  int post(const nlohmann::json& body, const std::string& token = kToken) {
+  int post(const nlohmann::json& body, const std::string& token = kToken, const std::string& path = "/api/commands") {
     httplib::Headers headers;
     if (!token.empty()) headers.emplace("Authorization", "Bearer " + token);
-    const auto res = client_.Post("/api/commands", headers, body.dump(), "application/json");
+    const auto res = client_.Post(path, headers, body.dump(), "application/json");
     last_body_ = res ? res->body : "no answer";
     return res ? res->status : -1;
   }
@@ -136,6 +138,75 @@ TEST(OperatorCommands, GoToDrivesTheSimulatedRobotThereAndHomeEndsTheMission) {
   EXPECT_EQ(summary["commands"][1]["state"], "done");
   EXPECT_EQ(summary["commands"][0]["kind"], "home");
   EXPECT_EQ(summary["commands"][0]["state"], "done") << summary["commands"].dump();
+}
+
+TEST(OperatorCommands, PauseHoldsTheExploringRobotAndNoGoalIsSentIntoAKeepOutArea) {
+  const fs::path out = fs::path(::testing::TempDir()) / ("search_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  const int port = mission::free_port();
+  ASSERT_GT(port, 0);
+  auto mission = std::async(std::launch::async, [&] {
+    return run_command(bin("cairn_mission") + " --world " + source_path("tests/worlds/operator_one_robot.yaml") +
+                       " --out " + out.string() + " --port " + std::to_string(port) + " --operator-token " + kToken +
+                       " --timeout 300");
+  });
+  Operator op(port);
+  auto goals = [&] {
+    const nlohmann::json status = op.get("/api/status");
+    return status.contains("exploration") ? status["exploration"]["goals"] : nlohmann::json::array();
+  };
+  nlohmann::json g;
+  ASSERT_TRUE(wait_for(120, [&] {
+    const nlohmann::json now = goals();
+    if (!now.empty()) g = now[0];
+    return !now.empty();
+  })) << "the base never planned a goal for robot 0";
+
+  // Pause: the base stops the exploring robot (a journaled stop command), and it stays put.
+  ASSERT_EQ(op.post({{"action", "pause"}}, kToken, "/api/search"), 202) << op.last_body();
+  nlohmann::json stop;
+  ASSERT_TRUE(wait_for(30, [&] {
+    stop = op.command(1);
+    return stop.is_object() && stop["kind"] == "stop" && stop["state"] == "done";
+  })) << stop.dump();
+  EXPECT_EQ(op.get("/api/search")["paused"], true);
+  EXPECT_EQ(op.post({{"robot", 0}, {"kind", "resume"}}), 400) << "a robot is not resumed while the search is paused";
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // the robot list is rebuilt every second
+  const nlohmann::json held = op.robot(0)["pose_m"];
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  const nlohmann::json later = op.robot(0)["pose_m"];
+  ASSERT_EQ(held.size(), 3u);
+  ASSERT_EQ(later.size(), 3u);
+  EXPECT_LT(std::hypot(later[0].get<double>() - held[0].get<double>(), later[1].get<double>() - held[1].get<double>()),
+            0.15);
+
+  // A keep-out area over the goal it was driving to, then resume: no goal is planned inside it.
+  const double gx = g["x_m"], gy = g["y_m"];
+  ASSERT_EQ(
+      op.post({{"action", "keep_out"}, {"area_m", {gx - 1.0, gy - 1.0, gx + 1.0, gy + 1.0}}}, kToken, "/api/search"),
+      202)
+      << op.last_body();
+  ASSERT_EQ(op.post({{"action", "resume"}}, kToken, "/api/search"), 202) << op.last_body();
+  ASSERT_TRUE(wait_for(30, [&] {
+    const nlohmann::json resume = op.command(2);
+    return resume.is_object() && resume["kind"] == "resume";
+  })) << "resuming the exploration resumes the robot the pause stopped";
+  // Either goals outside the area, or (the area closing the way on) nothing reachable is left and
+  // the base sends the team home, which ends the mission.
+  int plans_seen = 0;
+  auto ended = [&] { return mission.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
+  wait_for(8, [&] {
+    for (const auto& goal : goals()) {
+      ++plans_seen;
+      EXPECT_FALSE(std::abs(goal["x_m"].get<double>() - gx) <= 1.0 && std::abs(goal["y_m"].get<double>() - gy) <= 1.0)
+          << goal.dump();
+    }
+    return ended();
+  });
+  EXPECT_TRUE(plans_seen > 0 || ended()) << "no goal was planned after the resume, and the mission goes on";
+  if (!ended()) EXPECT_EQ(op.post({{"robot", "all"}, {"kind", "home"}}), 202) << op.last_body();
+  const CommandResult result = mission.get();
+  ASSERT_EQ(result.exit_code, 0) << result.output;
 }
 
 }  // namespace

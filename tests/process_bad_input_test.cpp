@@ -169,7 +169,7 @@ TEST(ProcessBadInput, ARobotKnownOnlyFromItsStatusesIsInTheSummary) {
 
 // The operator's commands and verdicts survive a base restart (a command with what the robot last
 // said of it); a damaged command record is named and kept, not fatal.
-TEST(ProcessBadInput, OperatorCommandsAndVerdictsSurviveABaseRestartAndADamagedOneIsNamed) {
+TEST(ProcessBadInput, OperatorCommandsVerdictsAndKeepOutAreasSurviveABaseRestartAndADamagedOneIsNamed) {
   cairn_msgs::RobotStatus status;
   status.robot_id(5);
   status.finished(true);
@@ -179,12 +179,15 @@ TEST(ProcessBadInput, OperatorCommandsAndVerdictsSurviveABaseRestartAndADamagedO
   const std::string stop =
       R"({"seq": 7, "robot": 5, "kind": 1, "local_m": [0, 0], "global_m": [0, 0], "sent_ns": 4000000000})";
   const std::string verdict = R"({"robot": 5, "seq": 3, "verdict": "confirmed", "note": "alive", "at_ns": 1})";
+  const std::string keep_out =
+      R"({"seq": 1, "action": 2, "area": 1, "min_m": [2, 3], "max_m": [4, 5], "stopped": [], "at_ns": 9})";
   const std::string dir = folder_with_journal(
       "base_commands",
       {robot5_record(base::JournalKind::kStatus, 0, dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(status)),
        robot5_record(base::JournalKind::kCommand, 7, {stop.begin(), stop.end()}),
        robot5_record(base::JournalKind::kCommand, 8, {'{', '"', 's'}),
-       robot5_record(base::JournalKind::kVerdict, 3, {verdict.begin(), verdict.end()})});
+       robot5_record(base::JournalKind::kVerdict, 3, {verdict.begin(), verdict.end()}),
+       robot5_record(base::JournalKind::kSearch, 1, {keep_out.begin(), keep_out.end()})});
   const auto [r, summary] = run_base_on(dir);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("skipped operator command 8 of robot5"), std::string::npos) << r.output;
@@ -193,11 +196,14 @@ TEST(ProcessBadInput, OperatorCommandsAndVerdictsSurviveABaseRestartAndADamagedO
   EXPECT_EQ(summary["commands"][0]["kind"], "stop");
   EXPECT_EQ(summary["commands"][0]["state"], "done");
   EXPECT_EQ(summary["journal"]["skipped_records"], 1);
-  EXPECT_EQ(summary["journal"]["records"], 4) << "the damaged record is kept for a later look";
+  EXPECT_EQ(summary["journal"]["records"], 5) << "the damaged record is kept for a later look";
   ASSERT_EQ(summary["verdicts"].size(), 1u) << summary.dump();
   EXPECT_EQ(summary["verdicts"][0]["object"], "5-3");
   EXPECT_EQ(summary["verdicts"][0]["verdict"], "confirmed");
   EXPECT_EQ(summary["verdicts"][0]["note"], "alive");
+  // The operator's keep-out area is back too.
+  ASSERT_EQ(summary["search"]["keep_out"].size(), 1u) << summary.dump();
+  EXPECT_EQ(summary["search"]["keep_out"][0]["max_m"], nlohmann::json::array({4.0, 5.0}));
 }
 
 TEST(ProcessBadInput, EveryProcessNamesTheSecurityFileItCannotRead) {

@@ -1,4 +1,5 @@
 #include "base_station/app/base_node.h"
+#include "base_station/console/search_api.h"
 
 #include <algorithm>
 #include <fstream>
@@ -349,6 +350,7 @@ int BaseNode::finish() {
                       {"converged", r.solve.converged},
                       {"final_cost", r.solve.final_cost}};
   summary["exploration"] = exploration_json(plan_);
+  summary["search"] = search_json(search_);  // the operator's pause and keep-out areas
   summary["exploration"]["goals_blacklisted"] = goals_.goals_blacklisted();
   size_t salient_spots = 0;  // what the cameras sent for the saliency layer
   for (const auto& [id, kf] : mapper_.data().keyframes) salient_spots += kf.salient.size();

@@ -92,6 +92,8 @@ class BaseNode {
   // Operator commands (base_node_commands.cpp): console inbox -> CommandBook, journal, DDS.
   void send_operator_commands();
   bool restore_command(const JournalRecord& r, std::string* error);
+  bool restore_search(const JournalRecord& r, std::string* error);
+  void apply_search_controls();  ///< the operator's pause, resume and keep-out areas
   bool restore_verdict(const JournalRecord& r, std::string* error);
   /// The merged map with the operator's verdicts on its objects (what the console and exports show).
   MergedMap judged_map() const;
@@ -119,6 +121,7 @@ class BaseNode {
   std::unique_ptr<dds::Writer<dds::OperatorCommandTopic>> command_out_;
   CommandInbox inbox_;       ///< commands the console accepted, for this thread (before console_: it points here)
   CommandBook commands_;     ///< every operator command sent and what became of it
+  SearchControls search_;    ///< the operator's pause and keep-out areas (the planner obeys them)
   AlertLog alert_log_;       ///< every alert raised, first seen, acknowledged
   ObjectVerdicts verdicts_;  ///< the operator's verdicts on objects (applied to every merged map shown)
   std::unique_ptr<ConsoleServer> console_;

@@ -4,6 +4,8 @@
 #include "base_station/app/base_node.h"
 #include "dds/navigation_conversions.h"
 
+#include <algorithm>
+
 namespace cairn::base {
 
 void BaseNode::send_operator_commands() {
@@ -18,6 +20,7 @@ void BaseNode::send_operator_commands() {
                v.note);
     refresh_snapshot();  // the console shows it at once
   }
+  apply_search_controls();  // first: a pause or resume queues its stop or resume commands
   const std::vector<CommandInbox::Entry> entries = inbox_.take_all();
   if (entries.empty()) return;
   const MergedMap merged = mapper_.merged();
@@ -65,6 +68,50 @@ bool BaseNode::restore_command(const JournalRecord& r, std::string* error) {
   return true;
 }
 
+void BaseNode::apply_search_controls() {
+  for (const SearchControlRequest& request : inbox_.take_search()) {
+    if (const auto why = search_.check(request)) {
+      log_->warn("operator: {} not applied: {}", to_string(request.action), *why);
+      continue;
+    }
+    // A pause stops every robot exploring on its own (not the ones the operator drives); resuming
+    // hands back those still stopped by it.
+    std::vector<RobotId> robots;
+    for (const RobotSummary& r : mapper_.robots()) {
+      const bool exploring = !commands_.under_operator(r.id);
+      const bool held_by_pause = std::find(search_.stopped_by_pause().begin(), search_.stopped_by_pause().end(),
+                                           r.id) != search_.stopped_by_pause().end() &&
+                                 commands_.newest_kind(r.id) == CommandKind::kStop;
+      if (request.action == SearchAction::kPause ? exploring : held_by_pause) robots.push_back(r.id);
+    }
+    const SearchControlRecord record = search_.apply(request, robots, mapper_.data().latest_stamp_ns);
+    const std::string payload = search_record_to_json(record);
+    journal(JournalKind::kSearch, 0, record.seq, std::vector<uint8_t>(payload.begin(), payload.end()));
+    flush_journal();
+    if (request.action == SearchAction::kPause && !robots.empty()) inbox_.push({robots, CommandKind::kStop, {0, 0}});
+    if (request.action == SearchAction::kResume && !robots.empty()) inbox_.push({robots, CommandKind::kResume, {0, 0}});
+    if (request.action == SearchAction::kKeepOut) {
+      log_->info("operator: keep-out area {} [{:.1f}, {:.1f}] x [{:.1f}, {:.1f}] m", record.area.id,
+                 record.area.min_m.x(), record.area.max_m.x(), record.area.min_m.y(), record.area.max_m.y());
+    } else {
+      log_->info("operator: {}{}", to_string(request.action),
+                 record.area.id ? " " + std::to_string(record.area.id) : std::string());
+    }
+    inbox_.post_search(search_);
+    replan_now_ = true;
+  }
+}
+
+bool BaseNode::restore_search(const JournalRecord& r, std::string* error) {
+  const auto record = search_record_from_json(std::string(r.payload.begin(), r.payload.end()), error);
+  if (!record) return false;
+  if (int64_t(record->seq) != r.key) {
+    *error = "search control record: its seq differs from the journal's key";
+    return false;
+  }
+  return search_.restore(*record, error);
+}
+
 bool BaseNode::restore_verdict(const JournalRecord& r, std::string* error) {
   const auto record = verdict_record_from_json(std::string(r.payload.begin(), r.payload.end()), error);
   if (!record) return false;
@@ -87,6 +134,7 @@ void BaseNode::after_restore_commands() {
   // Statuses are replayed before commands: apply each robot's newest report to its commands now.
   for (const auto& [robot, nav] : navigation_) commands_.on_report(robot, nav.command);
   inbox_.start_after(commands_.last_seq());
+  inbox_.post_search(search_);
   inbox_.post_states(commands_json(commands_.records()));
   if (!commands_.records().empty()) log_->info("journal: {} operator commands", commands_.records().size());
 }
@@ -111,6 +159,8 @@ CommandCheckContext BaseNode::command_context(const MergedMap& merged) const {
   c.has_map = grid.known_area_m2() > 0;
   c.map_min_m = grid.origin_m();
   c.map_max_m = grid.origin_m() + Eigen::Vector2d(grid.width(), grid.height()) * grid.resolution_m();
+  c.keep_out = search_.keep_out();
+  c.exploration_paused = search_.paused();
   return c;
 }
 

@@ -69,11 +69,12 @@ void BaseNode::plan_and_publish_goals(bool send) {
   context.blacklist_m = goals_.blacklist_m(now_ns);
   context.current_goals_m = goals_.current_goals_m();
   context.saliency = saliency.get();
+  context.keep_out = search_.keep_out();
   plan_ = plan_exploration(*merged.grid, robots_m, victims_m, options_.exploration, context);
   plan_.saliency = std::move(saliency);
   planned_version_ = mapper_.version();
   replan_now_ = false;
-  if (!send) return;
+  if (!send || search_.paused()) return;  // paused: the plan is shown, no robot is sent
   const bool was_home = goals_.sent_home();
   CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 10.0, "exploration: {} frontiers, {} goals for {} placed robots",
                         plan_.frontiers.size(), plan_.goals.size(), robots_m.size());

@@ -93,6 +93,9 @@ void BaseNode::restore(const JournalContents& contents) {
       case JournalKind::kVerdict:
         restored = restore_verdict(r, &why);
         break;
+      case JournalKind::kSearch:
+        restored = restore_search(r, &why);
+        break;
     }
     if (restored)
       ++restored_records_;

@@ -152,6 +152,27 @@ std::set<std::string> CommandInbox::acked_alerts() const {
   return acked_alerts_;
 }
 
+void CommandInbox::push_search(const SearchControlRequest& request) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  search_requests_.push_back(request);
+}
+
+std::vector<SearchControlRequest> CommandInbox::take_search() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(search_requests_, {});
+}
+
+void CommandInbox::post_search(const SearchControls& controls) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  search_ = controls;
+  ++generation_;
+}
+
+SearchControls CommandInbox::search() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return search_;
+}
+
 void CommandInbox::post_states(nlohmann::json states) {
   std::lock_guard<std::mutex> lock(mutex_);
   states_ = std::move(states);

@@ -16,6 +16,7 @@
 
 #include "base_station/core/object_verdicts.h"
 #include "base_station/core/operator_commands.h"
+#include "base_station/core/search_controls.h"
 
 namespace cairn::base {
 
@@ -67,8 +68,14 @@ class CommandInbox {
   /// The commands and their states (commands_json), as the base last posted them.
   void post_states(nlohmann::json states);
   nlohmann::json states() const;
-  /// How many times states were posted (the console's event stream watches it).
+  /// How many times states or search controls were posted (the console's event stream watches it).
   uint64_t generation() const;
+  /// The operator's search controls (search_api.h), for the base's thread.
+  void push_search(const SearchControlRequest& request);
+  std::vector<SearchControlRequest> take_search();
+  /// The search controls as the base last posted them (a new request is checked against them).
+  void post_search(const SearchControls& controls);
+  SearchControls search() const;
 
  private:
   mutable std::mutex mutex_;
@@ -77,6 +84,8 @@ class CommandInbox {
   uint32_t next_seq_ = 1;
   std::vector<Entry> entries_;
   std::vector<VerdictRequest> verdicts_;
+  std::vector<SearchControlRequest> search_requests_;
+  SearchControls search_;
   std::set<std::string> acked_alerts_;
 };
 

@@ -41,10 +41,11 @@ class ConsoleCommands : public ::testing::Test {
   void TearDown() override { server_->stop(); }
 
   /// Status and error message of a POST with `authorization` (empty: no header).
-  std::pair<int, std::string> post(const std::string& body, const std::string& authorization) {
+  std::pair<int, std::string> post(const std::string& body, const std::string& authorization,
+                                   const std::string& path = "/api/commands") {
     httplib::Headers headers;
     if (!authorization.empty()) headers.emplace("Authorization", authorization);
-    const auto res = client_->Post("/api/commands", headers, body, "application/json");
+    const auto res = client_->Post(path, headers, body, "application/json");
     if (!res) return {-1, "no answer"};
     const auto j = nlohmann::json::parse(res->body, nullptr, false);
     return {res->status, j.is_object() && j.contains("error") ? j["error"].get<std::string>() : res->body};
@@ -56,6 +57,35 @@ class ConsoleCommands : public ::testing::Test {
   std::unique_ptr<ConsoleServer> server_;
   std::unique_ptr<httplib::Client> client_;
 };
+
+TEST_F(ConsoleCommands, SearchControlsNeedTheTokenAndNameEveryFault) {
+  const std::string bearer = std::string("Bearer ") + kToken;
+  auto search = [&](const std::string& body, const std::string& auth) { return post(body, auth, "/api/search"); };
+  EXPECT_EQ(search(R"({"action": "pause"})", "").first, 401);
+  EXPECT_EQ(search("{", bearer), std::make_pair(400, std::string("the body is not JSON")));
+  EXPECT_EQ(search(R"({"action": "nap"})", bearer).second,
+            "unknown action \"nap\" (pause, resume, keep_out, clear_keep_out)");
+  EXPECT_EQ(search(R"({"action": "keep_out", "area_m": [1, 2, null, 4]})", bearer).second,
+            "\"area_m\" must be four numbers [x0, y0, x1, y1] (metres, map frame) for keep_out");
+  EXPECT_EQ(search(R"({"action": "clear_keep_out"})", bearer).second,
+            "\"area\" must be a keep-out area's id for clear_keep_out");
+  EXPECT_EQ(search(R"({"action": "resume"})", bearer), std::make_pair(409, std::string("exploration is not paused")));
+  EXPECT_TRUE(inbox_.take_search().empty()) << "nothing refused is queued";
+  EXPECT_EQ(search(R"({"action": "keep_out", "area_m": [4, 5, 2, 3]})", bearer).first, 202);
+  const std::vector<SearchControlRequest> queued = inbox_.take_search();
+  ASSERT_EQ(queued.size(), 1u);
+  EXPECT_EQ(queued[0].corner_a_m, Eigen::Vector2d(4, 5));
+  // Once the base has applied the area, a goto into it is refused and GET /api/search lists it.
+  SearchControls applied;
+  applied.apply(queued[0], {}, 0);
+  inbox_.post_search(applied);
+  EXPECT_EQ(post(R"({"robot": 0, "kind": "goto", "x_m": 3, "y_m": 4})"),
+            std::make_pair(400, std::string("the point is in keep-out area 1")));
+  const auto state = nlohmann::json::parse(client_->Get("/api/search")->body);
+  EXPECT_EQ(state["paused"], false);
+  ASSERT_EQ(state["keep_out"].size(), 1u);
+  EXPECT_EQ(state["keep_out"][0]["min_m"], nlohmann::json::array({2.0, 3.0}));
+}
 
 TEST_F(ConsoleCommands, WithoutTheTokenNothingIsQueued) {
   const std::string stop = R"({"robot": 0, "kind": "stop"})";

@@ -1,6 +1,6 @@
-// The console's map view routes: the merged grid as tiles (map_tiles.h), the plan's layers, and the
+// The console's map view routes: the merged grid as tiles (map_tiles.h), the plan's layers, the
 // map library itself (Leaflet, installed by npm next to the web files and served from here: the
-// field has no internet, so no CDN).
+// field has no internet, so no CDN), and the search controls drawn on the map (search_api.h).
 // Eigen (through console_server.h) must come before httplib.h: resolv.h's `_res` macro breaks Eigen.
 #include "base_station/console/console_server.h"
 
@@ -11,6 +11,7 @@
 
 #include "base_station/console/http_reply.h"
 #include "base_station/console/map_tiles.h"
+#include "base_station/console/search_api.h"
 
 namespace cairn::base {
 namespace {
@@ -49,6 +50,19 @@ void ConsoleServer::serve_map_view() {
                  if (png.empty()) return http::reply_error(res, 500, "the tile could not be encoded");
                  res.set_content(reinterpret_cast<const char*>(png.data()), png.size(), "image/png");
                });
+  server_->Get("/api/search", [this](const httplib::Request&, httplib::Response& res) {
+    http::reply_json(res, search_json(inbox_ ? inbox_->search() : SearchControls{}));
+  });
+  server_->Post("/api/search", [this](const httplib::Request& req, httplib::Response& res) {
+    if (!authorized(req, res)) return;
+    std::string error;
+    const std::optional<SearchControlRequest> request = parse_search_request(req.body, &error);
+    if (!request) return http::reply_error(res, 400, error);
+    if (const auto why = inbox_->search().check(*request)) return http::reply_error(res, 409, *why);
+    inbox_->push_search(*request);
+    res.status = 202;
+    http::reply_json(res, {{"queued", to_string(request->action)}});
+  });
   server_->Get("/api/layers", [this](const httplib::Request&, httplib::Response& res) {
     const auto s = provider_ ? provider_() : nullptr;
     http::reply_json(res, s ? s->layers : nlohmann::json::object());

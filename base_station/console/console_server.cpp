@@ -261,7 +261,10 @@ void ConsoleServer::handle_verdict(const httplib::Request& req, httplib::Respons
 void ConsoleServer::handle_command(const httplib::Request& req, httplib::Response& res) {
   if (!authorized(req, res)) return;
   const std::shared_ptr<const ConsoleSnapshot> s = provider_ ? provider_() : nullptr;
-  const CommandCheckContext context = s ? s->command_context : CommandCheckContext{};
+  CommandCheckContext context = s ? s->command_context : CommandCheckContext{};
+  const SearchControls search = inbox_->search();  // newer than the snapshot's
+  context.keep_out = search.keep_out();
+  context.exploration_paused = search.paused();
   std::vector<RobotId> known;
   for (const auto& [robot, placement] : context.placements) known.push_back(robot);
   std::string error;

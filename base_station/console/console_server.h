@@ -7,6 +7,8 @@
 //   GET /api/map.png                                 the rendered map (the report's)
 //   GET /api/tiles/<z>/<x>/<y>.png                   the map view's tiles (map_tiles.h), ETag'd
 //   GET /api/layers                                  frontiers, saliency, unreachable points
+//   GET /api/search, POST /api/search                pause/resume exploration, keep-out areas
+//        (search_api.h; same token; 400 a bad request, 409 one that does not apply now)
 //   GET /vendor/leaflet/<file>                       Leaflet, from web_dir/node_modules (npm ci)
 //   GET /api/robots/<id>/own_map.png                 an unlinked robot's own map (its frame)
 //   GET /api/objects/<robot>-<seq>/thumbnail.jpg     object thumbnail

@@ -39,16 +39,20 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
     for (const auto& [robot, p] : robots_m) plan.idle.push_back(robot);
     return plan;
   }
-  const PlanningGrid g(grid, planning_options(o));
+  PlanningGrid g(grid, planning_options(o));
+  for (const KeepOutArea& area : context.keep_out) g.forbid(area.min_m, area.max_m);  // no path through
   std::vector<FrontierPiece> pieces = frontier_pieces(g);
-  // Cells near a goal that failed lately are not offered again.
+  // Cells near a goal that failed lately are not offered again, nor cells in a keep-out area.
   for (FrontierPiece& piece : pieces) {
     piece.erase(std::remove_if(piece.begin(), piece.end(),
                                [&](const Eigen::Vector2i& cell) {
+                                 const Eigen::Vector2d p = g.centre_m(cell);
                                  return std::any_of(context.blacklist_m.begin(), context.blacklist_m.end(),
                                                     [&](const Eigen::Vector2d& b) {
-                                                      return (g.centre_m(cell) - b).norm() < o.blacklist_radius_m;
-                                                    });
+                                                      return (p - b).norm() < o.blacklist_radius_m;
+                                                    }) ||
+                                        std::any_of(context.keep_out.begin(), context.keep_out.end(),
+                                                    [&](const KeepOutArea& a) { return a.contains(p); });
                                }),
                 piece.end());
   }

@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "base_station/core/search_controls.h"
 #include "common/ids.h"
 #include "common/occupancy_grid.h"
 
@@ -58,6 +59,7 @@ struct ExplorationContext {
   std::vector<Eigen::Vector2d> blacklist_m;            ///< goals that failed lately
   std::map<RobotId, Eigen::Vector2d> current_goals_m;  ///< the goals being driven
   const SaliencyLayer* saliency = nullptr;             ///< the merged saliency layer, if any
+  std::vector<KeepOutArea> keep_out;                   ///< the operator's: no goal in them, no path through them
 };
 
 struct Frontier {

@@ -107,6 +107,25 @@ TEST(Exploration, ABlacklistedGoalIsNotOfferedAgainAndTheCurrentGoalIsKept) {
   EXPECT_GT(plan_exploration(d.grid, moved, {}, {}).goals[0].goal_m.x(), 10.5);
 }
 
+TEST(Exploration, AKeepOutAreaHoldsNoGoalAndNoPathCrossesIt) {
+  Drawing d;
+  d.corridor();
+  const std::map<RobotId, Eigen::Vector2d> robot = {{RobotId(0), {3, 3}}};
+  ASSERT_LT(plan_exploration(d.grid, robot, {}).goals[0].goal_m.x(), 1.5);  // west, the nearer end
+  // The operator closes the west end: the robot is sent east instead.
+  ExplorationContext west_closed;
+  west_closed.keep_out.push_back({1, {0, 1}, {1.6, 5}});
+  const ExplorationPlan east = plan_exploration(d.grid, robot, {}, {}, west_closed);
+  ASSERT_EQ(east.goals.size(), 1u);
+  EXPECT_GT(east.goals[0].goal_m.x(), 10.5);
+  // An area across the corridor between the robot and the east end: it cannot get past it there.
+  ExplorationContext barrier = west_closed;
+  barrier.keep_out.push_back({2, {6, 1.5}, {7, 4.5}});
+  const ExplorationPlan none = plan_exploration(d.grid, robot, {}, {}, barrier);
+  EXPECT_TRUE(none.goals.empty());
+  EXPECT_EQ(none.idle, std::vector<RobotId>{RobotId(0)});
+}
+
 TEST(Exploration, AClosedRoomLeavesNothingToExplore) {
   Drawing d;
   d.corridor();

@@ -17,6 +17,8 @@ std::optional<std::string> check_command(const CommandRequest& request, const Co
              " is not placed on the map yet: a point on the map means nothing to it (stop, resume and home work)";
     }
   }
+  if (request.kind == CommandKind::kResume && context.exploration_paused)
+    return "exploration is paused: resume the exploration first (goto, stop and home work)";
   if (request.kind != CommandKind::kGoTo) return std::nullopt;
   const Eigen::Vector2d& p = request.point_global_m;
   if (!std::isfinite(p.x()) || !std::isfinite(p.y())) return "the point is not a finite number";
@@ -27,6 +29,8 @@ std::optional<std::string> check_command(const CommandRequest& request, const Co
                   p.y(), context.map_min_m.x(), context.map_max_m.x(), context.map_min_m.y(), context.map_max_m.y());
     return std::string(buf);
   }
+  for (const KeepOutArea& area : context.keep_out)
+    if (area.contains(p)) return "the point is in keep-out area " + std::to_string(area.id);
   return std::nullopt;
 }
 
@@ -86,11 +90,16 @@ bool CommandBook::on_report(RobotId robot, const CommandReport& report) {
   return changed;
 }
 
-bool CommandBook::under_operator(RobotId robot) const {
+std::optional<CommandKind> CommandBook::newest_kind(RobotId robot) const {
   for (auto it = records_.rbegin(); it != records_.rend(); ++it) {
-    if (it->robot == robot) return it->kind != CommandKind::kResume;
+    if (it->robot == robot) return it->kind;
   }
-  return false;
+  return std::nullopt;
+}
+
+bool CommandBook::under_operator(RobotId robot) const {
+  const std::optional<CommandKind> kind = newest_kind(robot);
+  return kind && *kind != CommandKind::kResume;
 }
 
 }  // namespace cairn::base

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "base_station/core/search_controls.h"
 #include "common/ids.h"
 #include "common/navigation.h"
 #include "common/se2.h"
@@ -33,10 +34,13 @@ struct CommandCheckContext {
   bool has_map = false;
   Eigen::Vector2d map_min_m{0, 0};  ///< the merged map's extent (global frame)
   Eigen::Vector2d map_max_m{0, 0};
+  std::vector<KeepOutArea> keep_out;  ///< the operator's: no goto into them
+  bool exploration_paused = false;    ///< a robot is not resumed while the search is paused
 };
 
 /// Why `request` must not be sent (no robot, an unknown robot, a goto to a robot not placed on the
-/// map yet, a point that is not finite or outside the map); nullopt when it may go.
+/// map yet, a point that is not finite, outside the map or in a keep-out area, a resume while the
+/// exploration is paused); nullopt when it may go.
 std::optional<std::string> check_command(const CommandRequest& request, const CommandCheckContext& context);
 
 /// One command sent to one robot.
@@ -65,6 +69,8 @@ class CommandBook {
   /// The operator, not the exploration planner, decides where `robot` goes: its newest command is
   /// goto, stop or home (not resume).
   bool under_operator(RobotId robot) const;
+  /// The kind of the newest command sent to `robot`, if any.
+  std::optional<CommandKind> newest_kind(RobotId robot) const;
   const std::vector<CommandRecord>& records() const { return records_; }
   uint32_t last_seq() const { return records_.empty() ? 0 : records_.back().seq; }
 

@@ -40,6 +40,15 @@ TEST(CheckCommand, BadRequestsAreRefusedWithTheReason) {
   CommandCheckContext no_map = context();
   no_map.has_map = false;
   EXPECT_NE(why(go({RobotId(0)}, 1, 1), no_map).find("no map yet"), std::string::npos);
+  // The operator's own search controls: no goto into a keep-out area, no resume while paused.
+  CommandCheckContext controlled = context();
+  controlled.keep_out.push_back({4, {2, 2}, {5, 6}});
+  EXPECT_EQ(why(go({RobotId(0)}, 3, 3), controlled), "the point is in keep-out area 4");
+  EXPECT_EQ(why(go({RobotId(0)}, 6, 3), controlled), "(accepted)");
+  controlled.exploration_paused = true;
+  EXPECT_NE(why({{RobotId(0)}, CommandKind::kResume, {0, 0}}, controlled).find("exploration is paused"),
+            std::string::npos);
+  EXPECT_EQ(why({{RobotId(0)}, CommandKind::kHome, {0, 0}}, controlled), "(accepted)");
 }
 
 TEST(CommandBook, AGotoIsSentInTheRobotsOwnFrameAndFollowsItsReports) {

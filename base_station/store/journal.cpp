@@ -18,7 +18,7 @@ constexpr const char* kSchema =
     "  kind INTEGER NOT NULL, robot INTEGER NOT NULL, key INTEGER NOT NULL, payload BLOB NOT NULL,"
     "  PRIMARY KEY (kind, robot, key));";
 
-bool known_kind(int64_t kind) { return kind >= 0 && kind <= int64_t(JournalKind::kVerdict); }
+bool known_kind(int64_t kind) { return kind >= 0 && kind <= int64_t(JournalKind::kSearch); }
 
 }  // namespace
 
@@ -36,6 +36,8 @@ const char* to_string(JournalKind kind) {
       return "operator command";
     case JournalKind::kVerdict:
       return "object verdict";
+    case JournalKind::kSearch:
+      return "search control";
   }
   return "unknown";
 }

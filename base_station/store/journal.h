@@ -20,14 +20,16 @@ namespace cairn::base {
 
 /// Replay order on load: a keyframe before the objects anchored on it and the poses that move it.
 /// kCommand: an operator's command as sent (JSON), keyed by its sequence number; kVerdict: the
-/// operator's verdict on an object (JSON), keyed by the object's robot and seq.
+/// operator's verdict on an object (JSON), keyed by the object's robot and seq; kSearch: the
+/// operator's pause, resume or keep-out area (JSON), keyed by its sequence number (robot 0).
 enum class JournalKind : int32_t {
   kKeyframe = 0,
   kObject = 1,
   kKeyframePoses = 2,
   kStatus = 3,
   kCommand = 4,
-  kVerdict = 5
+  kVerdict = 5,
+  kSearch = 6
 };
 const char* to_string(JournalKind kind);
 

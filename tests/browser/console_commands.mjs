@@ -113,7 +113,30 @@ try {
     return r && r.pose_m && Math.hypot(r.pose_m[0] - TARGET.x, r.pose_m[1] - TARGET.y) < 0.8 ? r : null;
   });
   check(true, `robot 0 drove there: (${robot.pose_m[0].toFixed(2)}, ${robot.pose_m[1].toFixed(2)}) m`);
+
+  // A keep-out area drawn with two clicks; a goto into it is refused, and the page says why.
+  await page.click("#draw-keep-out");
+  for (const [x, y] of [[8.0, 6.5], [10.0, 8.5]]) {
+    await page.click("#map", { position: await page.evaluate(([a, b]) => MapView.pixelOf(a, b), [x, y]) });
+  }
+  const area = await waitFor("the keep-out area at the base", 10000, async () => (await getJson("/api/search")).keep_out[0]);
+  check(Math.abs(area.min_m[0] - 8) < 0.3 && Math.abs(area.max_m[1] - 8.5) < 0.3,
+    `the keep-out area is where it was drawn ([${area.min_m}] to [${area.max_m}])`);
+  await page.waitForSelector("path.keep-out", { timeout: 10000 });
+  check((await page.textContent("#selected-robot")).startsWith("Robot 0 selected"), "robot 0 is still selected");
+  await page.click("#map", { position: await page.evaluate(([a, b]) => MapView.pixelOf(a, b), [9.0, 7.5]) });
+  const refused = await page.waitForFunction(() => document.getElementById("command-feedback").textContent.includes("keep-out area 1"),
+    null, { timeout: 10000 }).then(() => true, () => false);
+  check(refused, `a goto into the keep-out area is refused with the reason ("${await page.textContent("#command-feedback")}")`);
+  // Pause and resume the exploration.
+  await page.click("#pause-search");
+  await waitFor("exploration paused", 10000, async () => (await getJson("/api/search")).paused);
+  await page.waitForFunction(() => !document.getElementById("search-state").hidden);
+  check((await page.textContent("#pause-search")) === "Resume exploration", "the page shows the exploration paused");
   await page.screenshot({ path: join(outDir, "console_operator.png"), fullPage: true });
+  await page.click("#pause-search");
+  await waitFor("exploration resumed", 10000, async () => !(await getJson("/api/search")).paused);
+  check(true, "the exploration resumed from the page");
 
   // A phone: 400 px wide, no horizontal scroll.
   await page.setViewportSize({ width: 400, height: 900 });

@@ -109,7 +109,7 @@ function renderGoals(exploration) {
 // command redraws it at once.
 const view = { robots: [], objects: [], exploration: null, layers: {} };
 function drawMap() {
-  MapView.update({ ...view, commands: Control.commands(), selected: Control.selected() });
+  MapView.update({ ...view, commands: Control.commands(), selected: Control.selected(), search: Control.search() });
 }
 
 function renderAlertLog(entries) {
@@ -131,9 +131,9 @@ function renderExports(exports) {
 async function refresh() {
   const conn = document.getElementById("connection");
   try {
-    const [status, robots, objects, commands, exports, alertLog, layers] = await Promise.all([
+    const [status, robots, objects, commands, exports, alertLog, layers, search] = await Promise.all([
       getJson("/api/status"), getJson("/api/robots"), getJson("/api/objects"), getJson("/api/commands"),
-      getJson("/api/exports"), getJson("/api/alerts/log"), getJson("/api/layers"),
+      getJson("/api/exports"), getJson("/api/alerts/log"), getJson("/api/layers"), getJson("/api/search"),
     ]);
     renderExports(exports);
     renderAlertLog(alertLog);
@@ -142,6 +142,7 @@ async function refresh() {
     renderRobots(robots);
     renderObjects(objects);
     Object.assign(view, { robots, objects, exploration: status.exploration, layers });
+    Control.updateSearch(search);
     Control.updateCommands(commands);  // redraws the map view
     MapView.refreshTiles();
     conn.textContent = "live";
@@ -165,6 +166,7 @@ function listen() {
       refresh();
     } else {
       getJson("/api/commands").then(Control.updateCommands).catch(() => {});
+      getJson("/api/search").then(Control.updateSearch).catch(() => {});
     }
   };
   events.onerror = () => {

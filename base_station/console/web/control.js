@@ -8,6 +8,9 @@ const Control = (() => {
   const TOKEN_KEY = "cairn-operator-token";
   let selected = null;   // robot id
   let commands = [];
+  let search = { paused: false, keep_out: [], stopped: [] };
+  let keepOutCorner = null;  // drawing a keep-out area: its first corner, once clicked
+  let drawing = false;
   let changed = () => {};  // the map view redraws (selection or commands changed)
 
   function token() { return localStorage.getItem(TOKEN_KEY) || ""; }
@@ -66,11 +69,55 @@ const Control = (() => {
       `Robot ${selected} selected: click the map to send it there`;
     for (const b of document.querySelectorAll("[data-one]")) b.disabled = selected === null || !token();
     for (const b of document.querySelectorAll("[data-all]")) b.disabled = !token();
+    const pause = document.getElementById("pause-search");
+    pause.textContent = search.paused ? "Resume exploration" : "Pause exploration";
+    pause.disabled = !token();
+    const draw = document.getElementById("draw-keep-out");
+    draw.disabled = !token();
+    draw.classList.toggle("active", drawing);
+    if (drawing) label.textContent = "Keep-out area: click two opposite corners on the map";
   }
 
   function mapClicked(x_m, y_m) {
+    if (drawing) return keepOutClick(x_m, y_m);
     if (selected === null) return;
     send({ robot: selected, kind: "goto", x_m, y_m });
+  }
+
+  // The team's search: pause / resume the exploration, keep-out areas (two corners on the map).
+  async function sendSearch(body) {
+    if (!token()) return say("Watching only: open the operator link the base printed (…/#token=…) to command.", "bad");
+    const res = await fetch("/api/search", {
+      method: "POST",
+      headers: { "Content-Type": "application/json", Authorization: `Bearer ${token()}` },
+      body: JSON.stringify(body),
+    }).catch(() => null);
+    const reply = res ? await res.json().catch(() => ({})) : {};
+    if (res && res.status === 202) say(`Sent: ${reply.queued}.`, "ok");
+    else say(`Refused: ${reply.error || "the base station is unreachable"}`, "bad");
+  }
+
+  function keepOutClick(x, y) {
+    if (!keepOutCorner) {
+      keepOutCorner = [x, y];
+      say(`Keep-out area: first corner (${x.toFixed(1)}, ${y.toFixed(1)}) m; click the opposite corner.`, "");
+      return;
+    }
+    const [x0, y0] = keepOutCorner;
+    keepOutCorner = null;
+    drawing = false;
+    renderBar();
+    sendSearch({ action: "keep_out", area_m: [x0, y0, x, y] });
+  }
+
+  function removeKeepOut(id) { sendSearch({ action: "clear_keep_out", area: id }); }
+
+  function updateSearch(s) {
+    search = s;
+    const badge = document.getElementById("search-state");
+    badge.hidden = !s.paused;
+    renderBar();
+    changed();
   }
 
   // The operator's word on an object: confirmed, false, or a note; journaled with the map and in
@@ -134,6 +181,13 @@ const Control = (() => {
     for (const b of document.querySelectorAll("[data-all]")) {
       b.addEventListener("click", () => send({ robot: "all", kind: b.dataset.all }));
     }
+    document.getElementById("pause-search").addEventListener("click",
+      () => sendSearch({ action: search.paused ? "resume" : "pause" }));
+    document.getElementById("draw-keep-out").addEventListener("click", () => {
+      drawing = !drawing;
+      keepOutCorner = null;
+      renderBar();
+    });
     renderBar();
   }
 
@@ -162,6 +216,11 @@ const Control = (() => {
     ackButton,
     verdictCell,
     mapClicked,
+    removeKeepOut,
+    updateSearch,
+    search: () => search,
+    canCommand: () => Boolean(token()),
+    claimsMapClick: () => drawing || selected !== null,
     robotClicked: select,
     selected: () => selected,
     commands: () => commands,

@@ -104,6 +104,7 @@ const MapView = (() => {
       "Could not reach": group("unreachable", true),
       "Objects": group("objects", true),
       "Robots": group("robots", true),
+      "Keep-out areas": group("keepOut", true),
     };
     layers.canvas = canvas;
     L.control.layers(null, overlays, { position: "topright" }).addTo(map);
@@ -216,11 +217,33 @@ const MapView = (() => {
     }
   }
 
+  // The operator's keep-out areas: hatched red, each with a "Remove" in its popup.
+  function drawKeepOut(search) {
+    layers.keepOut.clearLayers();
+    for (const a of (search && search.keep_out) || []) {
+      const box = L.rectangle([ll(a.min_m[0], a.min_m[1]), ll(a.max_m[0], a.max_m[1])],
+        { color: "#c00", weight: 2, dashArray: "4 4", fillColor: "#c00", fillOpacity: 0.15, className: "keep-out" });
+      const body = el("div", {}, [document.createTextNode(`Keep-out area ${a.id}: no robot is sent in or through it`)]);
+      if (Control.canCommand()) {
+        const remove = el("button", { class: "remove-keep-out", text: "Remove" });
+        remove.addEventListener("click", () => Control.removeKeepOut(a.id));
+        body.appendChild(el("div", {}, [remove]));
+      }
+      // A click inside goes to the map when the operator is placing a point (a goto there is then
+      // refused with the reason); otherwise it opens the area's popup.
+      box.on("click", (e) => {
+        L.DomEvent.stop(e);
+        if (Control.claimsMapClick()) handlers.mapClick(e.latlng.lng, e.latlng.lat);
+        else L.popup().setLatLng(e.latlng).setContent(body).openOn(map);
+      }).addTo(layers.keepOut);
+    }
+  }
+
   return {
     init,
     refreshTiles,
     /// Everything but the tiles, from the API's JSON.
-    update({ robots, objects, exploration, layers: planLayers, commands, selected }) {
+    update({ robots, objects, exploration, layers: planLayers, commands, selected, search }) {
       if (!map) return;
       fitOnce(planLayers && planLayers.bounds_m);
       drawPlanLayers(planLayers || {});
@@ -228,6 +251,7 @@ const MapView = (() => {
       drawGoals(robots, exploration, commands);
       drawObjects(objects);
       drawRobots(robots, selected);
+      drawKeepOut(search);
     },
     /// Where map point (x_m, y_m) is in the map's box, in CSS px from its top-left corner (tests).
     pixelOf(x_m, y_m) {
