@@ -192,6 +192,9 @@ nlohmann::json BaseNode::link_stats() const {
     j["objects_sent"] = link.has_status ? link.last_status.objects_sent() : 0;
     j["scans_processed"] = link.has_status ? link.last_status.scans_processed() : 0;
     j["finished"] = link.has_status && link.last_status.finished();
+    const bool battery_known = link.has_status && link.last_status.battery_pct() >= 0.f;  // negative: not known
+    j["battery_pct"] = battery_known ? nlohmann::json(link.last_status.battery_pct()) : nlohmann::json();
+    j["collision_risk"] = link.has_status && link.last_status.collision_risk();  // the robot's optical flow
     const double age_s = link.last_heard_s < 0 ? -1.0 : now_s() - link.last_heard_s;
     j["last_heard_age_s"] = age_s;
     // What the console shows: the link's state and the bytes received from the robot.

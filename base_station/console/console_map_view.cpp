@@ -16,13 +16,16 @@
 namespace cairn::base {
 namespace {
 
-/// The files of the map library the page loads, by name: the only ones served from node_modules.
+/// The library files the page loads (Leaflet, three.js), by name: the only ones served from node_modules.
 const std::map<std::string, std::pair<std::string, std::string>>& vendor_files() {
   static const std::map<std::string, std::pair<std::string, std::string>> files = {
       {"leaflet.js", {"leaflet/dist/leaflet.js", "application/javascript; charset=utf-8"}},
       {"leaflet.css", {"leaflet/dist/leaflet.css", "text/css; charset=utf-8"}},
       {"images/layers.png", {"leaflet/dist/images/layers.png", "image/png"}},
       {"images/layers-2x.png", {"leaflet/dist/images/layers-2x.png", "image/png"}},
+      {"three.module.js", {"three/build/three.module.js", "application/javascript; charset=utf-8"}},
+      {"three-addons/controls/OrbitControls.js",
+       {"three/examples/jsm/controls/OrbitControls.js", "application/javascript; charset=utf-8"}},
   };
   return files;
 }
@@ -73,7 +76,7 @@ void ConsoleServer::serve_map_view() {
     const auto body = http::read_file(web_dir_ + "/node_modules/" + it->second.first);
     if (!body) {
       return http::reply_error(res, 404,
-                               "the map library is not installed (" + it->second.first +
+                               "a console library is not installed (" + it->second.first +
                                    "): run scripts/install_deps.sh, which runs npm ci in base_station/console/web");
     }
     res.set_header("Cache-Control", "max-age=3600");

@@ -56,6 +56,7 @@ void ConsoleServer::register_routes() {
   server_->Get("/common.js", asset("common.js", "application/javascript; charset=utf-8"));
   server_->Get("/control.js", asset("control.js", "application/javascript; charset=utf-8"));
   server_->Get("/mapview.js", asset("mapview.js", "application/javascript; charset=utf-8"));
+  server_->Get("/cloud3d.js", asset("cloud3d.js", "application/javascript; charset=utf-8"));
   server_->Get("/report.html", asset("report.html", "text/html; charset=utf-8"));
   server_->Get("/report.js", asset("report.js", "application/javascript; charset=utf-8"));
   server_->Get("/style.css", asset("style.css", "text/css; charset=utf-8"));

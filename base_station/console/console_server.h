@@ -9,7 +9,7 @@
 //   GET /api/layers                                  frontiers, saliency, unreachable points
 //   GET /api/search, POST /api/search                pause/resume exploration, keep-out areas
 //        (search_api.h; same token; 400 a bad request, 409 one that does not apply now)
-//   GET /vendor/leaflet/<file>                       Leaflet, from web_dir/node_modules (npm ci)
+//   GET /vendor/<file>                               Leaflet, three.js: web_dir/node_modules (npm ci)
 //   GET /api/robots/<id>/own_map.png                 an unlinked robot's own map (its frame)
 //   GET /api/objects/<robot>-<seq>/thumbnail.jpg     object thumbnail
 //   GET /api/objects/<robot>-<seq>/cloud             JSON [[x,y,z,r,g,b],...] (<= 2000 points)

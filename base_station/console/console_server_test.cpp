@@ -53,13 +53,22 @@ TEST(Snapshot, DescribesRobotsObjectsAndAlerts) {
   EXPECT_EQ(s.status["alerts"].size(), 2u);  // + robot 3 not linked
   EXPECT_EQ(s.status["alerts"][0]["key"], "object:0-2");
   // Out of contact for 10 s or more, and stuck, from the robots' links.
-  const ConsoleSnapshot lost =
-      make_snapshot(mapper.merged(), {{"0", {{"state", "lost"}, {"last_heard_age_s", 12.5}, {"nav_state", "stuck"}}},
-                                      {"3", {{"state", "stale"}, {"last_heard_age_s", 4.0}}}});
+  const ConsoleSnapshot lost = make_snapshot(mapper.merged(), {{"0",
+                                                                {{"state", "lost"},
+                                                                 {"last_heard_age_s", 12.5},
+                                                                 {"nav_state", "stuck"},
+                                                                 {"collision_risk", true},
+                                                                 {"pose_local", {500.0, 0.0, 0.0}}}},
+                                                               {"3", {{"state", "stale"}, {"last_heard_age_s", 4.0}}}});
   std::vector<std::string> keys;
   for (const auto& a : lost.status["alerts"]) keys.push_back(a["key"]);
   EXPECT_NE(std::find(keys.begin(), keys.end(), "contact:0"), keys.end());
   EXPECT_NE(std::find(keys.begin(), keys.end(), "stuck:0"), keys.end());
+  EXPECT_NE(std::find(keys.begin(), keys.end(), "collision:0"), keys.end());
+  EXPECT_NE(std::find(keys.begin(), keys.end(), "left:0"), keys.end()) << "500 m away is off the map";
+  std::vector<std::string> calm;  // the first snapshot: on the map, no collision risk
+  for (const auto& a : s.status["alerts"]) calm.push_back(a["key"]);
+  EXPECT_EQ(std::find(calm.begin(), calm.end(), "left:0"), calm.end());
   EXPECT_EQ(std::find(keys.begin(), keys.end(), "contact:3"), keys.end()) << "stale for 4 s is not lost";
   EXPECT_GT(s.map_png.size(), 8u);
   EXPECT_LE(s.clouds.at("0-2").size(), 2000u);

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "base_station/core/saliency_layer.h"
 #include "base_station/export/exporter.h"
@@ -35,6 +36,13 @@ std::string robots_text(const std::vector<RobotId>& robots) {
   return (robots.size() > 1 ? "robots " : "robot ") + s;
 }
 
+/// A placed robot's newest reported pose on the map (from its link's "pose_local").
+std::optional<SE2> pose_on_map(const RobotSummary& r, const nlohmann::json& link) {
+  if (!r.linked || !link.contains("pose_local") || link["pose_local"].size() != 3) return std::nullopt;
+  return r.T_global_local * SE2(link["pose_local"][0].get<double>(), link["pose_local"][1].get<double>(),
+                                link["pose_local"][2].get<double>());
+}
+
 nlohmann::json robot_json(const MergedMap& merged, const RobotSummary& r, const nlohmann::json& link_stats,
                           const SnapshotOptions& options) {
   nlohmann::json trajectory = nlohmann::json::array();
@@ -46,11 +54,7 @@ nlohmann::json robot_json(const MergedMap& merged, const RobotSummary& r, const 
   const nlohmann::json link =
       link_stats.is_object() && link_stats.contains(key) ? link_stats[key] : nlohmann::json::object();
   nlohmann::json pose_m;  // its newest reported pose on the map (placed robots only): [x, y, yaw]
-  if (r.linked && link.contains("pose_local") && link["pose_local"].size() == 3) {
-    const SE2 p = r.T_global_local * SE2(link["pose_local"][0].get<double>(), link["pose_local"][1].get<double>(),
-                                         link["pose_local"][2].get<double>());
-    pose_m = {p.x(), p.y(), p.yaw()};
-  }
+  if (const std::optional<SE2> p = pose_on_map(r, link)) pose_m = {p->x(), p->y(), p->yaw()};
   return {{"id", r.id.value},
           {"linked", r.linked},
           {"keyframes", r.keyframes},
@@ -142,7 +146,8 @@ nlohmann::json alerts_json(const MergedMap& merged, const nlohmann::json& link_s
                         " is not linked to the global map: its map and finds are shown in its own frame"}});
     }
   }
-  // What the robots' links and statuses say: out of contact (nothing heard for 10 s), stuck.
+  // What the robots' links and statuses say: out of contact (nothing heard for 10 s), collision risk,
+  // off the map, stuck.
   for (const RobotSummary& r : robots) {
     const std::string id = std::to_string(r.id.value);
     if (!link_stats.is_object() || !link_stats.contains(id)) continue;
@@ -154,6 +159,27 @@ nlohmann::json alerts_json(const MergedMap& merged, const nlohmann::json& link_s
                         {"robot", r.id.value},
                         {"stamp_s", ns_to_sec(r.last_stamp_ns)},
                         {"text", "Robot " + id + " out of contact for " + std::to_string(int(age_s)) + " s"}});
+    }
+    if (link.value("collision_risk", false)) {
+      alerts.push_back({{"key", "collision:" + id},
+                        {"level", "warning"},
+                        {"robot", r.id.value},
+                        {"stamp_s", ns_to_sec(r.last_stamp_ns)},
+                        {"text", "Robot " + id + ": collision risk ahead (its camera's optical flow)"}});
+    }
+    // Off the merged map by more than a metre: lost in unmapped space, or its placement went wrong.
+    const OccupancyGrid& grid = *merged.grid;
+    const Eigen::Vector2d lo = grid.origin_m() - Eigen::Vector2d(1, 1);
+    const Eigen::Vector2d hi =
+        grid.origin_m() + Eigen::Vector2d(grid.width(), grid.height()) * grid.resolution_m() + Eigen::Vector2d(1, 1);
+    const std::optional<SE2> pose = pose_on_map(r, link);
+    if (pose && grid.width() > 0 &&
+        ((pose->translation().array() < lo.array()).any() || (pose->translation().array() > hi.array()).any())) {
+      alerts.push_back({{"key", "left:" + id},
+                        {"level", "warning"},
+                        {"robot", r.id.value},
+                        {"stamp_s", ns_to_sec(r.last_stamp_ns)},
+                        {"text", "Robot " + id + " has left the map"}});
     }
     if (link.value("nav_state", "") == "stuck") {
       alerts.push_back({{"key", "stuck:" + id},

@@ -154,7 +154,7 @@ void AgentNode::publish_status(bool finished) {
   st.robot_id(robot_.value);
   const auto& traj = pipeline_.trajectory();
   st.stamp_ns(traj.empty() ? 0 : traj.back().stamp_ns);
-  st.battery_pct(100.f);  // the simulator models no battery; a driver fills this in
+  st.battery_pct(-1.f);  // not known: the simulator models no battery (a driver fills this in)
   st.keyframes_sent(last_keyframe_seq_ + 1);
   st.objects_sent(int32_t(objects_published_.size()));
   st.bytes_sent(int64_t(bytes_sent()));

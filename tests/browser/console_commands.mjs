@@ -83,6 +83,8 @@ try {
   check(true, "the map view shows the merged map as tiles");
   check((await viewer.textContent(".leaflet-control-scale")).trim().endsWith("m"), "the map view has a scale bar in metres");
   check((await viewer.textContent(".leaflet-control-layers")).includes("Trajectories"), "the map's layers can be switched");
+  check(await viewer.waitForFunction(() => window.Cloud3D && typeof Cloud3D.show === "function", null, { timeout: 10000 })
+    .then(() => true, () => false), "the 3D cloud view (three.js, served by the base) is loaded");
   check((await viewer.textContent("#operator-mode")) === "watching only", "without the token the page says it only watches");
   check(await viewer.isDisabled("button[data-all='stop']"), "without the token the command buttons are off");
   await viewer.click(".robot-marker");

@@ -27,10 +27,38 @@ function renderStatus(status) {
   }
 }
 
+// Bytes per second received from each robot, from the byte counts the page sees (one sample per
+// refresh), drawn as a small sparkline: the last 60 samples.
+const byteSamples = new Map();  // robot id -> [{t_s, bytes}]
+function rateSparkline(id, bytes) {
+  const samples = byteSamples.get(id) || [];
+  const t_s = Date.now() / 1000;
+  if (bytes !== undefined && (!samples.length || t_s - samples[samples.length - 1].t_s > 0.5)) samples.push({ t_s, bytes });
+  while (samples.length > 61) samples.shift();
+  byteSamples.set(id, samples);
+  const rates = [];
+  for (let i = 1; i < samples.length; ++i)
+    rates.push(Math.max(0, (samples[i].bytes - samples[i - 1].bytes) / (samples[i].t_s - samples[i - 1].t_s)));
+  const cell = el("td", { class: "rate" });
+  if (!rates.length) return cell.appendChild(document.createTextNode("–")), cell;
+  const max = Math.max(...rates, 1), w = 80, h = 18;
+  const points = rates.map((r, i) => `${(i * w) / Math.max(1, rates.length - 1)},${h - (r * h) / max}`).join(" ");
+  const svg = document.createElementNS("http://www.w3.org/2000/svg", "svg");
+  svg.setAttribute("width", w);
+  svg.setAttribute("height", h);
+  svg.setAttribute("class", "sparkline");
+  const line = document.createElementNS("http://www.w3.org/2000/svg", "polyline");
+  line.setAttribute("points", points);
+  svg.appendChild(line);
+  cell.append(svg, document.createTextNode(` ${fmtBytes(rates[rates.length - 1])}/s`));
+  return cell;
+}
+
 function renderRobots(robots) {
   const rows = robots.map((r) => {
     const link = r.link || {};
     const linkText = link.state ? `${link.state}${link.rtt_ms !== undefined ? ` · ${link.rtt_ms} ms` : ""}` : "–";
+    const sentText = (received, sent) => sent === undefined ? `${received}` : `${received} / ${sent}`;
     return el("tr", {}, [
       el("td", { text: `Robot ${r.id}` }),
       el("td", {}, [el("span", { class: r.linked ? "badge ok" : "badge warn", text: r.linked ? "linked" : "not linked" })]),
@@ -40,13 +68,18 @@ function renderRobots(robots) {
         text: link.activity ? `${link.activity}${link.nav_state && link.nav_state !== "driving" ? ` (goal ${link.nav_state})` : ""}` : "–",
       }),
       el("td", { text: link.distance_m === undefined ? "–" : `${link.distance_m.toFixed(0)} m` }),
-      el("td", { text: r.missing_keyframes ? `${r.keyframes} (${r.missing_keyframes} missing)` : `${r.keyframes}` }),
+      el("td", { title: "received at the base / sent by the robot",
+        text: sentText(r.keyframes, link.keyframes_sent) + (r.missing_keyframes ? ` (${r.missing_keyframes} missing)` : "") }),
+      el("td", { title: "received at the base / sent by the robot", text: sentText(r.objects ?? 0, link.objects_sent) }),
       el("td", { text: fmtBytes(link.bytes_rx) }),
+      rateSparkline(r.id, link.bytes_rx),
       el("td", { class: link.state === "lost" ? "bad" : "", text: linkText }),
-      el("td", { text: r.keyframes ? fmtTime(r.last_stamp_s) : "–" }),
+      el("td", { text: link.last_heard_age_s === undefined || link.last_heard_age_s < 0 ? "–" : `${link.last_heard_age_s.toFixed(1)} s ago` }),
+      el("td", { text: link.battery_pct === null || link.battery_pct === undefined ? "not reported" : `${link.battery_pct.toFixed(0)} %` }),
+      el("td", { class: link.collision_risk ? "bad" : "", text: link.collision_risk ? "risk ahead" : "clear" }),
     ]);
   });
-  replaceRows(document.getElementById("robots"), rows, "No robots yet", 9);
+  replaceRows(document.getElementById("robots"), rows, "No robots yet", 13);
   renderOwnMaps(robots.filter((r) => r.own_map));
 }
 
@@ -64,9 +97,14 @@ function renderOwnMaps(unlinked) {
 function renderObjects(objects) {
   const rows = objects.map((o) => {
     const colour = CLASS_COLOURS[o.class] || "#3c3cb4";
-    const photo = o.thumbnail
+    const photo = el("div", {}, [o.thumbnail
       ? el("a", { href: o.thumbnail, target: "_blank" }, [el("img", { class: "thumb", src: o.thumbnail, alt: `${o.class} ${o.id}` })])
-      : el("span", { class: "muted", text: "none" });
+      : el("span", { class: "muted", text: "none" })]);
+    if (o.cloud_points > 0) {
+      const view = el("button", { class: "view-3d", text: "3D" });
+      view.addEventListener("click", () => window.Cloud3D && Cloud3D.show(o.id, `${o.class} ${o.id}: its coloured cloud`));
+      photo.appendChild(view);
+    }
     const p = o.position_m || [0, 0, 0];
     const unplaced = o.frame && o.frame !== "global";
     const where = unplaced
