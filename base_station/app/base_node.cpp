@@ -1,10 +1,10 @@
 #include "base_station/app/base_node.h"
-#include "base_station/console/search_api.h"
 
 #include <algorithm>
 #include <fstream>
 #include <thread>
 
+#include "base_station/console/search_api.h"
 #include "base_station/export/exporter.h"
 #include "dds/cdr.h"
 #include "dds/conversions.h"
@@ -87,6 +87,7 @@ void BaseNode::count_rejected(int32_t robot_id) {
 
 AddResult BaseNode::ingest(const cairn_msgs::Keyframe& m) {
   const AddResult r = convert_and_add(m, [&](const Keyframe& kf) { return mapper_.add_keyframe(kf); });
+  if (r.status != AddStatus::kRejected) note_keyframe_arrival();
   if (r.status == AddStatus::kRejected) {
     count_rejected(m.robot_id());
     CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe robot{}/{}: {}", m.robot_id(), m.seq(),
@@ -180,52 +181,6 @@ void BaseNode::publish_acks_and_corrections() {
   }
 }
 
-nlohmann::json BaseNode::link_stats() const {
-  nlohmann::json links = nlohmann::json::object();
-  for (const auto& [robot, link] : links_) {
-    nlohmann::json j;
-    j["bytes_sent"] = link.has_status ? link.last_status.bytes_sent() : 0;
-    j["keyframe_bytes"] = link.has_status ? link.last_status.keyframe_bytes() : 0;
-    j["object_bytes"] = link.has_status ? link.last_status.object_bytes() : 0;
-    j["object_messages"] = link.has_status ? link.last_status.object_messages() : 0;
-    j["keyframes_sent"] = link.has_status ? link.last_status.keyframes_sent() : 0;
-    j["objects_sent"] = link.has_status ? link.last_status.objects_sent() : 0;
-    j["scans_processed"] = link.has_status ? link.last_status.scans_processed() : 0;
-    j["finished"] = link.has_status && link.last_status.finished();
-    const bool battery_known = link.has_status && link.last_status.battery_pct() >= 0.f;  // negative: not known
-    j["battery_pct"] = battery_known ? nlohmann::json(link.last_status.battery_pct()) : nlohmann::json();
-    j["collision_risk"] = link.has_status && link.last_status.collision_risk();  // the robot's optical flow
-    const double age_s = link.last_heard_s < 0 ? -1.0 : now_s() - link.last_heard_s;
-    j["last_heard_age_s"] = age_s;
-    // What the console shows: the link's state and the bytes received from the robot.
-    j["state"] = !link.has_status              ? "unknown"
-                 : link.last_status.finished() ? "finished"
-                 : age_s < 0.0                 ? "lost"  // known from the journal only
-                 : age_s < 2.0                 ? "ok"
-                 : age_s < 10.0                ? "stale"
-                                               : "lost";
-    j["bytes_rx"] = link.has_status ? link.last_status.bytes_sent() : 0;
-    j["bad_samples"] = link.bad_samples;
-    j["keyframe_pose_updates"] = link.keyframe_pose_updates;
-    add_navigation_json(robot, &j);
-    links[std::to_string(robot.value)] = j;
-  }
-  return links;
-}
-
-void BaseNode::refresh_snapshot() {
-  const MergedMap merged = judged_map();
-  ConsoleSnapshot snapshot = make_snapshot(merged, link_stats(), {}, &plan_);
-  snapshot.command_context = command_context(merged);
-  for (const BlacklistedGoal& g : goals_.blacklisted())  // the map view's "could not reach" layer
-    snapshot.layers["unreachable"].push_back(
-        {{"x_m", g.position_m.x()}, {"y_m", g.position_m.y()}, {"robot", g.robot.value}, {"why", to_string(g.why)}});
-  const double wall_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-  snapshot.status["alerts"] = alert_log_.observe(snapshot.status["alerts"], wall_s, inbox_.acked_alerts());
-  snapshot.alert_log = alert_log_.log();
-  latest_snapshot_.publish(std::move(snapshot));
-}
-
 bool BaseNode::all_finished() const {
   if (options_.expected_robots <= 0) return false;
   int finished = 0;
@@ -274,6 +229,10 @@ int BaseNode::run() {
   while (!stop_) {
     const bool got = poll_inputs();
     send_operator_commands();
+    // A new keyframe shows in the console soon, not only at the next optimise tick.
+    if (unshown_keyframe_wall_s_ > 0 &&
+        Clock::now() - last_snapshot_ >= std::chrono::duration<double>(options_.console_update_s))
+      refresh_snapshot(/*full=*/false);
     if (Clock::now() >= next_optimize) {
       if (mapper_.version() != optimized_version_) {
         const OptimizeResult r = mapper_.optimize();

@@ -41,6 +41,9 @@ struct BaseNodeOptions {
   std::map<RobotId, SE2> robot_starts;  ///< known start poses (until cross-robot merging lands)
   std::map<RobotId, EntryHint> entry_hints;  ///< roughly where robots entered (MultiRobotMapper::set_entry_hint)
   double optimize_period_s = 1.0;
+  /// A keyframe shows in the console at most this long after it arrived (a quick snapshot between
+  /// optimise ticks; the page's update latency, docs/benchmarks.md).
+  double console_update_s = 0.2;
   double exploration_period_s = 2.0;  ///< how often the exploration goals are planned anew (when the map changed)
   ExplorationOptions exploration;     ///< how goals are chosen (coordination, victims' pull, ...)
   SaliencyLayerOptions saliency;      ///< the saliency layer the planner weights frontiers by
@@ -88,7 +91,10 @@ class BaseNode {
   void add_navigation_json(RobotId robot, nlohmann::json* link) const;
   /// Explored area, open frontier and victims at the newest mission time (summary, console).
   void record_coverage(const MergedMap& merged);
-  void refresh_snapshot();
+  // What the console sees (base_node_console.cpp): the links, the snapshot, keyframe arrival times.
+  /// `full`: with the map images (every optimise tick); quick: the last images kept.
+  void refresh_snapshot(bool full = true);
+  void note_keyframe_arrival();
   // Operator commands (base_node_commands.cpp): console inbox -> CommandBook, journal, DDS.
   void send_operator_commands();
   bool restore_command(const JournalRecord& r, std::string* error);
@@ -135,6 +141,8 @@ class BaseNode {
   std::vector<JournalRecord> unjournaled_;  ///< stored in the mapper, not yet in the journal: no ack
   std::map<RobotId, cairn_msgs::RobotStatus> unjournaled_status_;  ///< newest status per robot, not yet journaled
   bool status_urgent_ = false;  ///< a robot's first status or a change of "finished": journal now
+  std::chrono::steady_clock::time_point last_snapshot_{};  ///< when refresh_snapshot last ran
+  double unshown_keyframe_wall_s_ = -1;  ///< wall clock (epoch s) of the oldest keyframe no snapshot showed yet
   int restored_records_ = 0;
   int journal_commits_ = 0;
   double journal_commit_s_ = 0;  ///< wall time spent committing (fsync included)

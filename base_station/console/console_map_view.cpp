@@ -19,13 +19,13 @@ namespace {
 /// The library files the page loads (Leaflet, three.js), by name: the only ones served from node_modules.
 const std::map<std::string, std::pair<std::string, std::string>>& vendor_files() {
   static const std::map<std::string, std::pair<std::string, std::string>> files = {
-      {"leaflet.js", {"leaflet/dist/leaflet.js", "application/javascript; charset=utf-8"}},
+      {"leaflet.js", {"leaflet/dist/leaflet.js", "text/javascript; charset=utf-8"}},
       {"leaflet.css", {"leaflet/dist/leaflet.css", "text/css; charset=utf-8"}},
       {"images/layers.png", {"leaflet/dist/images/layers.png", "image/png"}},
       {"images/layers-2x.png", {"leaflet/dist/images/layers-2x.png", "image/png"}},
-      {"three.module.js", {"three/build/three.module.js", "application/javascript; charset=utf-8"}},
+      {"three.module.js", {"three/build/three.module.js", "text/javascript; charset=utf-8"}},
       {"three-addons/controls/OrbitControls.js",
-       {"three/examples/jsm/controls/OrbitControls.js", "application/javascript; charset=utf-8"}},
+       {"three/examples/jsm/controls/OrbitControls.js", "text/javascript; charset=utf-8"}},
   };
   return files;
 }
@@ -40,8 +40,8 @@ void ConsoleServer::serve_map_view() {
                    return http::reply_error(res, 404, "no such tile: " + *error);
                  const auto s = provider_ ? provider_() : nullptr;
                  if (!s) return http::reply_not_found(res, "map");
-                 const std::vector<uint8_t> rgba = tile_rgba(s->grid_cells, key);
-                 const std::string etag = tile_etag(rgba);
+                 const std::vector<uint8_t> pixels = tile_pixels(s->grid_cells, key);
+                 const std::string etag = tile_etag(pixels);
                  // Revalidated on every use: a tile that did not change costs a 304 and no pixels.
                  res.set_header("Cache-Control", "no-cache");
                  res.set_header("ETag", etag);
@@ -49,12 +49,12 @@ void ConsoleServer::serve_map_view() {
                    res.status = 304;
                    return;
                  }
-                 const std::vector<uint8_t> png = encode_rgba_png(TileOptions{}.tile_px, TileOptions{}.tile_px, rgba);
+                 const std::vector<uint8_t> png = encode_gray_png(TileOptions{}.tile_px, TileOptions{}.tile_px, pixels);
                  if (png.empty()) return http::reply_error(res, 500, "the tile could not be encoded");
                  res.set_content(reinterpret_cast<const char*>(png.data()), png.size(), "image/png");
                });
-  server_->Get("/api/search", [this](const httplib::Request&, httplib::Response& res) {
-    http::reply_json(res, search_json(inbox_ ? inbox_->search() : SearchControls{}));
+  server_->Get("/api/search", [this](const httplib::Request& req, httplib::Response& res) {
+    http::reply_json_revalidated(req, res, search_json(inbox_ ? inbox_->search() : SearchControls{}));
   });
   server_->Post("/api/search", [this](const httplib::Request& req, httplib::Response& res) {
     if (!authorized(req, res)) return;
@@ -66,9 +66,9 @@ void ConsoleServer::serve_map_view() {
     res.status = 202;
     http::reply_json(res, {{"queued", to_string(request->action)}});
   });
-  server_->Get("/api/layers", [this](const httplib::Request&, httplib::Response& res) {
+  server_->Get("/api/layers", [this](const httplib::Request& req, httplib::Response& res) {
     const auto s = provider_ ? provider_() : nullptr;
-    http::reply_json(res, s ? s->layers : nlohmann::json::object());
+    http::reply_json_revalidated(req, res, s ? s->layers : nlohmann::json::object());
   });
   server_->Get(R"(/vendor/(.{1,60}))", [this](const httplib::Request& req, httplib::Response& res) {
     const auto it = vendor_files().find(req.matches[1].str());

@@ -52,25 +52,26 @@ void ConsoleServer::register_routes() {
   };
   server_->Get("/", asset("index.html", "text/html; charset=utf-8"));
   server_->Get("/index.html", asset("index.html", "text/html; charset=utf-8"));
-  server_->Get("/app.js", asset("app.js", "application/javascript; charset=utf-8"));
-  server_->Get("/common.js", asset("common.js", "application/javascript; charset=utf-8"));
-  server_->Get("/control.js", asset("control.js", "application/javascript; charset=utf-8"));
-  server_->Get("/mapview.js", asset("mapview.js", "application/javascript; charset=utf-8"));
-  server_->Get("/cloud3d.js", asset("cloud3d.js", "application/javascript; charset=utf-8"));
+  server_->Get("/app.js", asset("app.js", "text/javascript; charset=utf-8"));
+  server_->Get("/common.js", asset("common.js", "text/javascript; charset=utf-8"));
+  server_->Get("/control.js", asset("control.js", "text/javascript; charset=utf-8"));
+  server_->Get("/mapview.js", asset("mapview.js", "text/javascript; charset=utf-8"));
+  server_->Get("/cloud3d.js", asset("cloud3d.js", "text/javascript; charset=utf-8"));
   server_->Get("/report.html", asset("report.html", "text/html; charset=utf-8"));
-  server_->Get("/report.js", asset("report.js", "application/javascript; charset=utf-8"));
+  server_->Get("/report.js", asset("report.js", "text/javascript; charset=utf-8"));
   server_->Get("/style.css", asset("style.css", "text/css; charset=utf-8"));
-  server_->Get("/api/status", [this, snapshot](const httplib::Request&, httplib::Response& res) {
+  server_->Get("/api/status", [this, snapshot](const httplib::Request& req, httplib::Response& res) {
     nlohmann::json status = snapshot()->status;
     // An acknowledgement shows at once, not with the next snapshot.
     const std::set<std::string> acked = inbox_ ? inbox_->acked_alerts() : std::set<std::string>{};
     if (status.contains("alerts"))
       for (nlohmann::json& a : status["alerts"])
         if (a.contains("key") && acked.count(a["key"].get<std::string>())) a["acked"] = true;
-    reply_json(res, status);
+    http::reply_json_revalidated(req, res, status);
   });
-  server_->Get("/api/alerts/log",
-               [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->alert_log); });
+  server_->Get("/api/alerts/log", [snapshot](const httplib::Request& req, httplib::Response& res) {
+    http::reply_json_revalidated(req, res, snapshot()->alert_log);
+  });
   server_->Post("/api/alerts/ack", [this, snapshot](const httplib::Request& req, httplib::Response& res) {
     if (!authorized(req, res)) return;
     const nlohmann::json j = nlohmann::json::parse(req.body, nullptr, /*allow_exceptions=*/false);
@@ -84,10 +85,12 @@ void ConsoleServer::register_routes() {
     res.status = 202;
     reply_json(res, {{"acked", key}});
   });
-  server_->Get("/api/robots",
-               [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->robots); });
-  server_->Get("/api/objects",
-               [snapshot](const httplib::Request&, httplib::Response& res) { reply_json(res, snapshot()->objects); });
+  server_->Get("/api/robots", [snapshot](const httplib::Request& req, httplib::Response& res) {
+    http::reply_json_revalidated(req, res, snapshot()->robots);
+  });
+  server_->Get("/api/objects", [snapshot](const httplib::Request& req, httplib::Response& res) {
+    http::reply_json_revalidated(req, res, snapshot()->objects);
+  });
   server_->Get("/api/map.png", [snapshot](const httplib::Request&, httplib::Response& res) {
     const auto s = snapshot();
     if (s->map_png.empty()) return reply_not_found(res, "map");
@@ -107,6 +110,8 @@ void ConsoleServer::register_routes() {
                  const auto s = snapshot();
                  auto it = s->thumbnails.find(req.matches[1]);
                  if (it == s->thumbnails.end() || it->second.empty()) return reply_not_found(res, "thumbnail");
+                 // The page's URL carries ?v=<observations>: a newer thumbnail comes under a new URL.
+                 res.set_header("Cache-Control", "max-age=3600");
                  res.set_content(reinterpret_cast<const char*>(it->second.data()), it->second.size(), "image/jpeg");
                });
   server_->Get(R"(/api/objects/([0-9]+-[0-9]+)/cloud)",
@@ -116,8 +121,8 @@ void ConsoleServer::register_routes() {
                  if (it == s->clouds.end()) return reply_not_found(res, "object");
                  reply_json(res, it->second);
                });
-  server_->Get("/api/commands", [this](const httplib::Request&, httplib::Response& res) {
-    reply_json(res, inbox_ ? inbox_->states() : nlohmann::json::array());
+  server_->Get("/api/commands", [this](const httplib::Request& req, httplib::Response& res) {
+    http::reply_json_revalidated(req, res, inbox_ ? inbox_->states() : nlohmann::json::array());
   });
   serve_exports();
   serve_map_view();
@@ -164,7 +169,7 @@ const char* export_type(const std::string& name) {
 }  // namespace
 
 void ConsoleServer::serve_exports() {
-  server_->Get("/api/exports", [this](const httplib::Request&, httplib::Response& res) {
+  server_->Get("/api/exports", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string dir = exports_dir();
     nlohmann::json files = nlohmann::json::array();
     std::error_code ec;
@@ -176,9 +181,10 @@ void ConsoleServer::serve_exports() {
       }
     }
     std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a["name"] < b["name"]; });
-    reply_json(res, {{"ready", !dir.empty()},
-                     {"note", dir.empty() ? "the exports are written when the mission ends" : ""},
-                     {"files", files}});
+    http::reply_json_revalidated(req, res,
+                                 {{"ready", !dir.empty()},
+                                  {"note", dir.empty() ? "the exports are written when the mission ends" : ""},
+                                  {"files", files}});
   });
   server_->Get(R"(/exports/([A-Za-z0-9_.-]{1,100}))", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string name = req.matches[1].str();

@@ -47,7 +47,7 @@ TEST(Snapshot, DescribesRobotsObjectsAndAlerts) {
   EXPECT_TRUE(s.robots[1]["pose_m"].is_null());
   ASSERT_EQ(s.objects.size(), 1u);
   EXPECT_EQ(s.objects[0]["id"], "0-2");
-  EXPECT_EQ(s.objects[0]["thumbnail"], "/api/objects/0-2/thumbnail.jpg");
+  EXPECT_EQ(s.objects[0]["thumbnail"], "/api/objects/0-2/thumbnail.jpg?v=5");
   EXPECT_EQ(s.status["alerts"][0]["level"], "critical");
   EXPECT_NE(s.status["alerts"][0]["text"].get<std::string>().find("Victim found by robot 0"), std::string::npos);
   EXPECT_EQ(s.status["alerts"].size(), 2u);  // + robot 3 not linked

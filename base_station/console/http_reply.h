@@ -1,6 +1,7 @@
 #pragma once
 // The console's reply helpers, shared by its route files (console_server.cpp, console_map_view.cpp).
 // Include after <httplib.h>.
+#include <cstdint>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -20,6 +21,22 @@ inline std::optional<std::string> read_file(const std::string& path) {
 inline void reply_json(httplib::Response& res, const nlohmann::json& j) {
   res.set_header("Cache-Control", "no-store");
   res.set_content(j.dump(), "application/json");
+}
+
+/// JSON the page polls: revalidated by ETag (a hash of the body), so an unchanged answer costs a
+/// 304 and no body.
+inline void reply_json_revalidated(const httplib::Request& req, httplib::Response& res, const nlohmann::json& j) {
+  const std::string body = j.dump();
+  uint64_t h = 1469598103934665603ull;  // FNV-1a 64
+  for (unsigned char c : body) h = (h ^ c) * 1099511628211ull;
+  const std::string etag = "\"j" + std::to_string(h) + "\"";
+  res.set_header("Cache-Control", "no-cache");
+  res.set_header("ETag", etag);
+  if (req.get_header_value("If-None-Match") == etag) {
+    res.status = 304;
+    return;
+  }
+  res.set_content(body, "application/json");
 }
 
 inline void reply_error(httplib::Response& res, int status, const std::string& message) {

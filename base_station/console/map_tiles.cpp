@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 namespace cairn::base {
 namespace {
@@ -40,10 +39,10 @@ std::optional<std::string> tile_key_error(const TileKey& key, const TileOptions&
   return std::nullopt;
 }
 
-std::vector<uint8_t> tile_rgba(const GridCells& g, const TileKey& key, const TileOptions& options) {
+std::vector<uint8_t> tile_pixels(const GridCells& g, const TileKey& key, const TileOptions& options) {
   const int n = options.tile_px;
-  std::vector<uint8_t> rgba(size_t(n) * size_t(n) * 4, 0);  // transparent: unknown
-  if (g.width <= 0 || g.height <= 0 || g.cells.size() != size_t(g.width) * size_t(g.height)) return rgba;
+  std::vector<uint8_t> gray(size_t(n) * size_t(n), kTileUnknown);
+  if (g.width <= 0 || g.height <= 0 || g.cells.size() != size_t(g.width) * size_t(g.height)) return gray;
   const double m_per_px = std::ldexp(1.0, -key.z);
   // The cells [lo, hi] under a pixel that starts at lo_m along one axis (may fall outside the grid).
   auto cell_span = [&](double lo_m, double origin_m) {
@@ -68,31 +67,27 @@ std::vector<uint8_t> tile_rgba(const GridCells& g, const TileKey& key, const Til
       c1 = std::min(c1, g.width - 1);
       if (c0 > c1) continue;
       const uint8_t v = most_telling(g, c0, c1, g.height - 1 - r1, g.height - 1 - r0);
-      if (v != kOccupied && v != kFree) continue;
-      uint8_t* p = &rgba[(size_t(j) * size_t(n) + size_t(i)) * 4];
-      const uint8_t shade = v == kOccupied ? 40 : 255;
-      p[0] = p[1] = p[2] = shade;
-      p[3] = 255;
+      if (v == kOccupied || v == kFree)
+        gray[size_t(j) * size_t(n) + size_t(i)] = v == kOccupied ? kTileOccupied : kTileFree;
     }
   }
-  return rgba;
+  return gray;
 }
 
-std::string tile_etag(const std::vector<uint8_t>& rgba) {
+std::string tile_etag(const std::vector<uint8_t>& pixels) {
   uint64_t h = 1469598103934665603ull;
-  for (uint8_t b : rgba) h = (h ^ b) * 1099511628211ull;
+  for (uint8_t b : pixels) h = (h ^ b) * 1099511628211ull;
   char text[24];
   std::snprintf(text, sizeof(text), "\"%016llx\"", static_cast<unsigned long long>(h));
   return text;
 }
 
-std::vector<uint8_t> encode_rgba_png(int width, int height, const std::vector<uint8_t>& rgba) {
+std::vector<uint8_t> encode_gray_png(int width, int height, const std::vector<uint8_t>& gray) {
   std::vector<uint8_t> png;
-  if (width <= 0 || height <= 0 || rgba.size() != size_t(width) * size_t(height) * 4) return png;
-  cv::Mat bgra;
-  cv::cvtColor(cv::Mat(height, width, CV_8UC4, const_cast<uint8_t*>(rgba.data())), bgra, cv::COLOR_RGBA2BGRA);
+  if (width <= 0 || height <= 0 || gray.size() != size_t(width) * size_t(height)) return png;
   try {
-    if (!cv::imencode(".png", bgra, png)) png.clear();
+    const cv::Mat image(height, width, CV_8UC1, const_cast<uint8_t*>(gray.data()));
+    if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 9})) png.clear();
   } catch (const cv::Exception&) {
     png.clear();
   }

@@ -37,15 +37,19 @@ struct TileKey {
 /// Why `key` is not a tile (zoom out of range), or nullopt when it is.
 std::optional<std::string> tile_key_error(const TileKey& key, const TileOptions& options = {});
 
-/// The tile's pixels, RGBA, top row first: occupied dark, free white, unknown transparent. A pixel
-/// that covers several cells shows the most telling one (a wall over free space over unknown), so
-/// walls stay visible when zoomed out.
-std::vector<uint8_t> tile_rgba(const GridCells& grid, const TileKey& key, const TileOptions& options = {});
+/// The shade of an occupied, a free and an unknown pixel (the ROS map_server grey for unknown, which
+/// is also the map view's background).
+constexpr uint8_t kTileOccupied = 40, kTileFree = 255, kTileUnknown = 205;
+
+/// The tile's pixels, grey levels, top row first. A pixel that covers several cells shows the most
+/// telling one (a wall over free space over unknown), so walls stay visible when zoomed out. One
+/// grey channel: a tile's PNG is several times smaller than RGBA's (the page's bytes per second).
+std::vector<uint8_t> tile_pixels(const GridCells& grid, const TileKey& key, const TileOptions& options = {});
 
 /// A strong ETag for the tile's pixels (FNV-1a 64), quoted.
-std::string tile_etag(const std::vector<uint8_t>& rgba);
+std::string tile_etag(const std::vector<uint8_t>& pixels);
 
-/// PNG bytes of an RGBA image; empty if encoding failed.
-std::vector<uint8_t> encode_rgba_png(int width, int height, const std::vector<uint8_t>& rgba);
+/// PNG bytes of a grey image (best compression); empty if encoding failed.
+std::vector<uint8_t> encode_gray_png(int width, int height, const std::vector<uint8_t>& gray);
 
 }  // namespace cairn::base

@@ -91,25 +91,27 @@ nlohmann::json object_json(const GlobalObject& o, const MergedMap& merged) {
              {"path_m", w.path_m},
              {"text", describe(o.frame, w)}};
   }
-  return {{"id", key},
-          {"frame", frame_name(o.frame)},
-          {"aliases", aliases},
-          {"from_entry", where},
-          {"class", o.class_name},
-          {"confidence", o.confidence},
-          {"position_m", {o.position_m.x(), o.position_m.y(), o.position_m.z()}},
-          {"sigma_m", {std::sqrt(o.covariance(0, 0)), std::sqrt(o.covariance(1, 1)), std::sqrt(o.covariance(2, 2))}},
-          {"size_m", {o.size_m.x(), o.size_m.y(), o.size_m.z()}},
-          {"robots", robots},
-          {"reports", reports},
-          {"observations", o.observations},
-          {"last_stamp_s", ns_to_sec(o.last_stamp_ns)},
-          {"thumbnail",
-           o.thumbnail_jpeg.empty() ? nlohmann::json() : nlohmann::json("/api/objects/" + key + "/thumbnail.jpg")},
-          {"cloud", "/api/objects/" + key + "/cloud"},
-          {"cloud_points", o.cloud_global.size()},
-          {"verdict", to_string(o.verdict)},
-          {"verdict_note", o.verdict_note}};
+  return {
+      {"id", key},
+      {"frame", frame_name(o.frame)},
+      {"aliases", aliases},
+      {"from_entry", where},
+      {"class", o.class_name},
+      {"confidence", o.confidence},
+      {"position_m", {o.position_m.x(), o.position_m.y(), o.position_m.z()}},
+      {"sigma_m", {std::sqrt(o.covariance(0, 0)), std::sqrt(o.covariance(1, 1)), std::sqrt(o.covariance(2, 2))}},
+      {"size_m", {o.size_m.x(), o.size_m.y(), o.size_m.z()}},
+      {"robots", robots},
+      {"reports", reports},
+      {"observations", o.observations},
+      {"last_stamp_s", ns_to_sec(o.last_stamp_ns)},
+      {"thumbnail", o.thumbnail_jpeg.empty()
+                        ? nlohmann::json()
+                        : nlohmann::json("/api/objects/" + key + "/thumbnail.jpg?v=" + std::to_string(o.observations))},
+      {"cloud", "/api/objects/" + key + "/cloud"},
+      {"cloud_points", o.cloud_global.size()},
+      {"verdict", to_string(o.verdict)},
+      {"verdict_note", o.verdict_note}};
 }
 
 namespace {
@@ -276,14 +278,14 @@ ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& lin
   if (plan) s.status["exploration"] = exploration_json(*plan);
   if (plan) s.layers = plan_layers_json(*plan);
   s.grid_cells = GridCells::from(*merged.grid);
-  s.map_png = render_map_png(merged, {}, plan);
+  if (options.render_images) s.map_png = render_map_png(merged, {}, plan);
   const MapImageGeometry g = map_image_geometry(*merged.grid);
   s.map_image = {{"valid", g.valid},       {"x0_m", g.x0_m},         {"y_top_m", g.y_top_m},
                  {"m_per_px", g.m_per_px}, {"width_px", g.width_px}, {"height_px", g.height_px}};
   if (g.valid)  // what the map view shows first: the known part of the map, [[x0, y0], [x1, y1]]
     s.layers["bounds_m"] = {{g.x0_m, g.y_top_m - g.height_px * g.m_per_px},
                             {g.x0_m + g.width_px * g.m_per_px, g.y_top_m}};
-  if (merged.robot_frame_maps)
+  if (merged.robot_frame_maps && options.render_images)
     for (const RobotFrameMap& m : *merged.robot_frame_maps)
       s.own_maps[std::to_string(m.robot.value)] = render_robot_frame_png(m);
   return s;

@@ -37,6 +37,9 @@ struct ConsoleSnapshot {
 struct SnapshotOptions {
   size_t max_trajectory_points = 500;  ///< per robot, decimated uniformly (last point kept)
   size_t max_cloud_points = 2000;      ///< per object
+  /// The map image (the report's, /api/map.png) and the unlinked robots' own maps: the dearest part
+  /// of a snapshot. A quick snapshot between optimise ticks leaves them out (and keeps the last ones).
+  bool render_images = true;
 };
 
 /// Builds a snapshot. `link_stats` is an object keyed by robot id as a decimal string (e.g. "1"),

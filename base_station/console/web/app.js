@@ -5,6 +5,19 @@
 const REFRESH_MS = 10000;  // the slow poll; changes are pushed (listen())
 const CLASS_COLOURS = { victim: "#dc1e1e", hazard: "#ff8c00", exit: "#28a028" };
 
+// How long after the base received a keyframe the page showed it (the status's keyframe_wall_s:
+// the oldest keyframe that snapshot shows first); same clock when the page runs on the base's
+// machine, as in the benchmark (bench/console_page.mjs). The last 1000, for the benchmark.
+window.cairnUpdateLags = [];
+let lastKeyframeWall = null;
+function noteUpdateLag(status) {
+  const t = status.keyframe_wall_s;
+  if (t === null || t === undefined || t === lastKeyframeWall) return;
+  lastKeyframeWall = t;
+  window.cairnUpdateLags.push(Date.now() / 1000 - t);
+  if (window.cairnUpdateLags.length > 1000) window.cairnUpdateLags.shift();
+}
+
 function renderStatus(status) {
   document.getElementById("mission-time").textContent = fmtTime(status.mission_time_s);
   document.getElementById("mapped-area").textContent = `${(status.mapped_area_m2 || 0).toFixed(0)} m²`;
@@ -83,15 +96,26 @@ function renderRobots(robots) {
   renderOwnMaps(robots.filter((r) => r.own_map));
 }
 
-// Robots the base has not placed yet: their own maps, so that nothing they found is hidden.
+// Robots the base has not placed yet: their own maps, so that nothing they found is hidden. An
+// image is fetched again every 10 keyframes (about 10 s), not at every refresh: it is a whole
+// rendered map, the page's dearest download.
 function renderOwnMaps(unlinked) {
   const panel = document.getElementById("own-maps-panel");
   panel.hidden = unlinked.length === 0;
   const box = document.getElementById("own-maps");
-  box.replaceChildren(...unlinked.map((r) => el("figure", { class: "own-map" }, [
-    el("img", { src: `${r.own_map}?t=${Date.now()}`, alt: `Robot ${r.id}'s own map` }),
-    el("figcaption", { text: `Robot ${r.id}, not yet placed on the map: its own map, from where it entered` }),
-  ])));
+  const shown = new Map([...box.querySelectorAll("figure")].map((f) => [f.dataset.robot, f]));
+  box.replaceChildren(...unlinked.map((r) => {
+    const src = `${r.own_map}?keyframes=${Math.floor(r.keyframes / 10) * 10}`;
+    const old = shown.get(String(r.id));
+    if (old && old.dataset.src === src) return old;
+    const figure = el("figure", { class: "own-map" }, [
+      el("img", { src, alt: `Robot ${r.id}'s own map` }),
+      el("figcaption", { text: `Robot ${r.id}, not yet placed on the map: its own map, from where it entered` }),
+    ]);
+    figure.dataset.robot = String(r.id);
+    figure.dataset.src = src;
+    return figure;
+  }));
 }
 
 function renderObjects(objects) {
@@ -183,6 +207,7 @@ async function refresh() {
     Control.updateSearch(search);
     Control.updateCommands(commands);  // redraws the map view
     MapView.refreshTiles();
+    noteUpdateLag(status);
     conn.textContent = "live";
     conn.className = "connection ok";
   } catch (e) {
