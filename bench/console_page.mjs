@@ -98,6 +98,11 @@ while (!finished) {
   console.log(`${t_s.toFixed(0)} s: mission ${missionTime}, page heap ${(heap / 1e6).toFixed(1)} MB, ${(bytes / 1e3).toFixed(0)} kB received`);
 }
 const lags = await page.evaluate(() => window.cairnUpdateLags.slice()).catch(() => []);
+// The heap the page keeps after the mission: garbage collected first (the samples above include
+// garbage not yet collected).
+await cdp.send("HeapProfiler.enable").catch(() => {});
+await cdp.send("HeapProfiler.collectGarbage").catch(() => {});
+const kept = await cdp.send("Performance.getMetrics").then((m) => m.metrics.find((x) => x.name === "JSHeapUsedSize").value / 1e6, () => NaN);
 await browser.close();
 for (const c of children) if (c.exitCode === null) c.kill("SIGTERM");
 
@@ -110,4 +115,5 @@ console.log(`update latency (keyframe at the base -> page shows it): p50 ${(1000
 console.log(`bytes to the page in steady state: ${(rate / 1e3).toFixed(1)} kB/s (${(last.bytes / 1e6).toFixed(2)} MB in all)`);
 console.log(`bytes by kind: ${Object.entries(bytesByKind).map(([k, v]) => `${k} ${(v / 1e6).toFixed(2)} MB`).join(", ")}`);
 if (process.env.CAIRN_BENCH_DETAIL) console.log(Object.entries(bytesByPath).sort((a, b) => b[1] - a[1]).slice(0, 10));
-console.log(`page heap: ${last.heap_mb.toFixed(1)} MB at the end, max ${Math.max(...samples.map((s) => s.heap_mb)).toFixed(1)} MB`);
+console.log(`page heap: ${kept.toFixed(1)} MB kept after the mission (garbage collected); ` +
+  `${last.heap_mb.toFixed(1)} MB at the last sample, max ${Math.max(...samples.map((s) => s.heap_mb)).toFixed(1)} MB`);

@@ -15,7 +15,11 @@ const MapView = (() => {
   let tiles = null;
   const live = new Map();  // tile key -> {img, etag}: the tiles shown, refetched when the map changes
   const layers = {};
-  let fitted = false;
+  // The view follows the growing map (fitted to its known part) until the operator pans or zooms;
+  // the "whole map" button fits it again and follows once more.
+  let follow = true;
+  let fitting = false;
+  let lastBounds = null;
   let handlers = { mapClick() {}, robotClick() {} };
 
   const robotColour = (id) => ROBOT_COLOURS[Math.abs(id) % ROBOT_COLOURS.length];
@@ -110,21 +114,56 @@ const MapView = (() => {
     L.control.layers(null, overlays, { position: "topright" }).addTo(map);
     L.control.scale({ imperial: false, maxWidth: 150 }).addTo(map);
     map.on("click", (e) => handlers.mapClick(e.latlng.lng, e.latlng.lat));
+    map.on("movestart zoomstart", () => { if (!fitting) follow = false; });
+    const WholeMap = L.Control.extend({
+      onAdd() {
+        const b = L.DomUtil.create("button", "whole-map");
+        b.textContent = "Whole map";
+        b.title = "Fit the whole map and follow it as it grows";
+        L.DomEvent.disableClickPropagation(b);
+        b.addEventListener("click", () => { follow = true; fit(lastBounds); });
+        return b;
+      },
+    });
+    new WholeMap({ position: "topleft" }).addTo(map);
   }
 
-  // The map changed at the base: refetch the tiles shown (unchanged ones cost a 304).
+  // The map changed at the base: refetch the tiles shown (unchanged ones cost a 304), at most once a
+  // second (the robots and objects above them update at every change).
+  let lastTileRefresh = 0;
+  let tileTimer = null;
   function refreshTiles() {
     if (!map) return;
+    const wait = 1000 - (Date.now() - lastTileRefresh);
+    if (wait > 0) {
+      if (!tileTimer) tileTimer = setTimeout(() => { tileTimer = null; refreshTiles(); }, wait);
+      return;
+    }
+    lastTileRefresh = Date.now();
     for (const [key, entry] of live) {
       if (!entry.img.isConnected) continue;
       loadTile(key, entry.url, entry).catch(() => {});
     }
   }
 
-  function fitOnce(bounds) {
-    if (fitted || !map || !bounds) return;
-    map.fitBounds(L.latLngBounds(ll(bounds[0][0], bounds[0][1]), ll(bounds[1][0], bounds[1][1])), { padding: [10, 10] });
-    fitted = true;
+  function fit(bounds) {
+    if (!map || !bounds) return;
+    fitting = true;
+    map.fitBounds(L.latLngBounds(ll(bounds[0][0], bounds[0][1]), ll(bounds[1][0], bounds[1][1])), { padding: [10, 10], animate: false });
+    fitting = false;
+  }
+
+  // Refit only when the map outgrew the view or fills less than a quarter of it, and never while
+  // the operator is placing a point (a robot selected, or a keep-out area being drawn): the map
+  // must not move under the pointer.
+  function followMap(bounds) {
+    if (!bounds) return;
+    lastBounds = bounds;
+    const box = L.latLngBounds(ll(bounds[0][0], bounds[0][1]), ll(bounds[1][0], bounds[1][1]));
+    const view = map.getBounds();
+    const area = (b) => (b.getEast() - b.getWest()) * (b.getNorth() - b.getSouth());
+    const misfit = !view.contains(box) || area(box) < 0.25 * area(view);
+    if (follow && misfit && !Control.claimsMapClick()) fit(bounds);
   }
 
   function drawTrajectories(robots) {
@@ -245,7 +284,7 @@ const MapView = (() => {
     /// Everything but the tiles, from the API's JSON.
     update({ robots, objects, exploration, layers: planLayers, commands, selected, search }) {
       if (!map) return;
-      fitOnce(planLayers && planLayers.bounds_m);
+      followMap(planLayers && planLayers.bounds_m);
       drawPlanLayers(planLayers || {});
       drawTrajectories(robots);
       drawGoals(robots, exploration, commands);
