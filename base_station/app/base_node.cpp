@@ -229,8 +229,8 @@ int BaseNode::run() {
   while (!stop_) {
     const bool got = poll_inputs();
     send_operator_commands();
-    // A new keyframe shows in the console soon, not only at the next optimise tick.
-    if (unshown_keyframe_wall_s_ > 0 &&
+    // A new keyframe shows in an open console soon, not only at the next optimise tick.
+    if (unshown_keyframe_wall_s_ > 0 && console_->open_streams() > 0 &&
         Clock::now() - last_snapshot_ >= std::chrono::duration<double>(options_.console_update_s))
       refresh_snapshot(/*full=*/false);
     if (Clock::now() >= next_optimize) {

@@ -165,8 +165,11 @@ TEST_F(ConsoleCommands, VerdictsNeedTheTokenAKnownObjectAndAKnownWord) {
 TEST_F(ConsoleCommands, TheEventStreamSaysAtOnceThatTheCommandsChanged) {
   std::string stream;
   int events = 0;
-  std::thread poster([this] {
+  EXPECT_EQ(server_->open_streams(), 0);
+  int listening = 0;
+  std::thread poster([this, &listening] {
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    listening = server_->open_streams();  // the base makes quick snapshots only for a listening page
     inbox_.post_states(nlohmann::json::array({{{"seq", 1}, {"state", "active"}}}));
   });
   client_->set_read_timeout(5, 0);  // nothing pushed: the stream stays silent and this gives up
@@ -180,6 +183,7 @@ TEST_F(ConsoleCommands, TheEventStreamSaysAtOnceThatTheCommandsChanged) {
   ASSERT_EQ(events, 2) << stream;
   EXPECT_NE(stream.find(R"("commands":0)"), std::string::npos) << stream;
   EXPECT_NE(stream.find(R"("commands":1)"), std::string::npos) << stream;
+  EXPECT_EQ(listening, 1);
 }
 
 TEST_F(ConsoleCommands, AnAlertIsAcknowledgedWithTheTokenAndShowsAtOnce) {

@@ -208,29 +208,33 @@ void ConsoleServer::stream_events(httplib::Response& res) {
     std::chrono::steady_clock::time_point last_write = std::chrono::steady_clock::now();
   };
   auto seen = std::make_shared<Seen>();
-  res.set_chunked_content_provider("text/event-stream", [this, seen](size_t, httplib::DataSink& sink) {
-    for (int i = 0; i < 20 && !stopping_; ++i) {
-      const auto s = provider_ ? provider_() : nullptr;
-      const int64_t map = s && s->status.contains("version") ? s->status["version"].get<int64_t>() : 0;
-      const int64_t commands = inbox_ ? int64_t(inbox_->generation()) : 0;
-      if (map != seen->map || commands != seen->commands) {
-        seen->map = map;
-        seen->commands = commands;
-        seen->last_write = std::chrono::steady_clock::now();
-        const std::string event =
-            "data: " + nlohmann::json{{"map_version", map}, {"commands", commands}}.dump() + "\n\n";
-        return sink.write(event.data(), event.size());
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    if (stopping_ || !sink.is_writable()) return false;
-    if (std::chrono::steady_clock::now() - seen->last_write > std::chrono::seconds(10)) {
-      seen->last_write = std::chrono::steady_clock::now();
-      const std::string keep_alive = ": still here\n\n";  // proxies and the browser see a live stream
-      return sink.write(keep_alive.data(), keep_alive.size());
-    }
-    return true;
-  });
+  ++open_streams_;
+  res.set_chunked_content_provider(
+      "text/event-stream",
+      [this, seen](size_t, httplib::DataSink& sink) {
+        for (int i = 0; i < 20 && !stopping_; ++i) {
+          const auto s = provider_ ? provider_() : nullptr;
+          const int64_t map = s && s->status.contains("version") ? s->status["version"].get<int64_t>() : 0;
+          const int64_t commands = inbox_ ? int64_t(inbox_->generation()) : 0;
+          if (map != seen->map || commands != seen->commands) {
+            seen->map = map;
+            seen->commands = commands;
+            seen->last_write = std::chrono::steady_clock::now();
+            const std::string event =
+                "data: " + nlohmann::json{{"map_version", map}, {"commands", commands}}.dump() + "\n\n";
+            return sink.write(event.data(), event.size());
+          }
+          std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+        if (stopping_ || !sink.is_writable()) return false;
+        if (std::chrono::steady_clock::now() - seen->last_write > std::chrono::seconds(10)) {
+          seen->last_write = std::chrono::steady_clock::now();
+          const std::string keep_alive = ": still here\n\n";  // proxies and the browser see a live stream
+          return sink.write(keep_alive.data(), keep_alive.size());
+        }
+        return true;
+      },
+      [this](bool) { --open_streams_; });  // the page closed (or the server stops)
 }
 
 bool ConsoleServer::authorized(const httplib::Request& req, httplib::Response& res) const {

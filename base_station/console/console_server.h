@@ -74,6 +74,8 @@ class ConsoleServer {
   /// The bound port (useful with port 0); -1 before start().
   int port() const { return port_; }
   const std::string& web_dir() const { return web_dir_; }
+  /// Pages listening now (open /api/events streams): the base spends on quick snapshots only then.
+  int open_streams() const { return open_streams_; }
 
  private:
   void register_routes();
@@ -96,6 +98,7 @@ class ConsoleServer {
   std::thread thread_;
   std::atomic<bool> stopping_{false};
   std::atomic<bool> listen_ended_{false};  ///< the listening thread returned
+  std::atomic<int> open_streams_{0};
   mutable std::mutex exports_mutex_;
   std::string exports_dir_;  ///< empty until offer_exports()
   int port_ = -1;
