@@ -65,6 +65,17 @@ class Operator {
   std::string last_body_;
 };
 
+/// The one-robot operator mission (tests/worlds/operator_one_robot.yaml) in the background, its
+/// console on `port` with the test's operator token.
+std::future<CommandResult> start_one_robot_mission(const fs::path& out, int port) {
+  fs::remove_all(out);
+  return std::async(std::launch::async, [out, port] {
+    return run_command(bin("cairn_mission") + " --world " + source_path("tests/worlds/operator_one_robot.yaml") +
+                       " --out " + out.string() + " --port " + std::to_string(port) + " --operator-token " + kToken +
+                       " --timeout 300");
+  });
+}
+
 /// Polls `done` every 200 ms for up to `timeout_s`; true once it holds.
 template <typename Done>
 bool wait_for(double timeout_s, Done&& done) {
@@ -78,14 +89,9 @@ bool wait_for(double timeout_s, Done&& done) {
 
 TEST(OperatorCommands, GoToDrivesTheSimulatedRobotThereAndHomeEndsTheMission) {
   const fs::path out = fs::path(::testing::TempDir()) / ("operator_" + std::to_string(getpid()));
-  fs::remove_all(out);
   const int port = mission::free_port();
   ASSERT_GT(port, 0);
-  auto mission = std::async(std::launch::async, [&] {
-    return run_command(bin("cairn_mission") + " --world " + source_path("tests/worlds/operator_one_robot.yaml") +
-                       " --out " + out.string() + " --port " + std::to_string(port) + " --operator-token " + kToken +
-                       " --timeout 300");
-  });
+  auto mission = start_one_robot_mission(out, port);
   Operator op(port);
   const Eigen::Vector2d target(6.0, 7.5);  // down the corridor from where it entered (1.2, 7.5)
   const nlohmann::json go = {{"robot", 0}, {"kind", "goto"}, {"x_m", target.x()}, {"y_m", target.y()}};
@@ -142,14 +148,9 @@ TEST(OperatorCommands, GoToDrivesTheSimulatedRobotThereAndHomeEndsTheMission) {
 
 TEST(OperatorCommands, PauseHoldsTheExploringRobotAndNoGoalIsSentIntoAKeepOutArea) {
   const fs::path out = fs::path(::testing::TempDir()) / ("search_" + std::to_string(getpid()));
-  fs::remove_all(out);
   const int port = mission::free_port();
   ASSERT_GT(port, 0);
-  auto mission = std::async(std::launch::async, [&] {
-    return run_command(bin("cairn_mission") + " --world " + source_path("tests/worlds/operator_one_robot.yaml") +
-                       " --out " + out.string() + " --port " + std::to_string(port) + " --operator-token " + kToken +
-                       " --timeout 300");
-  });
+  auto mission = start_one_robot_mission(out, port);
   Operator op(port);
   auto goals = [&] {
     const nlohmann::json status = op.get("/api/status");

@@ -1,12 +1,13 @@
 #pragma once
 // The console's reply helpers, shared by its route files (console_server.cpp, console_map_view.cpp).
 // Include after <httplib.h>.
-#include <cstdint>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 #include <string>
+
+#include "base_station/console/map_tiles.h"
 
 namespace cairn::base::http {
 
@@ -27,9 +28,7 @@ inline void reply_json(httplib::Response& res, const nlohmann::json& j) {
 /// 304 and no body.
 inline void reply_json_revalidated(const httplib::Request& req, httplib::Response& res, const nlohmann::json& j) {
   const std::string body = j.dump();
-  uint64_t h = 1469598103934665603ull;  // FNV-1a 64
-  for (unsigned char c : body) h = (h ^ c) * 1099511628211ull;
-  const std::string etag = "\"j" + std::to_string(h) + "\"";
+  const std::string etag = etag_of(body.data(), body.size());
   res.set_header("Cache-Control", "no-cache");
   res.set_header("ETag", etag);
   if (req.get_header_value("If-None-Match") == etag) {

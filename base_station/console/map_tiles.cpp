@@ -74,9 +74,10 @@ std::vector<uint8_t> tile_pixels(const GridCells& g, const TileKey& key, const T
   return gray;
 }
 
-std::string tile_etag(const std::vector<uint8_t>& pixels) {
+std::string etag_of(const void* data, size_t size) {
   uint64_t h = 1469598103934665603ull;
-  for (uint8_t b : pixels) h = (h ^ b) * 1099511628211ull;
+  const auto* bytes = static_cast<const uint8_t*>(data);
+  for (size_t i = 0; i < size; ++i) h = (h ^ bytes[i]) * 1099511628211ull;
   char text[24];
   std::snprintf(text, sizeof(text), "\"%016llx\"", static_cast<unsigned long long>(h));
   return text;

@@ -46,8 +46,9 @@ constexpr uint8_t kTileOccupied = 40, kTileFree = 255, kTileUnknown = 205;
 /// grey channel: a tile's PNG is several times smaller than RGBA's (the page's bytes per second).
 std::vector<uint8_t> tile_pixels(const GridCells& grid, const TileKey& key, const TileOptions& options = {});
 
-/// A strong ETag for the tile's pixels (FNV-1a 64), quoted.
-std::string tile_etag(const std::vector<uint8_t>& pixels);
+/// A strong ETag for `size` bytes (FNV-1a 64, quoted): the tiles' and the polled JSON's.
+std::string etag_of(const void* data, size_t size);
+inline std::string tile_etag(const std::vector<uint8_t>& pixels) { return etag_of(pixels.data(), pixels.size()); }
 
 /// PNG bytes of a grey image (best compression); empty if encoding failed.
 std::vector<uint8_t> encode_gray_png(int width, int height, const std::vector<uint8_t>& gray);
