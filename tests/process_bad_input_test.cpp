@@ -229,6 +229,23 @@ TEST(ProcessBadInput, AgentRejectsBadConfigAndRobotId) {
   EXPECT_NE(r.output.find("--robot"), std::string::npos) << r.output;
 }
 
+TEST(ProcessBadInput, SlamBlamesALogWithoutScansNotTheOutputFolder) {
+  // Odometry only (a robot whose laser died): the log is what is wrong, exit 2.
+  const std::string log =
+      temp_file("odometry_only.log", "ODOM 0 0 0 0 0 0 1.0 host 1.0\nODOM 0.1 0 0 0 0 0 1.1 host 1.1\n");
+  const auto r = run_command(bin("cairn_slam") + " --log " + log + " --out " + ::testing::TempDir() + "/slam_no_scans");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("odometry_only.log: no laser scans"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("cannot write"), std::string::npos) << r.output;
+}
+
+TEST(ProcessBadInput, GraphOptimiserExitsTwoOnAMalformedGraph) {
+  const std::string g2o = temp_file("bad.g2o", "VERTEX_SE2 0 0 0 0\nEDGE_SE2 0 1 1 0 nan 1 0 0 1 0 1\n");
+  const auto r = run_command(bin("cairn_g2o_opt") + " " + g2o);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad.g2o"), std::string::npos) << r.output;
+}
+
 TEST(ProcessBadInput, EvalKeepsExistingFilesOnMalformedInput) {
   const fs::path dir = fs::path(::testing::TempDir()) / "eval_bad_input";
   fs::create_directories(dir);

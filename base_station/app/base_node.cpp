@@ -285,6 +285,8 @@ int BaseNode::finish() {
     j["id"] = rs.id.value;
     j["linked"] = rs.linked;
     j["anchor"] = rs.anchor;
+    if (const auto start = options_.robot_starts.find(rs.id); start != options_.robot_starts.end())
+      j["given_start"] = {{"x_m", start->second.x()}, {"y_m", start->second.y()}, {"yaw_rad", start->second.yaw()}};
     j["inter_robot_closures"] = rs.inter_robot_closures;
     j["keyframes"] = rs.keyframes;
     j["missing_keyframes"] = rs.missing_keyframes;

@@ -132,9 +132,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "cannot write %s\n", out_path.c_str());
       return 1;
     }
-  } catch (const cairn::InputError& e) {
-    std::fprintf(stderr, "%s\n", e.what());
-    return 1;
+  } catch (const cairn::InputError& e) {  // bad input: exit 2, as every Cairn tool
+    std::fprintf(stderr, "cairn_g2o_opt: %s\n", e.what());
+    return 2;
   }
   return 0;
 }

@@ -12,6 +12,7 @@
 
 #include "common/errors.h"
 #include "tools/mrlog/mrlog_convert.h"
+#include "tools/mrlog/mrlog_eval.h"
 
 namespace {
 
@@ -36,29 +37,22 @@ int write(const cairn::MultiRobotLog& log, const std::string& path, const std::s
   return 0;
 }
 
-/// Errors of the base's results against the log's reference: the global frame is the anchor
-/// robot's start frame, so no alignment is applied.
+/// Errors of the base's results against the log's reference, in the base's own global frame
+/// (mrlog_eval.h: a given start's frame, else the anchor robot's start), so no alignment is applied.
 int evaluate(const cairn::MultiRobotLog& log, const std::string& dir) {
   if (log.robots.empty() || log.robots.begin()->second.truth.empty()) {
     std::fprintf(stderr, "the log has no TRUTH records for its first robot: nothing to compare\n");
     return 2;
   }
-  // The global frame is the anchor robot's start frame (summary.json says which; else the lowest id).
-  cairn::RobotId anchor = log.robots.begin()->first;
   std::ifstream summary_in(dir + "/summary.json");
   const nlohmann::json summary = summary_in ? nlohmann::json::parse(summary_in, nullptr, false) : nlohmann::json();
-  if (summary.is_object() && summary.contains("robots")) {
-    for (const auto& r : summary["robots"]) {
-      if (r.value("anchor", false)) anchor = cairn::RobotId(r["id"].get<int>());
-    }
-  }
-  const cairn::RobotLogData* a = log.robot(anchor);
-  if (!a || a->truth.empty()) {
-    std::fprintf(stderr, "no TRUTH records for the anchor robot %d\n", anchor.value);
+  const auto frame = cairn::mrlog::global_frame_of(log, summary);
+  if (!frame) {
+    std::fprintf(stderr, "no TRUTH records for the robot that fixes the global frame\n");
     return 2;
   }
-  const cairn::SE2 T_global_world = a->truth.front().pose.inverse();
-  std::printf("global frame: robot %d's start\n", anchor.value);
+  const cairn::SE2 T_global_world = frame->T_global_world;
+  std::printf("global frame: %s\n", frame->description.c_str());
   cairn::TrajectoryErrorOptions no_align;
   no_align.align = false;
   for (const auto& [id, r] : log.robots) {

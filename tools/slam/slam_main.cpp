@@ -186,6 +186,9 @@ int main(int argc, char** argv) {
     } else {
       log = cairn::read_carmen_log(log_path, read_options);
     }
+    if (log.scans.empty())
+      throw cairn::InputError((mrlog_path.empty() ? log_path : mrlog_path) +
+                              ": no laser scans in the log (FLASER, ROBOTLASER1 or SCAN records): nothing to map");
   } catch (const cairn::InputError& e) {
     std::cerr << "cairn_slam: " << e.what() << "\n";
     return 2;
