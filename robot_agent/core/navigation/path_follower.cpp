@@ -18,6 +18,9 @@ Eigen::Vector2d closest_on_segment(const Eigen::Vector2d& a, const Eigen::Vector
 /// moves a few centimetres per scan; a path doubling back on itself must not be short-cut).
 constexpr size_t kProjectionWindow = 30;
 
+/// The shortest lookahead tried when the arc to the usual one would touch a return.
+constexpr double kMinLookaheadM = 0.15;
+
 }  // namespace
 
 double obstacle_ahead_m(const LaserScan& scan, double robot_radius_m, double half_width_m) {
@@ -26,6 +29,26 @@ double obstacle_ahead_m(const LaserScan& scan, double robot_radius_m, double hal
     if (p.x() > 0.f && std::abs(p.y()) <= half_width_m) nearest = std::min(nearest, double(p.x()) - robot_radius_m);
   }
   return nearest;
+}
+
+double free_travel_m(const LaserScan& scan, double robot_radius_m, double curvature_per_m, double max_m) {
+  constexpr double kStepM = 0.02;
+  const std::vector<Eigen::Vector2f> points = scan_to_points(scan);
+  const double r2 = robot_radius_m * robot_radius_m;
+  const double k = curvature_per_m;
+  for (double s = 0; s <= max_m + 1e-9; s += kStepM) {
+    // The disc's centre and heading after s metres on the arc from the origin, heading +x.
+    const Eigen::Vector2d c = std::abs(k * s) < 1e-9 ? Eigen::Vector2d(s, 0)
+                                                     : Eigen::Vector2d(std::sin(k * s) / k, (1 - std::cos(k * s)) / k);
+    const Eigen::Vector2d heading(std::cos(k * s), std::sin(k * s));
+    for (const Eigen::Vector2f& p : points) {
+      const Eigen::Vector2d q = p.cast<double>() - c;
+      // Inside the disc and in its front half: driving on would push into it (a return touching
+      // its back half is being left behind).
+      if (q.squaredNorm() < r2 && q.dot(heading) > 0) return s;
+    }
+  }
+  return std::numeric_limits<double>::infinity();
 }
 
 double nearest_obstacle_m(const LaserScan& scan, double robot_radius_m) {
@@ -103,14 +126,31 @@ FollowerOutput PathFollower::update(const SE2& T_local_base, const LaserScan& sc
   v = std::min(v, std::max(o.min_speed_mps, o.max_speed_mps * out.remaining_m / o.goal_slowdown_m));
   const double ramp_m = std::max(1e-6, o.slow_distance_m - o.safety_distance_m);
   v = std::min(v, std::max(o.min_speed_mps, o.max_speed_mps * (out.obstacle_ahead_m - o.safety_distance_m) / ramp_m));
-  if (nearest_obstacle_m(scan, o.robot_radius_m) < o.near_obstacle_m) v *= 0.5;
-  if (out.obstacle_ahead_m <= o.safety_distance_m) {
-    out.blocked = true;  // stop; turning towards the path is still allowed
-    out.command.angular_radps = rotate;
-    return out;
+  if (nearest_obstacle_m(scan, o.robot_radius_m) < o.near_obstacle_m) v = std::max(o.min_speed_mps, 0.5 * v);
+  // Stop only for what the disc would hit driving on along its arc: a return beside it, in the
+  // corridor's side margin or off the arc, slows it but never stops it (a robot parked a few
+  // centimetres from rubble would otherwise stay blocked in every heading that keeps the rubble at
+  // its side, and a path bending round a corner would stop at the corner).
+  double curvature = 2.0 * target.y() / (d * d);
+  if (free_travel_m(scan, o.robot_radius_m, curvature, o.safety_distance_m) <= o.safety_distance_m) {
+    // Pure pursuit cuts corners: before stopping, hug the path with shorter lookaheads, slowly.
+    bool hugging = false;
+    for (double l = 0.5 * o.lookahead_m; l >= kMinLookaheadM && !hugging; l *= 0.5) {
+      const Eigen::Vector2d t = T_local_base.inverse() * along(projection, l);
+      const double k = 2.0 * t.y() / std::max(1e-6, t.squaredNorm());
+      if (std::abs(std::atan2(t.y(), t.x())) > o.turn_in_place_rad) continue;
+      if (free_travel_m(scan, o.robot_radius_m, k, o.safety_distance_m) <= o.safety_distance_m) continue;
+      curvature = k;
+      v = o.min_speed_mps;
+      hugging = true;
+    }
+    if (!hugging) {
+      out.blocked = true;  // stop; turning towards the path is still allowed
+      out.command.angular_radps = rotate;
+      return out;
+    }
   }
   // Pure pursuit: the arc through the robot and the target, tangent to the heading.
-  const double curvature = 2.0 * target.y() / (d * d);
   double w = v * curvature;
   if (std::abs(w) > o.max_turn_radps) {
     v = o.max_turn_radps / std::abs(curvature);

@@ -3,8 +3,9 @@
 // point `lookahead_m` further along it, curvature 2 y / d^2 in the robot's frame; rotate on the
 // spot first when that point lies more than `turn_in_place_rad` off the heading. Speed ramps down
 // over the path's last stretch and as returns ahead come near. The current scan, not the map, is
-// the last word: a return within `safety_distance_m` of the robot's front edge in the forward
-// corridor (the robot's width plus a margin) stops it (it may still rotate) and asks for a re-plan.
+// the last word: a return the disc would meet within `safety_distance_m` driving on its arc
+// stops it (it may still rotate) and asks for a re-plan; returns in the forward corridor (the
+// robot's width plus a side margin) slow it down.
 // Pure: a path, a pose and a scan in, a command out.
 #include <Eigen/Core>
 #include <limits>
@@ -25,7 +26,7 @@ struct PathFollowerOptions {
   double turn_gain = 2.0;          ///< on the spot, angular = gain x heading error (clamped)
   double goal_slowdown_m = 1.0;    ///< speed ramps down linearly over the path's last stretch
   double robot_radius_m = 0.2;
-  double safety_distance_m = 0.3;  ///< from the robot's edge: returns ahead nearer than this stop it
+  double safety_distance_m = 0.3;  ///< the disc would meet a return within this driving on: stop
   double side_margin_m = 0.05;     ///< the forward corridor's half width is the radius plus this
   double slow_distance_m = 0.8;    ///< from the edge: returns ahead nearer than this slow it down
   double near_obstacle_m = 0.15;   ///< from the edge: a return this close on any side halves the speed
@@ -45,6 +46,9 @@ struct FollowerOutput {
 /// The nearest return in the corridor of half width `half_width_m` ahead of the robot (x > 0 in
 /// the base frame), as distance from the robot's front edge (x - radius; negative: touching).
 double obstacle_ahead_m(const LaserScan& scan, double robot_radius_m, double half_width_m);
+/// How far the robot's disc can drive on the arc of `curvature_per_m` (0: straight ahead) before a
+/// return enters its front half, checked every 2 cm up to `max_m`; infinity when nothing does.
+double free_travel_m(const LaserScan& scan, double robot_radius_m, double curvature_per_m, double max_m);
 /// The nearest return in any direction, as distance from the robot's edge.
 double nearest_obstacle_m(const LaserScan& scan, double robot_radius_m);
 

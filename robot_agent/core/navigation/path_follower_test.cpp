@@ -83,15 +83,40 @@ TEST(PathFollower, StopsForAnObstacleWithinTheSafetyDistanceAhead) {
   const FollowerOutput beside = f.update(SE2(0, 0, 0), obstacle_at(0.45, 0.6));
   EXPECT_FALSE(beside.blocked);
   EXPECT_DOUBLE_EQ(beside.command.linear_mps, 0.5);
-  // Stopped, it still turns towards a path that bends away from the obstacle (its lookahead point
-  // ~0.45 rad left: pursued, not turned to on the spot, were it not for the stop).
+  // A path that bends away from the obstacle (its lookahead point ~0.45 rad left, the arc to it
+  // cutting the corner into the obstacle) is hugged with a shorter lookahead, at the least speed.
   PathFollower bend;
   bend.set_path({{0, 0}, {0.3, 0.1}, {0.6, 0.3}, {0.8, 0.6}, {0.9, 1.0}, {0.9, 3.0}});
-  const FollowerOutput turn = bend.update(SE2(0, 0, 0), obstacle_at(0.45));
+  const FollowerOutput hug = bend.update(SE2(0, 0, 0), obstacle_at(0.45));
+  EXPECT_FALSE(hug.blocked);
+  EXPECT_DOUBLE_EQ(hug.command.linear_mps, PathFollowerOptions{}.min_speed_mps);
+  EXPECT_GT(hug.command.angular_radps, 0.0);
+  EXPECT_NEAR(hug.heading_error_rad, 0.45, 0.02);
+  // Stopped, it still turns towards the path (here one that leads into the obstacle's side).
+  PathFollower into;
+  into.set_path({{0, 0}, {0.4, 0.05}, {0.8, 0.3}, {1.0, 1.0}});
+  const FollowerOutput turn = into.update(SE2(0, 0, 0), obstacle_at(0.3, 0.1));
   EXPECT_TRUE(turn.blocked);
   EXPECT_EQ(turn.command.linear_mps, 0.0);
   EXPECT_NEAR(turn.command.angular_radps, 2.0 * turn.heading_error_rad, 1e-9);
-  EXPECT_NEAR(turn.heading_error_rad, 0.45, 0.02);
+}
+
+TEST(PathFollower, FreeTravelIsHowFarTheDiscDrivesOnItsArcBeforeTouchingAReturn) {
+  constexpr double kRadius = 0.2;
+  // Straight ahead 0.5 m: the disc's front meets it after 0.3 m (checked every 2 cm).
+  EXPECT_NEAR(free_travel_m(obstacle_at(0.5), kRadius, 0.0, 1.0), 0.3, 0.021);
+  constexpr double kFree = std::numeric_limits<double>::infinity();
+  // Rubble along its side 0.22 m off (a robot parked beside it): never touched driving on.
+  const LaserScan beside = ray_cast({Segment{{-0.2, 0.22}, {0.8, 0.22}}}, SE2(0, 0, 0), 0);
+  EXPECT_EQ(free_travel_m(beside, kRadius, 0.0, 1.0), kFree);
+  // Beyond what is checked: free.
+  EXPECT_EQ(free_travel_m(obstacle_at(0.5), kRadius, 0.0, 0.2), kFree);
+  // A stone ahead and right: met after ~0.26 m straight on, never on an arc bending left (radius
+  // 0.33 m) for the 0.3 m checked.
+  const LaserScan stone = ray_cast({Segment{{0.45, -0.15}, {0.45, -0.05}}}, SE2(0, 0, 0), 0);
+  const double straight = free_travel_m(stone, kRadius, 0.0, 0.3);
+  EXPECT_NEAR(straight, 0.26, 0.021);
+  EXPECT_EQ(free_travel_m(stone, kRadius, 3.0, 0.3), kFree);
 }
 
 TEST(PathFollower, ObstacleAheadMeasuresFromTheFrontEdgeWithinTheCorridor) {
