@@ -45,11 +45,14 @@ void BaseNode::plan_and_publish_goals(bool send) {
       goals_.release(r.id);
       continue;
     }
-    const auto nav = navigation_.find(r.id);
+    // Not one keyframe of it on the map yet (its start given, its sensors not started): nothing to
+    // plan on, and an empty map must not read as "no frontier left, go home".
     const Trajectory& trajectory = merged.trajectory(r.id);
+    if (trajectory.empty()) continue;
+    const auto nav = navigation_.find(r.id);
     if (nav != navigation_.end()) {
       robots_m[r.id] = r.T_global_local * nav->second.pose.translation();
-    } else if (!trajectory.empty()) {
+    } else {
       robots_m[r.id] = trajectory.back().pose.translation();
     }
   }
