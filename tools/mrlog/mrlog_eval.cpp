@@ -12,6 +12,12 @@ std::optional<SE2> given_start(const nlohmann::json& robot) {
   return SE2(s["x_m"].get<double>(), s["y_m"].get<double>(), s["yaw_rad"].get<double>());
 }
 
+/// summary.json's robots[].id, when present and an integer.
+std::optional<RobotId> robot_id(const nlohmann::json& robot) {
+  if (!robot.is_object() || !robot.contains("id") || !robot["id"].is_number_integer()) return std::nullopt;
+  return RobotId(robot["id"].get<int>());
+}
+
 }  // namespace
 
 std::optional<GlobalFrame> global_frame_of(const MultiRobotLog& log, const nlohmann::json& summary) {
@@ -22,15 +28,15 @@ std::optional<GlobalFrame> global_frame_of(const MultiRobotLog& log, const nlohm
     // A given start fixes the global frame for every robot: it is the frame the start was given in.
     for (const auto& r : summary["robots"]) {
       const auto start = given_start(r);
-      if (!start || !r.contains("id") || !r["id"].is_number_integer()) continue;
-      const RobotLogData* data = log.robot(RobotId(r["id"].get<int>()));
+      const auto id = robot_id(r);
+      if (!start || !id) continue;
+      const RobotLogData* data = log.robot(*id);
       if (!data || data->truth.empty()) continue;
       return GlobalFrame{*start * data->truth.front().pose.inverse(),
                          "the start given for robot " + std::to_string(data->robot.value)};
     }
     for (const auto& r : summary["robots"]) {
-      if (r.is_object() && r.value("anchor", false) && r.contains("id") && r["id"].is_number_integer())
-        anchor = RobotId(r["id"].get<int>());
+      if (const auto id = robot_id(r); id && r.value("anchor", false)) anchor = *id;
     }
   }
   const RobotLogData* a = log.robot(anchor);
