@@ -105,7 +105,9 @@ try {
   const p = await page.evaluate(([x, y]) => MapView.pixelOf(x, y), [TARGET.x, TARGET.y]);
   await page.click("#map", { position: p });
   await page.waitForFunction(() => document.getElementById("command-feedback").textContent.startsWith("Sent goto"));
-  const sent = (await getJson("/api/commands"))[0];
+  // The page says "Sent" when the POST returns; the commands list is the base's published state,
+  // which can lag it by one update.
+  const sent = await waitFor("the goto in the base's command list", 5000, async () => (await getJson("/api/commands"))[0]);
   check(sent && sent.kind === "goto" && Math.hypot(sent.x_m - TARGET.x, sent.y_m - TARGET.y) < 0.3,
     `the click named the point (${sent && sent.x_m.toFixed(2)}, ${sent && sent.y_m.toFixed(2)}) m`);
   await waitFor("the command shown as done", 60000, async () =>

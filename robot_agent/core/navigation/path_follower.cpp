@@ -57,6 +57,16 @@ double nearest_obstacle_m(const LaserScan& scan, double robot_radius_m) {
   return nearest;
 }
 
+std::optional<double> escape_heading_rad(const LaserScan& scan, double within_m) {
+  Eigen::Vector2d push(0, 0);
+  for (const Eigen::Vector2f& p : scan_to_points(scan)) {
+    const double d = p.norm();
+    if (d > 1e-6 && d < within_m) push -= (within_m - d) * p.cast<double>() / d;
+  }
+  if (push.norm() < 1e-9) return std::nullopt;
+  return std::atan2(push.y(), push.x());
+}
+
 PathFollower::PathFollower(const PathFollowerOptions& options) : options_(options) {}
 
 void PathFollower::set_path(std::vector<Eigen::Vector2d> path_m) {
@@ -114,6 +124,13 @@ FollowerOutput PathFollower::update(const SE2& T_local_base, const LaserScan& sc
   const Eigen::Vector2d target = T_local_base.inverse() * out.lookahead_m;  // base frame
   const double d = target.norm();
   if (d < o.end_reached_m && out.remaining_m < o.end_reached_m) return out;  // at the end: stop
+  if (escape_) {
+    if ((position - escape_->from_m).norm() < o.escape_m) {
+      escape_step(T_local_base, scan, &out);
+      if (escape_) return out;
+    }
+    escape_.reset();
+  }
   out.heading_error_rad = std::atan2(target.y(), target.x());
   const double alpha = out.heading_error_rad;
   const double rotate = std::clamp(o.turn_gain * alpha, -o.max_turn_radps, o.max_turn_radps);
@@ -147,9 +164,21 @@ FollowerOutput PathFollower::update(const SE2& T_local_base, const LaserScan& sc
     if (!hugging) {
       out.blocked = true;  // stop; turning towards the path is still allowed
       out.command.angular_radps = rotate;
+      // Pressed against a return (rubble a centimetre from its side: within the laser's noise, so
+      // no arc along it is free), it first steps away from what it touches, towards the middle.
+      if (!blocked_since_ns_) blocked_since_ns_ = scan.stamp_ns;
+      const bool long_blocked = ns_to_sec(scan.stamp_ns - *blocked_since_ns_) >= o.escape_after_s;
+      if (long_blocked && nearest_obstacle_m(scan, o.robot_radius_m) < o.contact_m) {
+        if (const auto away = escape_heading_rad(scan, o.robot_radius_m + o.near_obstacle_m)) {
+          escape_ = Escape{position, T_local_base.yaw() + *away};
+          blocked_since_ns_.reset();
+          escape_step(T_local_base, scan, &out);
+        }
+      }
       return out;
     }
   }
+  blocked_since_ns_.reset();
   // Pure pursuit: the arc through the robot and the target, tangent to the heading.
   double w = v * curvature;
   if (std::abs(w) > o.max_turn_radps) {
@@ -159,6 +188,30 @@ FollowerOutput PathFollower::update(const SE2& T_local_base, const LaserScan& sc
   out.command.linear_mps = v;
   out.command.angular_radps = w;
   return out;
+}
+
+void PathFollower::escape_step(const SE2& T_local_base, const LaserScan& scan, FollowerOutput* out) {
+  const PathFollowerOptions& o = options_;
+  constexpr double kAlignedRad = 0.2;  // drive once the heading is this near the escape's
+  const double error = normalize_angle(escape_->heading_rad - T_local_base.yaw());
+  out->escaping = true;
+  out->command = VelocityCommand{};
+  if (std::abs(error) > kAlignedRad) {
+    out->command.angular_radps = std::clamp(o.turn_gain * error, -o.max_turn_radps, o.max_turn_radps);
+    return;
+  }
+  // Done once the push turns back (in the middle, between the returns on either side), when
+  // nothing is near any more, or when the way is not free.
+  const auto away = escape_heading_rad(scan, o.robot_radius_m + o.near_obstacle_m);
+  const double left_m = o.escape_m - (T_local_base.translation() - escape_->from_m).norm();
+  if (!away || std::abs(normalize_angle(*away - error)) > M_PI / 2 ||
+      free_travel_m(scan, o.robot_radius_m, 0.0, left_m) <= left_m) {
+    escape_.reset();
+    out->escaping = false;
+    return;
+  }
+  out->command.linear_mps = o.min_speed_mps;
+  out->command.angular_radps = std::clamp(o.turn_gain * error, -o.max_turn_radps, o.max_turn_radps);
 }
 
 }  // namespace cairn::agent

@@ -9,6 +9,7 @@
 // Pure: a path, a pose and a scan in, a command out.
 #include <Eigen/Core>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "common/laser_scan.h"
@@ -31,12 +32,19 @@ struct PathFollowerOptions {
   double slow_distance_m = 0.8;    ///< from the edge: returns ahead nearer than this slow it down
   double near_obstacle_m = 0.15;   ///< from the edge: a return this close on any side halves the speed
   double end_reached_m = 0.05;     ///< nearer the path's end than this: stop
+  /// Nearer a return than this (from the edge; three standard deviations of a 1 cm ranger) it is
+  /// pressed against it: when blocked, it first steps straight away from the returns around it,
+  /// at most escape_m and no further than the middle between them, then follows the path again...
+  double contact_m = 0.03;
+  double escape_m = 0.1;
+  double escape_after_s = 2.0;  ///< ... once it has been blocked this long (turning is not driving)
 };
 
 struct FollowerOutput {
   VelocityCommand command;
   /// It wanted to move but a return lies within the safety distance ahead: linear speed 0, re-plan.
   bool blocked = false;
+  bool escaping = false;  ///< stepping away from returns it is pressed against (see escape_m)
   double obstacle_ahead_m = std::numeric_limits<double>::infinity();  ///< from the front edge
   double remaining_m = 0;  ///< along the path from the robot's projection to its end
   double heading_error_rad = 0;
@@ -51,6 +59,9 @@ double obstacle_ahead_m(const LaserScan& scan, double robot_radius_m, double hal
 double free_travel_m(const LaserScan& scan, double robot_radius_m, double curvature_per_m, double max_m);
 /// The nearest return in any direction, as distance from the robot's edge.
 double nearest_obstacle_m(const LaserScan& scan, double robot_radius_m);
+/// The direction (base frame) away from the returns nearer than `within_m` to the centre, each
+/// pushing in proportion to how near it is; nullopt when there are none.
+std::optional<double> escape_heading_rad(const LaserScan& scan, double within_m);
 
 class PathFollower {
  public:
@@ -58,7 +69,10 @@ class PathFollower {
 
   /// A new path (map frame, the robot's position first); progress starts at its beginning.
   void set_path(std::vector<Eigen::Vector2d> path_m);
-  void clear() { set_path({}); }
+  void clear() {
+    set_path({});
+    escape_.reset();
+  }
   const std::vector<Eigen::Vector2d>& path() const { return path_; }
   /// The command for the robot at `T_local_base` seeing `scan` (zero without a path).
   FollowerOutput update(const SE2& T_local_base, const LaserScan& scan);
@@ -70,10 +84,22 @@ class PathFollower {
   /// The point `distance_m` further along the path from the projection `from` on segment progress_.
   Eigen::Vector2d along(const Eigen::Vector2d& from, double distance_m) const;
   double remaining_from(const Eigen::Vector2d& from) const;
+  /// Turns to, then drives along, the escape's heading; ends the escape when it has gone escape_m
+  /// or cannot drive on.
+  void escape_step(const SE2& T_local_base, const LaserScan& scan, FollowerOutput* out);
+
+  /// Where an escape started and the heading it drives (map frame). Kept across re-plans: the
+  /// navigator re-plans every half second while blocked.
+  struct Escape {
+    Eigen::Vector2d from_m;
+    double heading_rad = 0;
+  };
 
   PathFollowerOptions options_;
   std::vector<Eigen::Vector2d> path_;
   size_t progress_ = 0;  ///< index of the segment [progress_, progress_ + 1] the robot is on
+  std::optional<Escape> escape_;
+  std::optional<StampNs> blocked_since_ns_;  ///< stopped for an obstacle since (no drive since)
 };
 
 }  // namespace cairn::agent

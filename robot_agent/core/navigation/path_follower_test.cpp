@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "robot_agent/core/navigation/nav_test_util.h"
 
 namespace cairn::agent {
@@ -132,6 +134,46 @@ TEST(PathFollower, WithoutAPathItStaysStill) {
   const FollowerOutput out = f.update(SE2(0, 0, 0), kClear);
   EXPECT_EQ(out.command.linear_mps, 0.0);
   EXPECT_EQ(out.command.angular_radps, 0.0);
+}
+
+}  // namespace
+}  // namespace cairn::agent
+
+namespace cairn::agent {
+namespace {
+
+TEST(PathFollower, EscapeHeadingPointsAwayFromTheNearestReturns) {
+  // Rubble 1 cm below the disc, a wall 0.14 m above: away is up (+y), the rubble pushing hardest.
+  const std::vector<Segment> pocket = {{{-1, -0.21}, {1, -0.21}}, {{-1, 0.34}, {1, 0.34}}};
+  const auto away = escape_heading_rad(ray_cast(pocket, SE2(0, 0, 0), 0), 0.35);
+  ASSERT_TRUE(away.has_value());
+  EXPECT_NEAR(*away, M_PI / 2, 0.05);
+  EXPECT_FALSE(escape_heading_rad(kClear, 0.35).has_value());
+}
+
+TEST(PathFollower, PressedAgainstRubbleItStepsAwayToTheMiddleAfterBeingBlocked) {
+  // Rubble along its right side, a centimetre from the disc, and a wall 0.14 m to its left; the
+  // path bends right, over the rubble's end. Blocked (no arc free), after escape_after_s it turns
+  // to face away from the rubble, drives to about the middle of the strip, and no further.
+  const std::vector<Segment> strip = {{{-1, -0.21}, {0.3, -0.21}}, {{0.3, -0.21}, {0.3, -1}}, {{-1, 0.34}, {2, 0.34}}};
+  PathFollower f;
+  f.set_path({{0, 0}, {0.3, -0.05}, {0.6, -0.4}, {0.7, -1.5}});
+  SE2 pose(0, 0, 0);
+  bool escaped = false;
+  double min_clearance_m = 1;
+  for (int i = 0; i < 200; ++i) {
+    const FollowerOutput out = f.update(pose, ray_cast(strip, pose, StampNs(i) * 100'000'000));
+    if (i * 0.1 < PathFollowerOptions{}.escape_after_s - 0.1) EXPECT_FALSE(out.escaping) << "at " << i * 0.1 << " s";
+    if (escaped && !out.escaping) break;  // the escape is over
+    escaped |= out.escaping;
+    pose = testing::unicycle_step(pose, out.command, 0.1);
+    min_clearance_m = std::min(min_clearance_m, testing::distance_to_walls(strip, pose.translation()) - 0.2);
+  }
+  ASSERT_TRUE(escaped);
+  EXPECT_GT(pose.y(), 0.04);  // out of the rubble's noise, towards the middle (0.065)
+  EXPECT_LT(pose.y(), 0.1);   // but not pressed against the wall instead
+  EXPECT_GT(min_clearance_m, 0.0);
+  std::printf("escaped to y %.3f m, least clearance %.3f m\n", pose.y(), min_clearance_m);
 }
 
 }  // namespace
