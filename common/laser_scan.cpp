@@ -39,7 +39,8 @@ std::vector<Eigen::Vector2f> voxel_filter_2d(const std::vector<Eigen::Vector2f>&
   out.reserve(points.size());
   for (const auto& p : points) {
     const int64_t cx = int64_t(std::floor(p.x() / voxel_m)), cy = int64_t(std::floor(p.y() / voxel_m));
-    if (seen.insert((cx << 32) ^ (cy & 0xffffffff)).second) out.push_back(p);
+    // Shifted as unsigned: a left shift of a negative value is undefined behaviour.
+    if (seen.insert(int64_t((uint64_t(cx) << 32) ^ (uint64_t(cy) & 0xffffffffu))).second) out.push_back(p);
   }
   return out;
 }

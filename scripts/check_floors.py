@@ -4,7 +4,7 @@
 The floors, bottom up: common -> dds and the cores (sim, robot_agent/core, base_station/core) ->
 base_station/{export,store,console} -> the apps (sim/app, robot_agent/app, base_station/app).
 Each folder below may include only the folders listed for it. Tests (*_test.cpp, *test_util*),
-tools/, tests/ and bench/ may reach down anywhere and are not checked.
+tools/, tests/, bench/ and fuzz/ may reach down anywhere and are not checked.
 """
 import pathlib
 import re
@@ -25,7 +25,7 @@ ALLOWED = {
     "base_station/console": ["common", "base_station/core", "base_station/export", "base_station/console"],
     "base_station/app": ["common", "dds", "base_station"],
 }
-EXEMPT = re.compile(r"(^(tools|tests|bench)/)|(_test\.cpp$)|(test_util)")
+EXEMPT = re.compile(r"(^(tools|tests|bench|fuzz)/)|(_test\.cpp$)|(test_util)")
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 
 

@@ -272,7 +272,8 @@ int BaseNode::finish() {
   const nlohmann::json links = link_stats();
   // Every robot the base heard of: from its data, or only from its statuses (none of its data arrived).
   std::vector<RobotSummary> robots = mapper_.robots();
-  for (const auto& [id, link] : links_) {
+  for (const auto& entry : links_) {
+    const RobotId id = entry.first;
     if (std::none_of(robots.begin(), robots.end(), [&](const RobotSummary& r) { return r.id == id; })) {
       RobotSummary r;
       r.id = id;

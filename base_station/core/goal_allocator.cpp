@@ -60,7 +60,7 @@ std::vector<GoalOrder> GoalAllocator::assign(const ExplorationPlan& plan,
       want.goal_global_m = *placement * want.goal_local_m;
     } else {
       const auto goal = std::find_if(plan.goals.begin(), plan.goals.end(),
-                                     [&](const ExplorationGoal& g) { return g.robot == robot; });
+                                     [&](const ExplorationGoal& g) { return g.robot == want.robot; });
       if (goal == plan.goals.end()) {
         want.kind = GoalKind::kOwn;  // nothing reachable for it on the merged map
       } else {

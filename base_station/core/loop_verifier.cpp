@@ -109,7 +109,8 @@ void refine(const std::vector<Eigen::Vector2f>& map_points, const std::vector<Ei
             const LoopVerifierOptions& o, LoopVerification* v) {
   const double cell = 0.3;
   auto key = [&](double x, double y) {
-    return (int64_t(std::floor(x / cell)) << 32) ^ uint32_t(int32_t(std::floor(y / cell)));
+    // Shifted as unsigned: a left shift of a negative value is undefined behaviour.
+    return int64_t((uint64_t(int64_t(std::floor(x / cell))) << 32) ^ uint32_t(int32_t(std::floor(y / cell))));
   };
   std::unordered_map<int64_t, std::vector<Eigen::Vector2d>> hash;
   for (const auto& p : map_points) hash[key(p.x(), p.y())].push_back(p.cast<double>());

@@ -247,7 +247,8 @@ ExportSummary export_all(const MergedMap& merged, const std::string& out_dir, co
   });
   run(&summary, dir + "graph.g2o",
       [&](const std::string& p, std::string* e) { return write_graph_g2o(*merged.graph, p, e); });
-  for (const auto& [robot, trajectory] : merged.trajectories) {
+  for (const auto& [robot, robot_trajectory] : merged.trajectories) {
+    const auto& trajectory = robot_trajectory;  // a lambda may not capture a structured binding (C++17)
     run(&summary, dir + "trajectory_robot" + std::to_string(robot.value) + ".csv",
         [&](const std::string& p, std::string*) { return write_trajectory_csv(p, trajectory); });
   }

@@ -193,7 +193,8 @@ TEST(Exporter, AnUnlinkedRobotsVictimIsInEveryExportFlaggedInItsOwnFrame) {
 }
 
 TEST(Exporter, TheOperatorsVerdictIsInEveryObjectExport) {
-  MergedMap merged = make_mapper().merged();
+  const MultiRobotMapper mapper = make_mapper();  // the merged map points into it
+  MergedMap merged = mapper.merged();
   ASSERT_FALSE(merged.objects.empty());
   ObjectVerdicts verdicts;
   verdicts.set({merged.objects[0].id, ObjectVerdict::kConfirmed, "alive, trapped, needs a stretcher", sec_to_ns(5)});
@@ -247,7 +248,8 @@ uint32_t png_u32(const std::vector<uint8_t>& png, size_t at) {
 }
 
 TEST(Exporter, MapImageGeometryNamesThePointUnderEachPixel) {
-  const MergedMap merged = make_mapper().merged();
+  const MultiRobotMapper mapper = make_mapper();  // the merged map points into it
+  const MergedMap merged = mapper.merged();
   const MapImageGeometry g = map_image_geometry(*merged.grid);
   ASSERT_TRUE(g.valid);
   const std::vector<uint8_t> png = render_map_png(merged);

@@ -234,7 +234,10 @@ TEST(Navigator, WhenItsMapShowsNoWayItFollowsItsFallbackPathOnlyIfItHasOne) {
     Navigator nav(known_only);
     SE2 pose(1, 0, 0);
     StampNs stamp = 0;
-    for (int i = 0; i < 5; ++i) nav.update(stamp += sec_to_ns(0.1), pose, ray_cast(corridor(true), pose, stamp));
+    for (int i = 0; i < 5; ++i) {
+      stamp += sec_to_ns(0.1);
+      nav.update(stamp, pose, ray_cast(corridor(true), pose, stamp));
+    }
     NavGoal goal = goal_at(4, {12, 0}, GoalKind::kHome);
     if (with_fallback) goal.fallback_path_m = {{1, 0}, {6, 0}, {12, 0}};
     nav.set_goal(goal);
