@@ -60,41 +60,21 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  // Indexed by Type.
+  using Decoder = void (*)(const std::vector<uint8_t>&);
+  static constexpr Decoder kDecoders[kTypeCount] = {
+      &fuzz::decode_sample<cairn_msgs::OdometryPubSubType, cairn_msgs::Odometry>,
+      &fuzz::decode_sample<cairn_msgs::LaserScanPubSubType, cairn_msgs::LaserScan>,
+      &fuzz::decode_sample<cairn_msgs::RgbdFramePubSubType, cairn_msgs::RgbdFrame>,
+      &fuzz::decode_sample<cairn_msgs::KeyframePubSubType, cairn_msgs::Keyframe>,
+      &fuzz::decode_sample<cairn_msgs::KeyframePosesPubSubType, cairn_msgs::KeyframePoses>,
+      &fuzz::decode_sample<cairn_msgs::ObjectReportPubSubType, cairn_msgs::ObjectReport>,
+      &fuzz::decode_status,
+      &fuzz::decode_sample<cairn_msgs::VelocityCommandPubSubType, cairn_msgs::VelocityCommand>,
+      &fuzz::decode_sample<cairn_msgs::ExplorationGoalPubSubType, cairn_msgs::ExplorationGoal>,
+      &fuzz::decode_sample<cairn_msgs::OperatorCommandPubSubType, cairn_msgs::OperatorCommand>,
+  };
   if (size < 1) return 0;
-  const std::vector<uint8_t> bytes(data + 1, data + size);
-  switch (Type(data[0] % kTypeCount)) {
-    case kOdometry:
-      fuzz::decode_sample<cairn_msgs::OdometryPubSubType, cairn_msgs::Odometry>(bytes);
-      break;
-    case kLaserScan:
-      fuzz::decode_sample<cairn_msgs::LaserScanPubSubType, cairn_msgs::LaserScan>(bytes);
-      break;
-    case kRgbdFrame:
-      fuzz::decode_sample<cairn_msgs::RgbdFramePubSubType, cairn_msgs::RgbdFrame>(bytes);
-      break;
-    case kKeyframe:
-      fuzz::decode_sample<cairn_msgs::KeyframePubSubType, cairn_msgs::Keyframe>(bytes);
-      break;
-    case kKeyframePoses:
-      fuzz::decode_sample<cairn_msgs::KeyframePosesPubSubType, cairn_msgs::KeyframePoses>(bytes);
-      break;
-    case kObjectReport:
-      fuzz::decode_sample<cairn_msgs::ObjectReportPubSubType, cairn_msgs::ObjectReport>(bytes);
-      break;
-    case kRobotStatus:
-      fuzz::decode_status(bytes);
-      break;
-    case kVelocityCommand:
-      fuzz::decode_sample<cairn_msgs::VelocityCommandPubSubType, cairn_msgs::VelocityCommand>(bytes);
-      break;
-    case kExplorationGoal:
-      fuzz::decode_sample<cairn_msgs::ExplorationGoalPubSubType, cairn_msgs::ExplorationGoal>(bytes);
-      break;
-    case kOperatorCommand:
-      fuzz::decode_sample<cairn_msgs::OperatorCommandPubSubType, cairn_msgs::OperatorCommand>(bytes);
-      break;
-    case kTypeCount:
-      break;
-  }
+  kDecoders[data[0] % kTypeCount](std::vector<uint8_t>(data + 1, data + size));
   return 0;
 }

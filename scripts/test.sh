@@ -3,8 +3,7 @@
 # build/); with CAIRN_SANITIZED=1 also the unit tests under ASan + UBSan with each fuzz harness
 # for a short while (ctest in build-sanitized/). Arguments go to both ctest runs (e.g. -R Journal).
 # Tests whose data in ../shared/data is absent skip loudly (ctest lists them as skipped).
-# CAIRN_SANITIZED=1 adds the sanitized build (off by default until its unit tests are all clean:
-# the first run found undefined behaviour and use-after-scope, being fixed).
+# The sanitized run is off by default until its unit tests are all clean.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install_deps.sh

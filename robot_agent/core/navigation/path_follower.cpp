@@ -69,6 +69,10 @@ std::optional<double> escape_heading_rad(const LaserScan& scan, double within_m)
 
 PathFollower::PathFollower(const PathFollowerOptions& options) : options_(options) {}
 
+double PathFollower::turn_rate(double heading_error_rad) const {
+  return std::clamp(options_.turn_gain * heading_error_rad, -options_.max_turn_radps, options_.max_turn_radps);
+}
+
 void PathFollower::set_path(std::vector<Eigen::Vector2d> path_m) {
   path_ = std::move(path_m);
   progress_ = 0;
@@ -133,7 +137,7 @@ FollowerOutput PathFollower::update(const SE2& T_local_base, const LaserScan& sc
   }
   out.heading_error_rad = std::atan2(target.y(), target.x());
   const double alpha = out.heading_error_rad;
-  const double rotate = std::clamp(o.turn_gain * alpha, -o.max_turn_radps, o.max_turn_radps);
+  const double rotate = turn_rate(alpha);
   if (std::abs(alpha) > o.turn_in_place_rad) {
     out.command.angular_radps = rotate;
     return out;
@@ -197,7 +201,7 @@ void PathFollower::escape_step(const SE2& T_local_base, const LaserScan& scan, F
   out->escaping = true;
   out->command = VelocityCommand{};
   if (std::abs(error) > kAlignedRad) {
-    out->command.angular_radps = std::clamp(o.turn_gain * error, -o.max_turn_radps, o.max_turn_radps);
+    out->command.angular_radps = turn_rate(error);
     return;
   }
   // Done once the push turns back (in the middle, between the returns on either side), when
@@ -211,7 +215,7 @@ void PathFollower::escape_step(const SE2& T_local_base, const LaserScan& scan, F
     return;
   }
   out->command.linear_mps = o.min_speed_mps;
-  out->command.angular_radps = std::clamp(o.turn_gain * error, -o.max_turn_radps, o.max_turn_radps);
+  out->command.angular_radps = turn_rate(error);
 }
 
 }  // namespace cairn::agent

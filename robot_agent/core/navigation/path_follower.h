@@ -84,6 +84,8 @@ class PathFollower {
   /// The point `distance_m` further along the path from the projection `from` on segment progress_.
   Eigen::Vector2d along(const Eigen::Vector2d& from, double distance_m) const;
   double remaining_from(const Eigen::Vector2d& from) const;
+  /// Turning on the spot towards a heading error: gain x error, within the turn limit.
+  double turn_rate(double heading_error_rad) const;
   /// Turns to, then drives along, the escape's heading; ends the escape when it has gone escape_m
   /// or cannot drive on.
   void escape_step(const SE2& T_local_base, const LaserScan& scan, FollowerOutput* out);
