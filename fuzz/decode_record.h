@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "base_station/console/command_api.h"
+#include "base_station/core/robot_sessions.h"
 #include "base_station/core/search_controls.h"
 #include "base_station/store/journal.h"
 #include "cairn_msgsPubSubTypes.h"
@@ -52,6 +53,9 @@ inline void decode_journal_payload(base::JournalKind kind, const std::vector<uin
       break;
     case JournalKind::kVerdict:
       (void)base::verdict_record_from_json(text, &error);
+      break;
+    case JournalKind::kSession:
+      (void)base::session_record_from_json(text, &error);
       break;
     case JournalKind::kSearch:
       if (const auto record = base::search_record_from_json(text, &error)) {

@@ -1,7 +1,7 @@
 // The agent replays a recorded CARMEN log (instead of the simulator's topics) to a real base
 // station over DDS; a truncated log is refused with its line number; a base station killed after
 // acknowledging a robot's data rebuilds the map from its journal once restarted, with the robot
-// long gone.
+// long gone; an agent killed and restarted is a new session the base keeps apart.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -125,6 +125,55 @@ TEST(LogReplay, KilledBaseResumesFromItsJournalAfterTheRobotIsGone) {
   for (const auto& e : fs::directory_iterator(dir / "map"))
     kept += e.path().filename().string().rfind("journal.sqlite.", 0) == 0;
   EXPECT_GE(kept, 1);
+}
+
+TEST(LogReplay, AnAgentKilledAndRestartedIsANewSessionAndNothingIsDroppedOrOverwritten) {
+  if (!std::ifstream(kMitLog)) GTEST_SKIP() << "data absent: " << kMitLog;
+  const fs::path dir = fs::path(::testing::TempDir()) / ("agent_restart_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string log = excerpt(dir, 400);
+  std::string error;
+  const auto lease = dds::DomainLease::claim({}, &error);
+  ASSERT_TRUE(lease) << error;
+  const std::string domain = std::to_string(lease->domain_id());
+  const std::string out = (dir / "map").string();
+  // Robot 0 replays the log at 4x real time (about 21 s) and is killed after 8 s; restarted with the
+  // same arguments (as fast as it goes), it starts over from keyframe 0 in a new local frame.
+  const std::string base =
+      bin("cairn_base") + " --domain " + domain + " --out " + out + " --robots 1 --start 0,0,0,0 --port 0";
+  const std::string agent = bin("cairn_agent") + " --robot 0 --domain " + domain + " --log " + log;
+  const auto r =
+      run_command("(" + base + " > " + (dir / "base.log").string() + " 2>&1 & base=$!; " + agent + " --log-speed 4 > " +
+                  (dir / "agent_a.log").string() + " 2>&1 & a=$!; sleep 8; kill -9 $a; " + "wait $a; " + agent + " > " +
+                  (dir / "agent_b.log").string() + " 2>&1; status=$?; wait $base; exit $status)");
+  std::ifstream base_in(dir / "base.log");
+  const std::string base_log((std::istreambuf_iterator<char>(base_in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(r.exit_code, 0) << r.output << base_log;
+  std::ifstream agent_in(dir / "agent_b.log");
+  const std::string agent_b((std::istreambuf_iterator<char>(agent_in)), std::istreambuf_iterator<char>());
+  const int sent = agent_keyframes(agent_b);
+  ASSERT_GE(sent, 60) << agent_b;
+  EXPECT_NE(base_log.find("started session"), std::string::npos) << base_log;
+
+  std::ifstream in(dir / "map" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["robots"].size(), 2u) << summary.dump();
+  const nlohmann::json& first = summary["robots"][0];
+  const nlohmann::json& second = summary["robots"][1];
+  // What the first session delivered before it was killed is kept as it was.
+  EXPECT_EQ(first["label"], "robot0") << summary.dump();
+  EXPECT_GE(first["keyframes"].get<int>(), 5) << summary.dump();
+  // The second session: every keyframe stored under a robot of its own (none taken as a duplicate
+  // of the first's), linked to the first by closures (no start was given for it).
+  EXPECT_EQ(second["label"], "robot0 session 2") << summary.dump();
+  EXPECT_EQ(second["robot"].get<int>(), 0);
+  EXPECT_EQ(second["keyframes"].get<int>(), sent) << summary.dump();
+  EXPECT_EQ(second["missing_keyframes"].get<int>(), 0) << summary.dump();
+  EXPECT_TRUE(second["linked"].get<bool>()) << summary.dump();
+  ASSERT_EQ(summary["restarts"].size(), 1u) << summary.dump();
+  EXPECT_EQ(summary["refused_overwrites"].get<int>(), 0) << summary.dump();
+  EXPECT_EQ(summary["rejected_samples"].get<int>(), 0) << summary.dump();
 }
 
 TEST(LogReplay, TruncatedLogIsRefusedWithItsLineNumber) {

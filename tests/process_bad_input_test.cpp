@@ -187,16 +187,21 @@ TEST(ProcessBadInput, OperatorCommandsVerdictsAndKeepOutAreasSurviveABaseRestart
        robot5_record(base::JournalKind::kCommand, 7, {stop.begin(), stop.end()}),
        robot5_record(base::JournalKind::kCommand, 8, {'{', '"', 's'}),
        robot5_record(base::JournalKind::kVerdict, 3, {verdict.begin(), verdict.end()}),
-       robot5_record(base::JournalKind::kSearch, 1, {keep_out.begin(), keep_out.end()})});
+       robot5_record(base::JournalKind::kSearch, 1, {keep_out.begin(), keep_out.end()}),
+       robot5_record(base::JournalKind::kSession, 99, {'{', '"', 'r'})});
   const auto [r, summary] = run_base_on(dir);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("skipped operator command 8 of robot5"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("skipped robot session 99 of robot5: robot session record: not a JSON object"),
+            std::string::npos)
+      << r.output;
   ASSERT_EQ(summary["commands"].size(), 1u) << summary.dump();
   EXPECT_EQ(summary["commands"][0]["seq"], 7);
   EXPECT_EQ(summary["commands"][0]["kind"], "stop");
   EXPECT_EQ(summary["commands"][0]["state"], "done");
-  EXPECT_EQ(summary["journal"]["skipped_records"], 1);
-  EXPECT_EQ(summary["journal"]["records"], 5) << "the damaged record is kept for a later look";
+  EXPECT_EQ(summary["journal"]["skipped_records"], 2);
+  // The damaged records are kept for a later look; robot 5's session (the status's) is journaled.
+  EXPECT_EQ(summary["journal"]["records"], 7);
   ASSERT_EQ(summary["verdicts"].size(), 1u) << summary.dump();
   EXPECT_EQ(summary["verdicts"][0]["object"], "5-3");
   EXPECT_EQ(summary["verdicts"][0]["verdict"], "confirmed");

@@ -26,15 +26,6 @@ int32_t contiguous_seq(const MultiRobotMapper& mapper, RobotId robot) {
   return expected - 1;
 }
 
-/// dds::from_msg (which validates), then `add` on the converted sample; kRejected with the reason
-/// when either refuses it.
-template <typename Msg, typename Add>
-AddResult convert_and_add(const Msg& m, Add&& add) {
-  std::string error;
-  const auto parsed = dds::from_msg(m, &error);
-  return parsed ? add(*parsed) : AddResult{AddStatus::kRejected, error};
-}
-
 }  // namespace
 
 BaseNode::BaseNode(const BaseNodeOptions& options, const MapperOptions& mapper_options)
@@ -80,101 +71,18 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
 
 double BaseNode::now_s() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
 
-void BaseNode::count_rejected(int32_t robot_id) {
-  ++rejected_samples_;
-  ++links_[RobotId(robot_id)].bad_samples;
-}
-
-AddResult BaseNode::ingest(const cairn_msgs::Keyframe& m) {
-  const AddResult r = convert_and_add(m, [&](const Keyframe& kf) { return mapper_.add_keyframe(kf); });
-  if (r.status != AddStatus::kRejected) note_keyframe_arrival();
-  if (r.status == AddStatus::kRejected) {
-    count_rejected(m.robot_id());
-    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe robot{}/{}: {}", m.robot_id(), m.seq(),
-                          r.reason);
-  }
-  return r;
-}
-
-AddResult BaseNode::ingest(const cairn_msgs::KeyframePoses& m) {
-  const AddResult r = convert_and_add(m, [&](const KeyframePoses& p) { return mapper_.add_keyframe_poses(p); });
-  if (r.status == AddStatus::kRejected) {
-    count_rejected(m.robot_id());
-    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe poses of robot{}: {}", m.robot_id(),
-                          r.reason);
-  } else {
-    ++links_[RobotId(m.robot_id())].keyframe_pose_updates;
-  }
-  return r;
-}
-
-AddResult BaseNode::ingest(const cairn_msgs::ObjectReport& m) {
-  const AddResult r = convert_and_add(m, [&](const ObjectReport& o) { return mapper_.add_object(o); });
-  if (r.status == AddStatus::kRejected) {
-    count_rejected(m.robot_id());
-    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected object robot{}/{}: {}", m.robot_id(),
-                          m.object_seq(), r.reason);
-  } else {
-    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 1.0, "{} {} from robot{} ({})", m.class_name(), m.object_seq(),
-                          m.robot_id(), to_string(r.status));
-  }
-  return r;
-}
-
-void BaseNode::ingest(const cairn_msgs::RobotStatus& m, bool live) {
-  RobotLink& link = links_[RobotId(m.robot_id())];
-  if (m.finished() && !(link.has_status && link.last_status.finished())) {
-    log_->info("robot{} reports finished{}", m.robot_id(), live ? "" : " (journal)");
-  }
-  link.last_status = m;
-  link.has_status = true;
-  note_navigation(m, live);
-  link.last_heard_s = live ? now_s() : -1.0;  // restored: not heard since this base started
-}
-
-bool BaseNode::poll_inputs() {
-  bool any = false;
-  for (const auto& m : keyframe_in_->take_all()) {
-    any = true;
-    if (ingest(m).stored())
-      journal(JournalKind::kKeyframe, m.robot_id(), m.seq(), dds::to_cdr<cairn_msgs::KeyframePubSubType>(m));
-  }
-  for (const auto& m : keyframe_poses_in_->take_all()) {  // after this poll's keyframes
-    any = true;
-    if (ingest(m).stored()) {
-      journal(JournalKind::kKeyframePoses, m.robot_id(), 0, dds::to_cdr<cairn_msgs::KeyframePosesPubSubType>(m));
-    }
-  }
-  for (const auto& m : object_in_->take_all()) {
-    any = true;
-    if (ingest(m).stored()) {
-      journal(JournalKind::kObject, m.robot_id(), m.object_seq(), dds::to_cdr<cairn_msgs::ObjectReportPubSubType>(m));
-    }
-  }
-  for (const auto& m : status_in_->take_all()) {
-    const RobotId robot(m.robot_id());
-    const bool news =
-        !links_.count(robot) || !links_[robot].has_status || links_[robot].last_status.finished() != m.finished();
-    ingest(m, /*live=*/true);
-    unjournaled_status_[robot] = m;  // the newest per robot; see flush_journal()
-    status_urgent_ = status_urgent_ || news;
-  }
-  flush_journal();
-  return any;
-}
-
 void BaseNode::publish_acks_and_corrections() {
   const bool all_journaled = unjournaled_.empty();  // an ack promises the sample survives a restart
   for (const RobotSummary& r : mapper_.robots()) {
+    cairn_msgs::Ack ack;
+    if (!address(r.id, &ack)) continue;  // a session that ended: the robot runs a newer one
     if (all_journaled) {
-      cairn_msgs::Ack ack;
-      ack.robot_id(r.id.value);
       ack.keyframe_seq(contiguous_seq(mapper_, r.id));
       ack.object_count(r.objects);
       ack_out_->write(ack);
     }
     cairn_msgs::Correction c;
-    c.robot_id(r.id.value);
+    address(r.id, &c);
     c.linked(r.linked);
     c.T_global_local(dds::to_msg(r.T_global_local));
     correction_out_->write(c);
@@ -184,15 +92,17 @@ void BaseNode::publish_acks_and_corrections() {
 bool BaseNode::all_finished() const {
   if (options_.expected_robots <= 0) return false;
   int finished = 0;
-  for (const auto& [robot, link] : links_) finished += link.has_status && link.last_status.finished();
+  for (const auto& [robot, link] : links_) {  // a robot counts once: the session it runs now
+    finished += sessions_.is_current(robot) && link.has_status && link.last_status.finished();
+  }
   return finished >= options_.expected_robots;
 }
 
 void BaseNode::report_linking(const OptimizeResult& r) {
   for (const LinkEvent& e : r.link_events) {
     if (e.accepted) continue;  // acceptance is reported below, once per robot
-    log_->info("link {} <-> {} via {} closures {}: {} (map contradiction {:.1f} %)", to_string(e.robot),
-               to_string(e.other), e.closures, e.inconclusive ? "deferred" : "rejected", e.reason,
+    log_->info("link {} <-> {} via {} closures {}: {} (map contradiction {:.1f} %)", sessions_.label(e.robot),
+               sessions_.label(e.other), e.closures, e.inconclusive ? "deferred" : "rejected", e.reason,
                100.0 * e.contradiction_ratio);
   }
   for (RobotId robot : r.newly_linked) {
@@ -200,12 +110,13 @@ void BaseNode::report_linking(const OptimizeResult& r) {
     for (const RobotSummary& s : mapper_.robots()) {
       if (s.id == robot) closures = s.inter_robot_closures;
     }
-    log_->info("{} linked into the global map through {} verified cross-robot closures", to_string(robot), closures);
+    log_->info("{} linked into the global map through {} verified cross-robot closures", sessions_.label(robot),
+               closures);
   }
   const auto& marker_events = mapper_.landmark_link_events();
   for (; landmark_events_reported_ < marker_events.size(); ++landmark_events_reported_) {
     const LinkEvent& e = marker_events[landmark_events_reported_];
-    log_->info("marker link {} <-> {}: {}", to_string(e.robot), to_string(e.other), e.reason);
+    log_->info("marker link {} <-> {}: {}", sessions_.label(e.robot), sessions_.label(e.other), e.reason);
   }
   CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 10.0,
                         "graph: {} nodes, {} loop closures ({} between robots), {} candidates pending, "
@@ -284,6 +195,11 @@ int BaseNode::finish() {
   for (const RobotSummary& rs : robots) {
     nlohmann::json j;
     j["id"] = rs.id.value;
+    j["label"] = sessions_.label(rs.id);
+    if (const auto session = sessions_.find(rs.id)) {
+      j["robot"] = session->robot.value;  // the robot id on the wire; differs from "id" after a restart
+      j["session"] = session->ordinal;
+    }
     j["linked"] = rs.linked;
     j["anchor"] = rs.anchor;
     if (const auto start = options_.robot_starts.find(rs.id); start != options_.robot_starts.end())
@@ -328,6 +244,14 @@ int BaseNode::finish() {
   for (const auto& [id, v] : verdicts_.records())
     summary["verdicts"].push_back({{"object", object_key(id)}, {"verdict", to_string(v.verdict)}, {"note", v.note}});
   summary["rejected_samples"] = rejected_samples_;
+  summary["refused_overwrites"] = refused_overwrites_;
+  summary["restarts"] = nlohmann::json::array();  // robots that restarted without their state
+  for (const RobotSession& s : sessions_.restarts()) {
+    summary["restarts"].push_back({{"robot", s.robot.value},
+                                   {"session", s.ordinal},
+                                   {"base_id", s.base_id.value},
+                                   {"label", sessions_.label(s.base_id)}});
+  }
   summary["journal"] = {{"path", journal_->path()},
                         {"records", journal_->size()},
                         {"restored_records", restored_records_},

@@ -23,6 +23,7 @@
 #include "base_station/core/multi_robot_mapper.h"
 #include "base_station/core/object_verdicts.h"
 #include "base_station/core/operator_commands.h"
+#include "base_station/core/robot_sessions.h"
 #include "base_station/core/saliency_layer.h"
 #include "base_station/store/journal.h"
 #include "cairn_msgsPubSubTypes.h"
@@ -78,14 +79,30 @@ class BaseNode {
   AddResult ingest(const cairn_msgs::Keyframe& m);
   AddResult ingest(const cairn_msgs::KeyframePoses& m);
   AddResult ingest(const cairn_msgs::ObjectReport& m);
-  void ingest(const cairn_msgs::RobotStatus& m, bool live);
+  /// The status's robot (its session's base id), or nullopt when refused. `news`: its first status,
+  /// or "finished" changed.
+  std::optional<RobotId> ingest(const cairn_msgs::RobotStatus& m, bool live, bool* news = nullptr);
+  /// The base's id for a sample's robot and session (RobotSessions); a new session is journaled and
+  /// a restart logged. nullopt for a robot id out of range.
+  std::optional<RobotId> base_id(int32_t robot_id, uint32_t session);
+  /// Addresses a message to `robot`'s session on the wire (robot id and session id); false for a
+  /// session that ended (the robot runs a newer one): nothing is sent to it.
+  template <typename Msg>
+  bool address(RobotId robot, Msg* m) const {
+    const auto s = sessions_.find(robot);
+    m->robot_id(s ? s->robot.value : robot.value);
+    m->session(s ? s->session : 0u);
+    return sessions_.is_current(robot);
+  }
   void count_rejected(int32_t robot_id);
+  /// Counts and logs a sample refused because it would overwrite a stored one (AddStatus::kConflict).
+  void count_refused(const AddResult& r, RobotId robot, const char* what);
   void journal(JournalKind kind, int32_t robot_id, int64_t key, std::vector<uint8_t> payload);
   void flush_journal();
   bool poll_inputs();
   void publish_acks_and_corrections();
   // Exploration (base_node_exploration.cpp): the robots' navigation states in, goals out.
-  void note_navigation(const cairn_msgs::RobotStatus& m, bool live);
+  void note_navigation(const NavStatus& nav, RobotId robot, bool live);
   /// `send`: false plans only (the final map's "where to search next"), no orders go out.
   void plan_and_publish_goals(bool send = true);
   void add_navigation_json(RobotId robot, nlohmann::json* link) const;
@@ -154,6 +171,8 @@ class BaseNode {
   uint64_t optimized_version_ = 0;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   int rejected_samples_ = 0;
+  int refused_overwrites_ = 0;           ///< samples that would have overwritten a stored one (AddStatus::kConflict)
+  RobotSessions sessions_;               ///< (robot, session) on the wire -> the base's robot id
   size_t landmark_events_reported_ = 0;  ///< mapper_.landmark_link_events() already logged
 };
 

@@ -30,7 +30,7 @@ void BaseNode::send_operator_commands() {
     CommandRequest one = e.request;
     one.robots = {e.robot};
     if (const auto why = check_command(one, context)) {
-      log_->warn("operator command {} to {} not sent: {}", e.seq, to_string(e.robot), *why);
+      log_->warn("operator command {} to {} not sent: {}", e.seq, sessions_.label(e.robot), *why);
       continue;
     }
     const OperatorCommand sent = commands_.add(e.seq, e.robot, one.kind, one.point_global_m,
@@ -38,17 +38,19 @@ void BaseNode::send_operator_commands() {
     const CommandRecord& record = commands_.records().back();
     const std::string payload = command_record_to_json(record);
     journal(JournalKind::kCommand, e.robot.value, e.seq, std::vector<uint8_t>(payload.begin(), payload.end()));
-    if (!command_out_->write(dds::to_msg(sent))) {
+    cairn_msgs::OperatorCommand out = dds::to_msg(sent);
+    address(e.robot, &out);  // check_command refused a session that ended
+    if (!command_out_->write(out)) {
       log_->warn(
           "operator command {} to {}: the write timed out (the newest command is sent again when the link is "
           "back)",
-          e.seq, to_string(e.robot));
+          e.seq, sessions_.label(e.robot));
     }
     if (one.kind == CommandKind::kGoTo) {
-      log_->info("operator: {} {} to ({:.1f}, {:.1f}) m (command {})", to_string(e.robot), to_string(one.kind),
+      log_->info("operator: {} {} to ({:.1f}, {:.1f}) m (command {})", sessions_.label(e.robot), to_string(one.kind),
                  one.point_global_m.x(), one.point_global_m.y(), e.seq);
     } else {
-      log_->info("operator: {} {} (command {})", to_string(e.robot), to_string(one.kind), e.seq);
+      log_->info("operator: {} {} (command {})", sessions_.label(e.robot), to_string(one.kind), e.seq);
     }
   }
   flush_journal();
@@ -145,7 +147,7 @@ void BaseNode::note_command_report(RobotId robot, const CommandReport& report, b
   if (!live) return;
   for (const CommandRecord& r : commands_.records()) {
     if (r.robot == robot && r.seq == report.seq) {
-      log_->info("operator command {} to {}: {}{}{}", r.seq, to_string(robot), to_string(r.state),
+      log_->info("operator command {} to {}: {}{}{}", r.seq, sessions_.label(robot), to_string(r.state),
                  r.note.empty() ? "" : ", ", r.note);
     }
   }
@@ -161,6 +163,10 @@ CommandCheckContext BaseNode::command_context(const MergedMap& merged) const {
   c.map_max_m = grid.origin_m() + Eigen::Vector2d(grid.width(), grid.height()) * grid.resolution_m();
   c.keep_out = search_.keep_out();
   c.exploration_paused = search_.paused();
+  for (const auto& [robot, placement] : c.placements) {
+    const auto s = sessions_.find(robot);
+    if (s && !sessions_.is_current(robot)) c.ended_sessions[robot] = sessions_.current(s->robot);
+  }
   return c;
 }
 

@@ -31,7 +31,9 @@ nlohmann::json BaseNode::link_stats() const {
     const double age_s = link.last_heard_s < 0 ? -1.0 : now_s() - link.last_heard_s;
     j["last_heard_age_s"] = age_s;
     // What the console shows: the link's state and the bytes received from the robot.
-    j["state"] = !link.has_status              ? "unknown"
+    j["label"] = sessions_.label(robot);
+    j["state"] = !sessions_.is_current(robot)  ? "restarted"  // this session ended; the robot runs a newer one
+                 : !link.has_status            ? "unknown"
                  : link.last_status.finished() ? "finished"
                  : age_s < 0.0                 ? "lost"  // known from the journal only
                  : age_s < 2.0                 ? "ok"

@@ -7,28 +7,20 @@
 
 namespace cairn::base {
 
-void BaseNode::note_navigation(const cairn_msgs::RobotStatus& m, bool live) {
-  std::string error;
-  const auto nav = dds::nav_status_from(m, &error);
-  if (!nav) {
-    count_rejected(m.robot_id());
-    CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "robot{}'s status: {}", m.robot_id(), error);
-    return;
-  }
-  const RobotId robot(m.robot_id());
+void BaseNode::note_navigation(const NavStatus& nav, RobotId robot, bool live) {
   const auto before = navigation_.find(robot);
-  if (live && (before == navigation_.end() || before->second.activity != nav->activity)) {
-    log_->info("{} is {}", to_string(robot), to_string(nav->activity));
+  if (live && (before == navigation_.end() || before->second.activity != nav.activity)) {
+    log_->info("{} is {}", sessions_.label(robot), to_string(nav.activity));
   }
-  navigation_[robot] = *nav;
-  note_command_report(robot, nav->command, live);
+  navigation_[robot] = nav;
+  note_command_report(robot, nav.command, live);
   const int blacklisted = goals_.goals_blacklisted();
-  if (goals_.report({robot, nav->goal_id, nav->nav_state, nav->activity}, mapper_.data().latest_stamp_ns)) {
+  if (goals_.report({robot, nav.goal_id, nav.nav_state, nav.activity}, mapper_.data().latest_stamp_ns)) {
     replan_now_ = true;  // its order is over: plan again at the next optimise tick
   }
   if (live && goals_.goals_blacklisted() > blacklisted) {
-    log_->info("{} could not reach goal {} ({}): not sent again for a while", to_string(robot), nav->goal_id,
-               to_string(nav->nav_state));
+    log_->info("{} could not reach goal {} ({}): not sent again for a while", sessions_.label(robot), nav.goal_id,
+               to_string(nav.nav_state));
   }
 }
 
@@ -40,6 +32,11 @@ void BaseNode::plan_and_publish_goals(bool send) {
   std::map<RobotId, std::optional<SE2>> placements = merged.placements();
   for (const RobotSummary& r : merged.robots) {
     if (!r.linked) continue;
+    if (!sessions_.is_current(r.id)) {  // a session that ended (the robot restarted): nothing drives it
+      placements.erase(r.id);
+      goals_.release(r.id);
+      continue;
+    }
     if (commands_.under_operator(r.id)) {  // the operator decides where it goes: no orders, no share of goals
       placements.erase(r.id);
       goals_.release(r.id);
@@ -90,7 +87,8 @@ void BaseNode::plan_and_publish_goals(bool send) {
     msg.goal_m = order.goal_local_m;
     msg.path_m = order.path_m;
     msg.frontier_m = order.frontier_m;
-    goal_out_->write(dds::to_msg(msg));
+    cairn_msgs::ExplorationGoal out = dds::to_msg(msg);
+    if (address(order.robot, &out)) goal_out_->write(out);  // to the robot id and session on the wire
   }
   if (goals_.sent_home() && !was_home) log_->info("no reachable frontier left: every placed robot is sent home");
 }

@@ -65,10 +65,22 @@ void BaseNode::restore(const JournalContents& contents) {
   };
   // A record is restored when it decodes and the mapper takes it as it would take a live sample.
   auto taken = [this](const auto& m) { return ingest(m).status != AddStatus::kRejected; };
+  // The robots' sessions first: every sample record then resolves to the base id it had.
+  for (const JournalRecord& r : contents.records) {
+    if (r.kind != JournalKind::kSession) continue;
+    std::string why;
+    const auto s = session_record_from_json(std::string(r.payload.begin(), r.payload.end()), &why);
+    if (s && sessions_.restore(*s))
+      ++restored_records_;
+    else
+      skip(r, s ? "contradicts a session restored before" : why);
+  }
   for (const JournalRecord& r : contents.records) {
     std::string why;
     bool restored = false;
     switch (r.kind) {
+      case JournalKind::kSession:
+        continue;  // above
       case JournalKind::kKeyframe:
         restored = replay<cairn_msgs::KeyframePubSubType, cairn_msgs::Keyframe>(r, taken, &why);
         break;
@@ -80,12 +92,7 @@ void BaseNode::restore(const JournalContents& contents) {
         break;
       case JournalKind::kStatus:
         restored = replay<cairn_msgs::RobotStatusPubSubType, cairn_msgs::RobotStatus>(
-            r,
-            [this](const cairn_msgs::RobotStatus& m) {
-              ingest(m, /*live=*/false);
-              return true;
-            },
-            &why);
+            r, [this](const cairn_msgs::RobotStatus& m) { return ingest(m, /*live=*/false).has_value(); }, &why);
         break;
       case JournalKind::kCommand:
         restored = restore_command(r, &why);

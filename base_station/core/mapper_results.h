@@ -18,6 +18,8 @@ enum class AddStatus {
   kPending,    ///< stored, waits for something else (e.g. an object's anchor keyframe)
   kDuplicate,  ///< already stored (or an older version of it): nothing changed
   kRejected,   ///< invalid input: nothing changed
+  kConflict,   ///< would overwrite a stored record with different content (a restarted or spoofed
+               ///< robot reusing its ids): refused, nothing changed
 };
 const char* to_string(AddStatus status);
 

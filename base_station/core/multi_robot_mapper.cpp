@@ -46,6 +46,8 @@ const char* to_string(AddStatus status) {
       return "duplicate";
     case AddStatus::kRejected:
       return "rejected";
+    case AddStatus::kConflict:
+      return "conflict";
   }
   return "unknown";
 }
@@ -78,7 +80,14 @@ bool MultiRobotMapper::set_entry_hint(RobotId robot, const EntryHint& hint) {
 AddResult MultiRobotMapper::add_keyframe(const Keyframe& kf) {
   const std::string invalid = validate(kf);
   if (!invalid.empty()) return {AddStatus::kRejected, to_string(kf.id) + ": " + invalid};
-  if (data_.keyframes.count(kf.id)) return {AddStatus::kDuplicate, to_string(kf.id) + " already stored"};
+  if (const auto stored = data_.keyframes.find(kf.id); stored != data_.keyframes.end()) {
+    // The same keyframe again (a resend) is a duplicate; another one under its id must not replace it.
+    const Keyframe& old = stored->second;
+    const bool same = old.stamp_ns == kf.stamp_ns && old.scan.ranges_m.size() == kf.scan.ranges_m.size() &&
+                      (old.T_local_base.translation() - kf.T_local_base.translation()).norm() < 1e-6;
+    if (same) return {AddStatus::kDuplicate, to_string(kf.id) + " already stored"};
+    return {AddStatus::kConflict, to_string(kf.id) + " already stored with another stamp, pose or scan: refused"};
+  }
   data_.keyframes.emplace(kf.id, kf);
   data_.latest_stamp_ns = std::max(data_.latest_stamp_ns, kf.stamp_ns);
   ++version_;

@@ -33,6 +33,12 @@ AddResult MultiRobotMapper::add_object(const ObjectReport& report) {
   const std::string invalid = validate(report);
   if (!invalid.empty()) return {AddStatus::kRejected, to_string(report.id) + ": " + invalid};
   auto existing = data_.reports.find(report.id);
+  if (existing != data_.reports.end() && existing->second.class_name != report.class_name) {
+    // A track never changes its class: another object under a stored one's id (a restarted or
+    // spoofed robot reusing its ids) must not replace it.
+    return {AddStatus::kConflict, to_string(report.id) + " is stored as a " + existing->second.class_name + ": a " +
+                                      report.class_name + " under its id is refused"};
+  }
   if (existing != data_.reports.end() && existing->second.stamp_ns > report.stamp_ns) {
     return {AddStatus::kDuplicate, to_string(report.id) + ": older than the stored report"};
   }

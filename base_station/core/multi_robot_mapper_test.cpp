@@ -132,6 +132,12 @@ TEST(MultiRobotMapper, MergesObjectsAcrossRobots) {
   EXPECT_NEAR(mapper.objects()[2].position_m.x(), 8.2, 1e-6);
   moved.stamp_ns -= 20;
   EXPECT_EQ(mapper.add_object(moved).status, AddStatus::kDuplicate);
+  // Another class under a stored object's id never replaces it, however new.
+  ObjectReport other = moved;
+  other.class_name = "victim";
+  other.stamp_ns += 1000;
+  EXPECT_EQ(mapper.add_object(other).status, AddStatus::kConflict);
+  EXPECT_EQ(mapper.objects()[2].class_name, "hazard");
 }
 
 TEST(MultiRobotMapper, UnlinkedRobotIsReportedNotPlaced) {
@@ -181,11 +187,13 @@ TEST(MultiRobotMapper, BadInputIsRejectedAndNothingIsLost) {
   Keyframe bad_seq = make_keyframes(kR0, left_path(), room_walls())[1];
   bad_seq.id.seq = -3;
   EXPECT_EQ(mapper.add_keyframe(bad_seq).status, AddStatus::kRejected);
-  // Duplicate seq: refused, the stored keyframe is unchanged.
+  // The same keyframe again is a duplicate; another one under its seq (a robot restarted without
+  // its state) is a conflict. Both refused, the stored keyframe unchanged.
   Keyframe dup = make_keyframes(kR0, left_path(), room_walls())[1];
+  EXPECT_EQ(mapper.add_keyframe(dup).status, AddStatus::kDuplicate);
   dup.T_local_base = SE2(100, 100, 0);
   r = mapper.add_keyframe(dup);
-  EXPECT_EQ(r.status, AddStatus::kDuplicate);
+  EXPECT_EQ(r.status, AddStatus::kConflict) << r.reason;
   EXPECT_NEAR(mapper.keyframes().at({kR0, 1}).T_local_base.x(), left_path()[0].between(left_path()[1]).x(), 1e-12);
   EXPECT_EQ(mapper.keyframes().size(), stored);
   // NaN object pose rejected; missing anchor kept pending until the anchor arrives.

@@ -12,6 +12,10 @@ std::optional<std::string> check_command(const CommandRequest& request, const Co
   for (RobotId robot : request.robots) {
     const auto it = context.placements.find(robot);
     if (it == context.placements.end()) return "unknown robot " + std::to_string(robot.value);
+    if (const auto ended = context.ended_sessions.find(robot); ended != context.ended_sessions.end()) {
+      return "robot " + std::to_string(robot.value) + " is a session that ended (the robot restarted): command " +
+             std::to_string(ended->second.value) + ", the session it runs now";
+    }
     if (request.kind == CommandKind::kGoTo && !it->second) {
       return "robot " + std::to_string(robot.value) +
              " is not placed on the map yet: a point on the map means nothing to it (stop, resume and home work)";

@@ -36,6 +36,9 @@ struct CommandCheckContext {
   Eigen::Vector2d map_max_m{0, 0};
   std::vector<KeepOutArea> keep_out;  ///< the operator's: no goto into them
   bool exploration_paused = false;    ///< a robot is not resumed while the search is paused
+  /// Robots' sessions that ended (RobotSessions: the robot restarted since), with the id of the
+  /// session it runs now: a command goes to that one.
+  std::map<RobotId, RobotId> ended_sessions;
 };
 
 /// Why `request` must not be sent (no robot, an unknown robot, a goto to a robot not placed on the

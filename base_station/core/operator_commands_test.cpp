@@ -37,6 +37,10 @@ TEST(CheckCommand, BadRequestsAreRefusedWithTheReason) {
   EXPECT_NE(why(go({RobotId(0)}, 1, INFINITY)).find("not a finite number"), std::string::npos);
   EXPECT_NE(why(go({RobotId(0)}, 40, 1)).find("outside the map"), std::string::npos);
   EXPECT_NE(why(go({}, 1, 1)).find("no robot"), std::string::npos);
+  CommandCheckContext restarted = context();
+  restarted.ended_sessions[RobotId(1)] = RobotId(1001);  // robot 1 restarted: its old session ended
+  EXPECT_NE(why({{RobotId(1)}, CommandKind::kStop, {0, 0}}, restarted).find("session that ended"), std::string::npos);
+  EXPECT_NE(why({{RobotId(1)}, CommandKind::kStop, {0, 0}}, restarted).find("command 1001"), std::string::npos);
   CommandCheckContext no_map = context();
   no_map.has_map = false;
   EXPECT_NE(why(go({RobotId(0)}, 1, 1), no_map).find("no map yet"), std::string::npos);

@@ -21,7 +21,9 @@ namespace cairn::base {
 /// Replay order on load: a keyframe before the objects anchored on it and the poses that move it.
 /// kCommand: an operator's command as sent (JSON), keyed by its sequence number; kVerdict: the
 /// operator's verdict on an object (JSON), keyed by the object's robot and seq; kSearch: the
-/// operator's pause, resume or keep-out area (JSON), keyed by its sequence number (robot 0).
+/// operator's pause, resume or keep-out area (JSON), keyed by its sequence number (robot 0);
+/// kSession: a robot's session (JSON, base_station/core/robot_sessions.h), under its base id and
+/// keyed by the session id (restored before everything else).
 enum class JournalKind : int32_t {
   kKeyframe = 0,
   kObject = 1,
@@ -29,7 +31,8 @@ enum class JournalKind : int32_t {
   kStatus = 3,
   kCommand = 4,
   kVerdict = 5,
-  kSearch = 6
+  kSearch = 6,
+  kSession = 7
 };
 const char* to_string(JournalKind kind);
 

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <random>
 #include <thread>
 
 #include "dds/conversions.h"
@@ -24,6 +25,8 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
                                              const AgentNodeOptions& options, const SensorInput& input,
                                              std::string* error) {
   std::unique_ptr<AgentNode> n(new AgentNode(robot, core_options, options));
+  std::random_device entropy;  // a new session per start, unrelated to the last one's
+  while (n->session_ == 0) n->session_ = options.session != 0 ? options.session : uint32_t(entropy());
   if (input.log) {
     if (input.log->scans.empty()) {
       *error = "the log holds no laser scans";
@@ -110,13 +113,13 @@ bool AgentNode::poll_inputs() {
     if (!log_source_) input_finished_ = input_finished_ || c.finished();
   }
   for (const auto& g : goal_in_->take_all()) {
-    if (g.robot_id() == robot_.value) take_goal(g);
+    if (for_me(g)) take_goal(g);
   }
   for (const auto& c : command_in_->take_all()) {
-    if (c.robot_id() == robot_.value) take_command(c);
+    if (for_me(c)) take_command(c);  // a command to a session before a restart is not carried out
   }
   for (const auto& a : ack_in_->take_all()) {
-    if (a.robot_id() != robot_.value) continue;
+    if (!for_me(a)) continue;  // what an earlier session sent is not this one's
     heard_from_base();
     acked_keyframe_seq_ = std::max(acked_keyframe_seq_, a.keyframe_seq());
     acked_object_count_ = std::max(acked_object_count_, int(a.object_count()));
@@ -126,18 +129,18 @@ bool AgentNode::poll_inputs() {
 
 void AgentNode::publish(const AgentOutputs& outputs) {
   for (const auto& kf : outputs.keyframes) {
-    if (!keyframe_out_->write(dds::to_msg(kf))) {
+    if (!keyframe_out_->write(with_session(dds::to_msg(kf)))) {
       log_->error("keyframe {} could not be queued (history full)", kf.id.seq);
       continue;
     }
     last_keyframe_seq_ = kf.id.seq;
   }
   // Keep last 1: a newer estimate replaces one not delivered yet.
-  if (outputs.keyframe_poses && !keyframe_poses_out_->write(dds::to_msg(*outputs.keyframe_poses))) {
+  if (outputs.keyframe_poses && !keyframe_poses_out_->write(with_session(dds::to_msg(*outputs.keyframe_poses)))) {
     log_->warn("keyframe poses ({} keyframes) could not be queued", outputs.keyframe_poses->poses.size());
   }
   for (const auto& obj : outputs.objects) {
-    if (!object_out_->write(dds::to_msg(obj))) {
+    if (!object_out_->write(with_session(dds::to_msg(obj)))) {
       log_->error("object {} could not be queued", obj.id.seq);
       continue;
     }
@@ -152,6 +155,7 @@ void AgentNode::publish_status(bool finished) {
   const AgentStats s = pipeline_.stats();
   cairn_msgs::RobotStatus st;
   st.robot_id(robot_.value);
+  st.session(session_);
   const auto& traj = pipeline_.trajectory();
   st.stamp_ns(traj.empty() ? 0 : traj.back().stamp_ns);
   st.battery_pct(-1.f);  // not known: the simulator models no battery (a driver fills this in)
@@ -193,6 +197,7 @@ int AgentNode::run() {
     log_->info("replaying {} laser records from the log", log_source_->size());
   else
     log_->info("waiting for sensor data");
+  log_->info("session {:08x}", session_);
   auto next_status = Clock::now();
   bool flushed = false;
   Clock::time_point flush_time;

@@ -26,6 +26,10 @@ struct AgentNodeOptions {
   int domain_id = 0;
   std::vector<std::string> peers;  ///< unicast discovery peers (IPv4), e.g. the base station
   std::string security_dir;        ///< DDS Security identity (dds::ParticipantOptions); empty = off
+  /// This run's session id, in every sample it sends; the base's acks, goals and commands for other
+  /// sessions are ignored. 0: a random one is drawn at start. A restarted agent (its map and local
+  /// frame gone) is a new session the base keeps apart (base_station/core/robot_sessions.h).
+  uint32_t session = 0;
   double status_period_s = 0.5;
   double ack_timeout_s = 60.0;            ///< how long to wait for the base to store everything at the end
   uint32_t large_data_bytes_per_sec = 0;  ///< flow controller for objects; 0 = unlimited
@@ -61,7 +65,20 @@ class AgentNode {
   /// Keyframe, object and keyframe-pose payloads written so far.
   uint64_t bytes_sent() const;
 
+  /// True for a sample from the base meant for this robot's running session.
+  template <typename Msg>
+  bool for_me(const Msg& m) const {
+    return m.robot_id() == robot_.value && m.session() == session_;
+  }
+
+  template <typename Msg>
+  Msg with_session(Msg m) const {
+    m.session(session_);
+    return m;
+  }
+
   RobotId robot_;
+  uint32_t session_ = 0;
   AgentNodeOptions options_;
   AgentPipeline pipeline_;
   std::shared_ptr<spdlog::logger> log_;

@@ -73,7 +73,8 @@ function renderRobots(robots) {
     const linkText = link.state ? `${link.state}${link.rtt_ms !== undefined ? ` · ${link.rtt_ms} ms` : ""}` : "–";
     const sentText = (received, sent) => sent === undefined ? `${received}` : `${received} / ${sent}`;
     return el("tr", {}, [
-      el("td", { text: `Robot ${r.id}` }),
+      // A robot that restarted without its state runs a new session, shown as its own row (label).
+      el("td", { text: link.label ? link.label.replace(/^robot(\d+)/, "Robot $1") : `Robot ${r.id}` }),
       el("td", {}, [el("span", { class: r.linked ? "badge ok" : "badge warn", text: r.linked ? "linked" : "not linked" })]),
       el("td", { text: r.time_to_link_s === null || r.time_to_link_s === undefined ? "–" : `${r.time_to_link_s.toFixed(0)} s` }),
       el("td", {
