@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "common/ids.h"
+#include "dds/identity.h"
 #include "dds/participant.h"
 #include "dds/qos.h"
 #include "dds/topics.h"
@@ -109,6 +110,24 @@ class Reader {
     eprosima::fastdds::dds::SampleInfo info;
     while (reader_->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
       if (info.valid_data) out.push_back(msg);
+    }
+    return out;
+  }
+  /// A sample with the GUID prefix of the participant that wrote it (dds/identity.h).
+  struct FromWriter {
+    Msg msg;
+    GuidPrefix writer{};
+  };
+  /// take_all(), each sample with its writer's participant.
+  std::vector<FromWriter> take_all_from_writers() {
+    std::vector<FromWriter> out;
+    if (!reader_) return out;
+    FromWriter s;
+    eprosima::fastdds::dds::SampleInfo info;
+    while (reader_->take_next_sample(&s.msg, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      for (size_t i = 0; i < s.writer.size(); ++i) s.writer[i] = info.publication_handle.value[i];
+      out.push_back(s);
     }
     return out;
   }

@@ -119,6 +119,28 @@ TEST_F(Security, TeamMembersAuthenticateAndExchangeKeyframes) {
   EXPECT_EQ(exchange(w, r, 10.0), 3u);
 }
 
+TEST_F(Security, ASamplesWriterIsKnownByTheCertificateItAuthenticatedWith) {
+  auto robot = participant("robot0", "team/robot0");
+  auto base = participant("base", "team/base");
+  ASSERT_TRUE(robot && base);
+  KeyframeWriter w(*robot);
+  KeyframeReader r(*base);
+  ASSERT_TRUE(matched_within(w, r, 20.0));
+  w.write(keyframe(0));
+  std::vector<KeyframeReader::FromWriter> got;
+  for (int i = 0; i < 500 && got.empty(); ++i) {
+    got = r.take_all_from_writers();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_TRUE(authenticated_as(got[0].writer, robot_identity(0)));
+  EXPECT_FALSE(authenticated_as(got[0].writer, robot_identity(1)));
+  EXPECT_FALSE(authenticated_as(got[0].writer, "base"));
+  // Without security Fast DDS starts a prefix with its vendor id (first bit 0): no certificate.
+  const GuidPrefix open_prefix{0x01, 0x0f, 0x5a, 0x11, 0x22, 0x33, 0, 0, 0, 0, 0, 1};
+  EXPECT_FALSE(authenticated_as(open_prefix, robot_identity(0)));
+}
+
 TEST_F(Security, AParticipantWithoutCertificatesHearsNothing) {
   auto robot = participant("robot0", "team/robot0");
   auto eavesdropper = participant("eavesdropper", "");

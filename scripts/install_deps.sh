@@ -13,6 +13,7 @@ PACKAGES=(
   python3 procps
   iproute2 nftables                     # emulated radio link (cairn_mission --link-loss/--link-kbit)
   openssl                               # DDS Security certificates (deploy/security/make_certs.sh)
+  libssl-dev                            # which certificate wrote a sample (dds/identity.cpp)
   clang-format                          # house style, checked by the Style.Format test
   chromium fonts-dejavu-core            # the console's browser tests (tests/browser)
 )

@@ -1,7 +1,8 @@
 // The agent replays a recorded CARMEN log (instead of the simulator's topics) to a real base
 // station over DDS; a truncated log is refused with its line number; a base station killed after
 // acknowledging a robot's data rebuilds the map from its journal once restarted, with the robot
-// long gone; an agent killed and restarted is a new session the base keeps apart.
+// long gone; an agent killed and restarted is a new session the base keeps apart; with DDS\n// Security, a team
+// member's samples claiming another robot's id are refused.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -174,6 +175,50 @@ TEST(LogReplay, AnAgentKilledAndRestartedIsANewSessionAndNothingIsDroppedOrOverw
   ASSERT_EQ(summary["restarts"].size(), 1u) << summary.dump();
   EXPECT_EQ(summary["refused_overwrites"].get<int>(), 0) << summary.dump();
   EXPECT_EQ(summary["rejected_samples"].get<int>(), 0) << summary.dump();
+}
+
+TEST(LogReplay, ATeamMemberSpeakingForAnotherRobotIsRefusedAndCounted) {
+  if (!std::ifstream(kMitLog)) GTEST_SKIP() << "data absent: " << kMitLog;
+  const fs::path dir = fs::path(::testing::TempDir()) / ("spoofed_robot_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string certs = (dir / "security").string();
+  if (std::system(("bash " + std::string(CAIRN_SOURCE_DIR) + "/deploy/security/make_certs.sh " + certs +
+                   " base robot1 > /dev/null")
+                      .c_str()) != 0) {
+    GTEST_SKIP() << "could not make certificates (is openssl installed?)";
+  }
+  const std::string log = excerpt(dir, 200);
+  std::string error;
+  const auto lease = dds::DomainLease::claim({}, &error);
+  ASSERT_TRUE(lease) << error;
+  const std::string domain = std::to_string(lease->domain_id());
+  // Robot 1 replays the log with its own certificate; a second agent holding the same valid team
+  // certificate (robot1's) claims to be robot 2 and replays it too, starting 4 s earlier so that its
+  // samples reach the base before robot 1 finishes the mission.
+  const std::string base = bin("cairn_base") + " --domain " + domain + " --out " + (dir / "map").string() +
+                           " --robots 1 --start 1,0,0,0 --port 0 --security " + certs + "/base";
+  const std::string agent =
+      bin("cairn_agent") + " --domain " + domain + " --log " + log + " --security " + certs + "/robot1 --robot ";
+  const auto r = run_command("(" + base + " > " + (dir / "base.log").string() + " 2>&1 & base=$!; " + agent + "2 > " +
+                             (dir / "spoofer.log").string() + " 2>&1 & spoofer=$!; sleep 4; " + agent + "1 > " +
+                             (dir / "agent.log").string() + " 2>&1; status=$?; wait $base; kill $spoofer; " +
+                             "wait $spoofer; exit $status)");
+  std::ifstream base_in(dir / "base.log");
+  const std::string base_log((std::istreambuf_iterator<char>(base_in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(r.exit_code, 0) << r.output << base_log;
+  std::ifstream agent_in(dir / "agent.log");
+  const std::string agent_log((std::istreambuf_iterator<char>(agent_in)), std::istreambuf_iterator<char>());
+  const int sent = agent_keyframes(agent_log);
+  ASSERT_GE(sent, 20) << agent_log;
+  EXPECT_NE(base_log.find("does not hold robot2's certificate"), std::string::npos) << base_log;
+  std::ifstream in(dir / "map" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  // Only robot 1 is known: nothing robot "2" sent (keyframes, objects, statuses) was taken.
+  ASSERT_EQ(summary["robots"].size(), 1u) << summary.dump();
+  EXPECT_EQ(summary["robots"][0]["id"].get<int>(), 1);
+  EXPECT_EQ(summary["robots"][0]["keyframes"].get<int>(), sent);
+  EXPECT_GE(summary["spoofed_samples"].get<int>(), sent) << summary.dump();
 }
 
 TEST(LogReplay, TruncatedLogIsRefusedWithItsLineNumber) {

@@ -245,6 +245,7 @@ int BaseNode::finish() {
     summary["verdicts"].push_back({{"object", object_key(id)}, {"verdict", to_string(v.verdict)}, {"note", v.note}});
   summary["rejected_samples"] = rejected_samples_;
   summary["refused_overwrites"] = refused_overwrites_;
+  summary["spoofed_samples"] = spoofed_samples_;  // with DDS Security: a robot id its writer's certificate is not
   summary["restarts"] = nlohmann::json::array();  // robots that restarted without their state
   for (const RobotSession& s : sessions_.restarts()) {
     summary["restarts"].push_back({{"robot", s.robot.value},

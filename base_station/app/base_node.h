@@ -95,6 +95,9 @@ class BaseNode {
     return sessions_.is_current(robot);
   }
   void count_rejected(int32_t robot_id);
+  /// With DDS Security: true when `writer` holds robot `robot_id`'s certificate (dds/identity.h);
+  /// a sample from anyone else (a team member speaking for another robot) is counted and logged.
+  bool from_its_robot(const dds::GuidPrefix& writer, int32_t robot_id, const char* what);
   /// Counts and logs a sample refused because it would overwrite a stored one (AddStatus::kConflict).
   void count_refused(const AddResult& r, RobotId robot, const char* what);
   void journal(JournalKind kind, int32_t robot_id, int64_t key, std::vector<uint8_t> payload);
@@ -171,8 +174,10 @@ class BaseNode {
   uint64_t optimized_version_ = 0;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   int rejected_samples_ = 0;
-  int refused_overwrites_ = 0;           ///< samples that would have overwritten a stored one (AddStatus::kConflict)
-  RobotSessions sessions_;               ///< (robot, session) on the wire -> the base's robot id
+  int refused_overwrites_ = 0;
+  int spoofed_samples_ = 0;  ///< samples whose writer does not hold their robot's certificate           ///< samples
+                             ///< that would have overwritten a stored one (AddStatus::kConflict)
+  RobotSessions sessions_;   ///< (robot, session) on the wire -> the base's robot id
   size_t landmark_events_reported_ = 0;  ///< mapper_.landmark_link_events() already logged
 };
 

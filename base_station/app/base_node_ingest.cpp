@@ -129,32 +129,43 @@ std::optional<RobotId> BaseNode::ingest(const cairn_msgs::RobotStatus& m, bool l
   return robot;
 }
 
+bool BaseNode::from_its_robot(const dds::GuidPrefix& writer, int32_t robot_id, const char* what) {
+  if (options_.security_dir.empty()) return true;  // no certificates: nothing to check against
+  if (dds::authenticated_as(writer, dds::robot_identity(robot_id))) return true;
+  ++spoofed_samples_;
+  CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0,
+                        "refused {} claiming robot{}: its writer does not hold robot{}'s certificate ({} refused)",
+                        what, robot_id, robot_id, spoofed_samples_);
+  return false;
+}
+
 bool BaseNode::poll_inputs() {
   bool any = false;
   // Journaled under the base's id of the robot's session (the payload keeps the robot's own).
   auto journal_key = [this](int32_t robot_id, uint32_t session) { return base_id(robot_id, session)->value; };
-  for (const auto& m : keyframe_in_->take_all()) {
+  for (const auto& [m, writer] : keyframe_in_->take_all_from_writers()) {
     any = true;
-    if (ingest(m).stored()) {
+    if (from_its_robot(writer, m.robot_id(), "a keyframe") && ingest(m).stored()) {
       journal(JournalKind::kKeyframe, journal_key(m.robot_id(), m.session()), m.seq(),
               dds::to_cdr<cairn_msgs::KeyframePubSubType>(m));
     }
   }
-  for (const auto& m : keyframe_poses_in_->take_all()) {  // after this poll's keyframes
+  for (const auto& [m, writer] : keyframe_poses_in_->take_all_from_writers()) {  // after this poll's keyframes
     any = true;
-    if (ingest(m).stored()) {
+    if (from_its_robot(writer, m.robot_id(), "keyframe poses") && ingest(m).stored()) {
       journal(JournalKind::kKeyframePoses, journal_key(m.robot_id(), m.session()), 0,
               dds::to_cdr<cairn_msgs::KeyframePosesPubSubType>(m));
     }
   }
-  for (const auto& m : object_in_->take_all()) {
+  for (const auto& [m, writer] : object_in_->take_all_from_writers()) {
     any = true;
-    if (ingest(m).stored()) {
+    if (from_its_robot(writer, m.robot_id(), "an object report") && ingest(m).stored()) {
       journal(JournalKind::kObject, journal_key(m.robot_id(), m.session()), m.object_seq(),
               dds::to_cdr<cairn_msgs::ObjectReportPubSubType>(m));
     }
   }
-  for (const auto& m : status_in_->take_all()) {
+  for (const auto& [m, writer] : status_in_->take_all_from_writers()) {
+    if (!from_its_robot(writer, m.robot_id(), "a status")) continue;
     bool news = false;
     const auto robot = ingest(m, /*live=*/true, &news);
     if (!robot) continue;
