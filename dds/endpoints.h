@@ -102,23 +102,12 @@ class Reader {
   Reader& operator=(const Reader&) = delete;
 
   bool ok() const { return reader_ != nullptr; }
-  /// Takes every valid sample available now, in arrival order.
-  std::vector<Msg> take_all() {
-    std::vector<Msg> out;
-    if (!reader_) return out;
-    Msg msg;
-    eprosima::fastdds::dds::SampleInfo info;
-    while (reader_->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
-      if (info.valid_data) out.push_back(msg);
-    }
-    return out;
-  }
   /// A sample with the GUID prefix of the participant that wrote it (dds/identity.h).
   struct FromWriter {
     Msg msg;
     GuidPrefix writer{};
   };
-  /// take_all(), each sample with its writer's participant.
+  /// Takes every valid sample available now, in arrival order, each with its writer's participant.
   std::vector<FromWriter> take_all_from_writers() {
     std::vector<FromWriter> out;
     if (!reader_) return out;
@@ -129,6 +118,12 @@ class Reader {
       for (size_t i = 0; i < s.writer.size(); ++i) s.writer[i] = info.publication_handle.value[i];
       out.push_back(s);
     }
+    return out;
+  }
+  /// take_all_from_writers() without the writers.
+  std::vector<Msg> take_all() {
+    std::vector<Msg> out;
+    for (FromWriter& s : take_all_from_writers()) out.push_back(std::move(s.msg));
     return out;
   }
   int matched_writers() const {

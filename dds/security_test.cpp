@@ -63,16 +63,21 @@ class Security : public ::testing::Test {
     kf.scan.ranges_m.assign(360, 2.0f);
     return to_msg(kf);
   }
-  /// Writes three keyframes and returns how many the reader got within `seconds`.
-  static size_t exchange(KeyframeWriter& w, KeyframeReader& r, double seconds) {
-    for (int i = 0; i < 3; ++i) w.write(keyframe(i));
-    size_t got = 0;
+  /// Writes `n` keyframes and returns those the reader got within `seconds`, with their writers.
+  static std::vector<KeyframeReader::FromWriter> received(KeyframeWriter& w, KeyframeReader& r, double seconds,
+                                                          int n = 3) {
+    for (int i = 0; i < n; ++i) w.write(keyframe(i));
+    std::vector<KeyframeReader::FromWriter> got;
     const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (got < 3 && std::chrono::steady_clock::now() < end) {
-      got += r.take_all().size();
+    while (got.size() < size_t(n) && std::chrono::steady_clock::now() < end) {
+      for (auto& s : r.take_all_from_writers()) got.push_back(std::move(s));
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     return got;
+  }
+  /// How many of three keyframes written the reader got within `seconds`.
+  static size_t exchange(KeyframeWriter& w, KeyframeReader& r, double seconds) {
+    return received(w, r, seconds).size();
   }
 
   /// A writer on `from` and a reader on `to` never match, and nothing written arrives.
@@ -126,12 +131,7 @@ TEST_F(Security, ASamplesWriterIsKnownByTheCertificateItAuthenticatedWith) {
   KeyframeWriter w(*robot);
   KeyframeReader r(*base);
   ASSERT_TRUE(matched_within(w, r, 20.0));
-  w.write(keyframe(0));
-  std::vector<KeyframeReader::FromWriter> got;
-  for (int i = 0; i < 500 && got.empty(); ++i) {
-    got = r.take_all_from_writers();
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  const auto got = received(w, r, 10.0, 1);
   ASSERT_EQ(got.size(), 1u);
   EXPECT_TRUE(authenticated_as(got[0].writer, robot_identity(0)));
   EXPECT_FALSE(authenticated_as(got[0].writer, robot_identity(1)));

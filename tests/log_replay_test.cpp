@@ -38,6 +38,20 @@ std::string excerpt(const fs::path& dir, int scans) {
   return out.string();
 }
 
+/// An empty folder `name` under the test's temporary directory (per process).
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::path(::testing::TempDir()) / (name + "_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+/// A whole text file ("" when it cannot be read).
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 TEST(LogReplay, AgentReplaysACarmenLogToTheBaseOverDds) {
   if (!std::ifstream(kMitLog)) GTEST_SKIP() << "data absent: " << kMitLog;
   const fs::path dir = fs::path(::testing::TempDir()) / ("log_replay_" + std::to_string(getpid()));
@@ -60,8 +74,7 @@ TEST(LogReplay, AgentReplaysACarmenLogToTheBaseOverDds) {
   EXPECT_GT(path_m, 20.0);
   EXPECT_TRUE(fs::exists(dir / "map" / "map.pgm"));
   // The agent's loop-closed keyframe poses reached the base (cairn/keyframe_poses).
-  std::ifstream in(dir / "map" / "summary.json");
-  const nlohmann::json summary = nlohmann::json::parse(in);
+  const nlohmann::json summary = nlohmann::json::parse(read_text(dir / "map" / "summary.json"));
   ASSERT_EQ(summary["robots"].size(), 1u);
   EXPECT_GE(summary["robots"][0]["link"]["keyframe_pose_updates"].get<int>(), 1) << summary.dump();
 }
@@ -94,8 +107,7 @@ TEST(LogReplay, KilledBaseResumesFromItsJournalAfterTheRobotIsGone) {
                              "'robot0 reports finished' " + base_a_log + " && break; sleep 0.1; done; kill -9 $pid; " +
                              "wait; exit $status)");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  std::ifstream agent_in(dir / "agent.log");
-  const std::string agent_log((std::istreambuf_iterator<char>(agent_in)), std::istreambuf_iterator<char>());
+  const std::string agent_log = read_text(dir / "agent.log");
   const int sent = agent_keyframes(agent_log);
   ASSERT_GE(sent, 60) << agent_log;
   ASSERT_FALSE(fs::exists(dir / "map" / "summary.json")) << "base A exported before it was killed";
@@ -106,8 +118,7 @@ TEST(LogReplay, KilledBaseResumesFromItsJournalAfterTheRobotIsGone) {
                              " --robots 1 --port 0");
   ASSERT_EQ(b.exit_code, 0) << b.output;
   EXPECT_NE(b.output.find("resumed from journal"), std::string::npos) << b.output;
-  std::ifstream in(dir / "map" / "summary.json");
-  const nlohmann::json summary = nlohmann::json::parse(in);
+  const nlohmann::json summary = nlohmann::json::parse(read_text(dir / "map" / "summary.json"));
   ASSERT_EQ(summary["robots"].size(), 1u) << summary.dump();
   EXPECT_EQ(summary["robots"][0]["keyframes"].get<int>(), sent) << summary.dump();
   EXPECT_EQ(summary["robots"][0]["missing_keyframes"].get<int>(), 0) << summary.dump();
@@ -130,9 +141,7 @@ TEST(LogReplay, KilledBaseResumesFromItsJournalAfterTheRobotIsGone) {
 
 TEST(LogReplay, AnAgentKilledAndRestartedIsANewSessionAndNothingIsDroppedOrOverwritten) {
   if (!std::ifstream(kMitLog)) GTEST_SKIP() << "data absent: " << kMitLog;
-  const fs::path dir = fs::path(::testing::TempDir()) / ("agent_restart_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = fresh_dir("agent_restart");
   const std::string log = excerpt(dir, 400);
   std::string error;
   const auto lease = dds::DomainLease::claim({}, &error);
@@ -148,17 +157,14 @@ TEST(LogReplay, AnAgentKilledAndRestartedIsANewSessionAndNothingIsDroppedOrOverw
       run_command("(" + base + " > " + (dir / "base.log").string() + " 2>&1 & base=$!; " + agent + " --log-speed 4 > " +
                   (dir / "agent_a.log").string() + " 2>&1 & a=$!; sleep 8; kill -9 $a; " + "wait $a; " + agent + " > " +
                   (dir / "agent_b.log").string() + " 2>&1; status=$?; wait $base; exit $status)");
-  std::ifstream base_in(dir / "base.log");
-  const std::string base_log((std::istreambuf_iterator<char>(base_in)), std::istreambuf_iterator<char>());
+  const std::string base_log = read_text(dir / "base.log");
   ASSERT_EQ(r.exit_code, 0) << r.output << base_log;
-  std::ifstream agent_in(dir / "agent_b.log");
-  const std::string agent_b((std::istreambuf_iterator<char>(agent_in)), std::istreambuf_iterator<char>());
+  const std::string agent_b = read_text(dir / "agent_b.log");
   const int sent = agent_keyframes(agent_b);
   ASSERT_GE(sent, 60) << agent_b;
   EXPECT_NE(base_log.find("started session"), std::string::npos) << base_log;
 
-  std::ifstream in(dir / "map" / "summary.json");
-  const nlohmann::json summary = nlohmann::json::parse(in);
+  const nlohmann::json summary = nlohmann::json::parse(read_text(dir / "map" / "summary.json"));
   ASSERT_EQ(summary["robots"].size(), 2u) << summary.dump();
   const nlohmann::json& first = summary["robots"][0];
   const nlohmann::json& second = summary["robots"][1];
@@ -179,9 +185,7 @@ TEST(LogReplay, AnAgentKilledAndRestartedIsANewSessionAndNothingIsDroppedOrOverw
 
 TEST(LogReplay, ATeamMemberSpeakingForAnotherRobotIsRefusedAndCounted) {
   if (!std::ifstream(kMitLog)) GTEST_SKIP() << "data absent: " << kMitLog;
-  const fs::path dir = fs::path(::testing::TempDir()) / ("spoofed_robot_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = fresh_dir("spoofed_robot");
   const std::string certs = (dir / "security").string();
   if (std::system(("bash " + std::string(CAIRN_SOURCE_DIR) + "/deploy/security/make_certs.sh " + certs +
                    " base robot1 > /dev/null")
@@ -204,16 +208,13 @@ TEST(LogReplay, ATeamMemberSpeakingForAnotherRobotIsRefusedAndCounted) {
                              (dir / "spoofer.log").string() + " 2>&1 & spoofer=$!; sleep 4; " + agent + "1 > " +
                              (dir / "agent.log").string() + " 2>&1; status=$?; wait $base; kill $spoofer; " +
                              "wait $spoofer; exit $status)");
-  std::ifstream base_in(dir / "base.log");
-  const std::string base_log((std::istreambuf_iterator<char>(base_in)), std::istreambuf_iterator<char>());
+  const std::string base_log = read_text(dir / "base.log");
   ASSERT_EQ(r.exit_code, 0) << r.output << base_log;
-  std::ifstream agent_in(dir / "agent.log");
-  const std::string agent_log((std::istreambuf_iterator<char>(agent_in)), std::istreambuf_iterator<char>());
+  const std::string agent_log = read_text(dir / "agent.log");
   const int sent = agent_keyframes(agent_log);
   ASSERT_GE(sent, 20) << agent_log;
   EXPECT_NE(base_log.find("does not hold robot2's certificate"), std::string::npos) << base_log;
-  std::ifstream in(dir / "map" / "summary.json");
-  const nlohmann::json summary = nlohmann::json::parse(in);
+  const nlohmann::json summary = nlohmann::json::parse(read_text(dir / "map" / "summary.json"));
   // Only robot 1 is known: nothing robot "2" sent (keyframes, objects, statuses) was taken.
   ASSERT_EQ(summary["robots"].size(), 1u) << summary.dump();
   EXPECT_EQ(summary["robots"][0]["id"].get<int>(), 1);

@@ -82,6 +82,10 @@ class BaseNode {
   /// The status's robot (its session's base id), or nullopt when refused. `news`: its first status,
   /// or "finished" changed.
   std::optional<RobotId> ingest(const cairn_msgs::RobotStatus& m, bool live, bool* news = nullptr);
+  /// dds::from_msg (which validates), the sample's robot set to its session's base id (`*robot`),
+  /// then `add` on it; kRejected with the reason when either refuses it (ingest's common part).
+  template <typename Msg, typename Add>
+  AddResult convert_and_add(const Msg& m, std::optional<RobotId>* robot, Add&& add);
   /// The base's id for a sample's robot and session (RobotSessions); a new session is journaled and
   /// a restart logged. nullopt for a robot id out of range.
   std::optional<RobotId> base_id(int32_t robot_id, uint32_t session);

@@ -10,16 +10,21 @@ namespace cairn::base {
 
 namespace {
 
-/// dds::from_msg (which validates), then `add` on the converted sample; kRejected with the reason
-/// when either refuses it.
-template <typename Msg, typename Add>
-AddResult convert_and_add(const Msg& m, Add&& add) {
-  std::string error;
-  auto parsed = dds::from_msg(m, &error);
-  return parsed ? add(*parsed) : AddResult{AddStatus::kRejected, error};
-}
+void set_robot(Keyframe* kf, RobotId robot) { kf->id.robot = robot; }
+void set_robot(KeyframePoses* poses, RobotId robot) { poses->robot = robot; }
+void set_robot(ObjectReport* report, RobotId robot) { report->id.robot = robot; }
 
 }  // namespace
+
+template <typename Msg, typename Add>
+AddResult BaseNode::convert_and_add(const Msg& m, std::optional<RobotId>* robot, Add&& add) {
+  std::string error;
+  auto parsed = dds::from_msg(m, &error);
+  if (!parsed) return AddResult{AddStatus::kRejected, error};
+  *robot = base_id(m.robot_id(), m.session());  // only for a valid sample: a bad one starts no session
+  set_robot(&*parsed, **robot);
+  return add(*parsed);
+}
 
 void BaseNode::count_rejected(int32_t robot_id) {
   ++rejected_samples_;
@@ -52,12 +57,8 @@ void BaseNode::count_refused(const AddResult& r, RobotId robot, const char* what
 }
 
 AddResult BaseNode::ingest(const cairn_msgs::Keyframe& m) {
-  std::optional<RobotId> robot;  // resolved once the sample is valid: a bad one starts no session
-  const AddResult r = convert_and_add(m, [&](Keyframe& kf) {
-    robot = base_id(m.robot_id(), m.session());
-    kf.id.robot = *robot;
-    return mapper_.add_keyframe(kf);
-  });
+  std::optional<RobotId> robot;
+  const AddResult r = convert_and_add(m, &robot, [&](const Keyframe& kf) { return mapper_.add_keyframe(kf); });
   if (r.status != AddStatus::kRejected) note_keyframe_arrival();
   if (r.status == AddStatus::kRejected) {
     count_rejected(m.robot_id());
@@ -69,12 +70,8 @@ AddResult BaseNode::ingest(const cairn_msgs::Keyframe& m) {
 }
 
 AddResult BaseNode::ingest(const cairn_msgs::KeyframePoses& m) {
-  std::optional<RobotId> robot;  // resolved once the sample is valid: a bad one starts no session
-  const AddResult r = convert_and_add(m, [&](KeyframePoses& p) {
-    robot = base_id(m.robot_id(), m.session());
-    p.robot = *robot;
-    return mapper_.add_keyframe_poses(p);
-  });
+  std::optional<RobotId> robot;
+  const AddResult r = convert_and_add(m, &robot, [&](const KeyframePoses& p) { return mapper_.add_keyframe_poses(p); });
   if (r.status == AddStatus::kRejected) {
     count_rejected(m.robot_id());
     CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected keyframe poses of robot{}: {}", m.robot_id(),
@@ -86,12 +83,8 @@ AddResult BaseNode::ingest(const cairn_msgs::KeyframePoses& m) {
 }
 
 AddResult BaseNode::ingest(const cairn_msgs::ObjectReport& m) {
-  std::optional<RobotId> robot;  // resolved once the sample is valid: a bad one starts no session
-  const AddResult r = convert_and_add(m, [&](ObjectReport& o) {
-    robot = base_id(m.robot_id(), m.session());
-    o.id.robot = *robot;
-    return mapper_.add_object(o);
-  });
+  std::optional<RobotId> robot;
+  const AddResult r = convert_and_add(m, &robot, [&](const ObjectReport& o) { return mapper_.add_object(o); });
   if (r.status == AddStatus::kRejected) {
     count_rejected(m.robot_id());
     CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "rejected object robot{}/{}: {}", m.robot_id(),
