@@ -34,6 +34,14 @@ bool add_security(const std::string& dir, DomainParticipantQos* qos, std::string
   props.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_ca", "file://" + file("ca.pem"));
   props.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_certificate", "file://" + file("cert.pem"));
   props.emplace_back("dds.sec.auth.builtin.PKI-DH.private_key", "file://" + file("key.pem"));
+  // The handshake is retried for as long as a mission lasts. Fast DDS's default (10 requests from
+  // 125 ms, period x1.5) gives up after about 14 s and never tries that peer again: a robot whose
+  // first handshake met a busy base or a bad radio patch stayed deaf to the team for the whole
+  // mission (seen in CI). 1000 requests from 250 ms, period x1.01: a retry within 1 s for the first
+  // minute, within 6 s after ten minutes, within 40 s after an hour.
+  props.emplace_back("dds.sec.auth.builtin.PKI-DH.max_handshake_requests", "1000");
+  props.emplace_back("dds.sec.auth.builtin.PKI-DH.initial_handshake_resend_period", "250");
+  props.emplace_back("dds.sec.auth.builtin.PKI-DH.handshake_resend_period_gain", "1.01");
   props.emplace_back("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
   props.emplace_back("rtps.participant.rtps_protection_kind", "ENCRYPT");
   return true;
