@@ -178,6 +178,15 @@ void PlanningGrid::forbid(const Eigen::Vector2d& min_m, const Eigen::Vector2d& m
     }
 }
 
+void PlanningGrid::forbid(const KeepOutPolygon& area) {
+  const Eigen::Vector2i lo = cell_of(area.min_m()).cwiseMax(Eigen::Vector2i(0, 0));
+  const Eigen::Vector2i hi = cell_of(area.max_m()).cwiseMin(Eigen::Vector2i(w_ - 1, h_ - 1));
+  for (int r = lo.y(); r <= hi.y(); ++r)
+    for (int c = lo.x(); c <= hi.x(); ++c) {
+      if (area.contains(centre_m({c, r}))) traversable_[index(c, r)] = 0;
+    }
+}
+
 bool PlanningGrid::is_frontier(int c, int r) const {
   if (cells_[index(c, r)] != CellState::kFree) return false;
   constexpr int kN[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};

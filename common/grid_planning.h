@@ -16,6 +16,7 @@
 #include <optional>
 #include <vector>
 
+#include "common/keep_out.h"
 #include "common/occupancy_grid.h"
 
 namespace cairn {
@@ -92,6 +93,8 @@ class PlanningGrid {
   double step_factor(size_t i) const { return double(step_factor_[i]); }
   /// Cells whose centres lie in [min_m, max_m] become untraversable (an operator's keep-out area).
   void forbid(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m);
+  /// Cells whose centres lie in `area` become untraversable (a keep-out area in a robot's frame).
+  void forbid(const KeepOutPolygon& area);
 
  private:
   void classify(const OccupancyGrid& map, int k);

@@ -191,9 +191,10 @@ struct NavStatus {
   uint32_t goal_id = 0;
   GoalKind goal_kind = GoalKind::kOwn;
   NavState nav_state = NavState::kIdle;
-  Eigen::Vector2d goal_m{0, 0};  ///< in the robot's own frame
-  double distance_m = 0;         ///< driven so far
-  CommandReport command;         ///< the operator's newest command, as the robot sees it
+  Eigen::Vector2d goal_m{0, 0};   ///< in the robot's own frame
+  double distance_m = 0;          ///< driven so far
+  CommandReport command;          ///< the operator's newest command, as the robot sees it
+  uint32_t keep_out_version = 0;  ///< the operator's keep-out areas it holds (KeepOutMessage::version)
 };
 
 /// Wire value -> enum; nullopt for a value no version of Cairn sends.

@@ -108,6 +108,7 @@ void set_nav_status(const NavStatus& nav, cairn_msgs::RobotStatus* m) {
   m->command_seq(nav.command.seq);
   m->command_state(uint8_t(nav.command.state));
   m->command_note(eprosima::fastrtps::fixed_string<160>(nav.command.note.substr(0, 160)));
+  m->keep_out_version(nav.keep_out_version);
 }
 
 std::optional<NavStatus> nav_status_from(const cairn_msgs::RobotStatus& m, std::string* error) {
@@ -129,7 +130,41 @@ std::optional<NavStatus> nav_status_from(const cairn_msgs::RobotStatus& m, std::
   n.goal_m = {m.goal_x_m(), m.goal_y_m()};
   n.distance_m = m.distance_m();
   n.command = {m.command_seq(), *command_state, m.command_note().to_string()};
+  n.keep_out_version = m.keep_out_version();
   return n;
+}
+
+cairn_msgs::KeepOutAreas to_msg(const KeepOutMessage& k) {
+  cairn_msgs::KeepOutAreas m;
+  m.robot_id(k.robot.value);
+  m.version(k.version);
+  for (size_t i = 0; i < k.areas.size() && i < kMaxKeepOutAreas; ++i) {
+    cairn_msgs::KeepOutZone z;
+    z.id(k.areas[i].id);
+    for (size_t c = 0; c < 4; ++c) {
+      z.x_m()[c] = k.areas[i].corners_m[c].x();
+      z.y_m()[c] = k.areas[i].corners_m[c].y();
+    }
+    m.areas().push_back(z);
+  }
+  return m;
+}
+
+std::optional<KeepOutMessage> from_msg(const cairn_msgs::KeepOutAreas& m, std::string* error) {
+  if (m.robot_id() < 0 || m.robot_id() > kMaxRobotId) {
+    return fail(error, "keep-out areas: robot_id " + std::to_string(m.robot_id()) + " out of range");
+  }
+  KeepOutMessage k;
+  k.robot = RobotId(m.robot_id());
+  k.version = m.version();
+  for (const cairn_msgs::KeepOutZone& z : m.areas()) {
+    KeepOutPolygon p;
+    p.id = z.id();
+    for (size_t c = 0; c < 4; ++c) p.corners_m[c] = {z.x_m()[c], z.y_m()[c]};
+    if (const auto fault = polygon_fault(p)) return fail(error, "keep-out areas: " + *fault);
+    k.areas.push_back(p);
+  }
+  return k;
 }
 
 }  // namespace cairn::dds

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cairn_msgs.h"
+#include "common/keep_out.h"
 #include "common/navigation.h"
 
 namespace cairn::dds {
@@ -19,6 +20,11 @@ std::optional<GoalMessage> from_msg(const cairn_msgs::ExplorationGoal& msg, std:
 
 cairn_msgs::OperatorCommand to_msg(const OperatorCommand& command);
 std::optional<OperatorCommand> from_msg(const cairn_msgs::OperatorCommand& msg, std::string* error);
+
+/// The IDL's bound on the areas in one message (sequence<KeepOutZone, 64>); more are not sent.
+constexpr size_t kMaxKeepOutAreas = 64;
+cairn_msgs::KeepOutAreas to_msg(const KeepOutMessage& keep_out);
+std::optional<KeepOutMessage> from_msg(const cairn_msgs::KeepOutAreas& msg, std::string* error);
 
 /// Fills the navigation fields of a status message.
 void set_nav_status(const NavStatus& nav, cairn_msgs::RobotStatus* msg);

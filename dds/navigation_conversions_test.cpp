@@ -62,6 +62,7 @@ TEST(NavigationConversions, StatusNavigationPartRoundTrips) {
   n.goal_m = {4, 5};
   n.distance_m = 12.5;
   n.command = {12, CommandState::kFailed, "no path on its map"};
+  n.keep_out_version = 6;
   cairn_msgs::RobotStatus m;
   set_nav_status(n, &m);
   std::string error;
@@ -74,6 +75,7 @@ TEST(NavigationConversions, StatusNavigationPartRoundTrips) {
   EXPECT_EQ(back->command.seq, 12u);
   EXPECT_EQ(back->command.state, CommandState::kFailed);
   EXPECT_EQ(back->command.note, "no path on its map");
+  EXPECT_EQ(back->keep_out_version, 6u);
   m.command_state(40);
   EXPECT_FALSE(nav_status_from(m, &error));
   EXPECT_NE(error.find("command state 40"), std::string::npos) << error;
@@ -103,6 +105,28 @@ TEST(NavigationConversions, OperatorCommandRoundTripsAndBadOnesAreNamed) {
   bad.seq(0);
   EXPECT_FALSE(from_msg(bad, &error));
   EXPECT_NE(error.find("seq 0"), std::string::npos) << error;
+}
+
+TEST(NavigationConversions, KeepOutAreasRoundTripAndABadOneIsNamed) {
+  KeepOutMessage k{RobotId(1), 9, {in_frame({3, {1, 2}, {4, 5}}, SE2(0.5, -1, 0.3))}};
+  std::string error;
+  const auto back = from_msg(to_msg(k), &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_EQ(back->robot, RobotId(1));
+  EXPECT_EQ(back->version, 9u);
+  ASSERT_EQ(back->areas.size(), 1u);
+  EXPECT_EQ(back->areas[0].id, 3u);
+  for (size_t c = 0; c < 4; ++c) EXPECT_EQ(back->areas[0].corners_m[c], k.areas[0].corners_m[c]);
+  cairn_msgs::KeepOutAreas bad = to_msg(k);
+  bad.areas()[0].y_m()[2] = std::nan("");
+  EXPECT_FALSE(from_msg(bad, &error));
+  EXPECT_EQ(error, "keep-out areas: keep-out area 3: a corner is not a finite number");
+  bad = to_msg(k);
+  bad.robot_id(-1);
+  EXPECT_FALSE(from_msg(bad, &error));
+  EXPECT_NE(error.find("robot_id -1"), std::string::npos) << error;
+  k.areas.assign(kMaxKeepOutAreas + 5, k.areas[0]);  // beyond the IDL's bound: the first 64 go
+  EXPECT_EQ(to_msg(k).areas().size(), kMaxKeepOutAreas);
 }
 
 }  // namespace

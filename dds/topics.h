@@ -102,6 +102,13 @@ struct OperatorCommandTopic {
   static constexpr TopicKind kKind = TopicKind::kGoal;  // the same QoS: reliable, newest per robot, late-joiner safe
   static constexpr bool kPerRobot = false;
 };
+struct KeepOutTopic {
+  using Msg = cairn_msgs::KeepOutAreas;
+  using PubSub = cairn_msgs::KeepOutAreasPubSubType;
+  static constexpr const char* kName = "cairn/keep_out";
+  static constexpr TopicKind kKind = TopicKind::kGoal;  // reliable, newest per robot, late-joiner safe
+  static constexpr bool kPerRobot = false;
+};
 struct KeyframePosesTopic {
   using Msg = cairn_msgs::KeyframePoses;
   using PubSub = cairn_msgs::KeyframePosesPubSubType;
@@ -114,9 +121,9 @@ template <typename... Topics>
 struct TopicList {};
 
 /// Every topic, in the order of the architecture doc's table.
-using AllTopics =
-    TopicList<OdometryTopic, LaserScanTopic, RgbdTopic, CmdVelTopic, ClockTopic, KeyframeTopic, ObjectTopic,
-              StatusTopic, AckTopic, CorrectionTopic, GoalTopic, OperatorCommandTopic, KeyframePosesTopic>;
+using AllTopics = TopicList<OdometryTopic, LaserScanTopic, RgbdTopic, CmdVelTopic, ClockTopic, KeyframeTopic,
+                            ObjectTopic, StatusTopic, AckTopic, CorrectionTopic, GoalTopic, OperatorCommandTopic,
+                            KeepOutTopic, KeyframePosesTopic>;
 
 namespace detail {
 

@@ -187,6 +187,20 @@ TEST(OperatorCommands, PauseHoldsTheExploringRobotAndNoGoalIsSentIntoAKeepOutAre
       op.post({{"action", "keep_out"}, {"area_m", {gx - 1.0, gy - 1.0, gx + 1.0, gy + 1.0}}}, kToken, "/api/search"),
       202)
       << op.last_body();
+  // The robot is told the area in its own frame, and its own planner holds it (its status says so).
+  nlohmann::json robot;
+  ASSERT_TRUE(wait_for(30, [&] {
+    robot = op.robot(0).value("link", nlohmann::json::object());
+    return robot.value("keep_out_held", 0u) >= 1u && robot["keep_out_held"] == robot["keep_out_sent"];
+  })) << robot.dump();
+  // The link's round trip, measured by the base from the probes its acks carry and the robot echoes.
+  ASSERT_TRUE(robot.contains("rtt_ms")) << robot.dump();
+  EXPECT_GE(robot["rtt_ms"].get<int>(), 0);
+  EXPECT_LT(robot["rtt_ms"].get<int>(), 2000) << "a loopback link";
+  auto in_area = [&](const nlohmann::json& pose) {
+    return std::abs(pose[0].get<double>() - gx) < 1.0 && std::abs(pose[1].get<double>() - gy) < 1.0;
+  };
+  const bool started_outside = !in_area(later);
   ASSERT_EQ(op.post({{"action", "resume"}}, kToken, "/api/search"), 202) << op.last_body();
   ASSERT_TRUE(wait_for(30, [&] {
     const nlohmann::json resume = op.command(2);
@@ -197,6 +211,8 @@ TEST(OperatorCommands, PauseHoldsTheExploringRobotAndNoGoalIsSentIntoAKeepOutAre
   int plans_seen = 0;
   auto ended = [&] { return mission.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
   wait_for(8, [&] {
+    const nlohmann::json pose = op.robot(0).value("pose_m", nlohmann::json::array());
+    if (started_outside && pose.size() == 3u) EXPECT_FALSE(in_area(pose)) << "robot 0 drove into the area";
     for (const auto& goal : goals()) {
       ++plans_seen;
       EXPECT_FALSE(std::abs(goal["x_m"].get<double>() - gx) <= 1.0 && std::abs(goal["y_m"].get<double>() - gy) <= 1.0)

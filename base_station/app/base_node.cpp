@@ -8,6 +8,7 @@
 #include "base_station/export/exporter.h"
 #include "dds/cdr.h"
 #include "dds/conversions.h"
+#include "dds/navigation_conversions.h"
 
 namespace cairn::base {
 
@@ -54,8 +55,10 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   n->correction_out_ = std::make_unique<dds::Writer<dds::CorrectionTopic>>(p);
   n->goal_out_ = std::make_unique<dds::Writer<dds::GoalTopic>>(p);
   n->command_out_ = std::make_unique<dds::Writer<dds::OperatorCommandTopic>>(p);
+  n->keep_out_out_ = std::make_unique<dds::Writer<dds::KeepOutTopic>>(p);
   if (!n->keyframe_in_->ok() || !n->object_in_->ok() || !n->status_in_->ok() || !n->keyframe_poses_in_->ok() ||
-      !n->ack_out_->ok() || !n->correction_out_->ok() || !n->goal_out_->ok() || !n->command_out_->ok()) {
+      !n->ack_out_->ok() || !n->correction_out_->ok() || !n->goal_out_->ok() || !n->command_out_->ok() ||
+      !n->keep_out_out_->ok()) {
     *error = "cannot create the base station's DDS readers/writers";
     return nullptr;
   }
@@ -69,6 +72,10 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   return n;
 }
 
+uint64_t BaseNode::monotonic_ns() {
+  return uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count());
+}
+
 double BaseNode::now_s() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
 
 void BaseNode::publish_acks_and_corrections() {
@@ -79,6 +86,7 @@ void BaseNode::publish_acks_and_corrections() {
     if (all_journaled) {
       ack.keyframe_seq(contiguous_seq(mapper_, r.id));
       ack.object_count(r.objects);
+      ack.probe_ns(monotonic_ns());  // the robot echoes it: the link's round trip (RoundTrip)
       ack_out_->write(ack);
     }
     cairn_msgs::Correction c;
@@ -86,7 +94,25 @@ void BaseNode::publish_acks_and_corrections() {
     c.linked(r.linked);
     c.T_global_local(dds::to_msg(r.T_global_local));
     correction_out_->write(c);
+    send_keep_out(r);
   }
+}
+
+void BaseNode::send_keep_out(const RobotSummary& r) {
+  KeepOutRobotState state;
+  state.robot = r.id;
+  state.linked = r.linked;
+  state.T_global_local = r.T_global_local;
+  if (const auto nav = navigation_.find(r.id); nav != navigation_.end())
+    state.held_version = nav->second.keep_out_version;
+  const auto message = keep_out_relay_.due(state, search_.keep_out(), now_s());
+  if (!message) return;
+  cairn_msgs::KeepOutAreas m = dds::to_msg(*message);
+  address(r.id, &m);
+  if (!keep_out_out_->write(m)) return;  // not sent: due() offers it again next tick
+  keep_out_relay_.mark_sent(state, search_.keep_out(), *message, now_s());
+  log_->info("keep-out areas sent to {}: {} (version {})", sessions_.label(r.id), message->areas.size(),
+             message->version);
 }
 
 bool BaseNode::all_finished() const {

@@ -20,10 +20,12 @@
 #include "base_station/console/snapshot.h"
 #include "base_station/core/exploration.h"
 #include "base_station/core/goal_allocator.h"
+#include "base_station/core/keep_out_relay.h"
 #include "base_station/core/multi_robot_mapper.h"
 #include "base_station/core/object_verdicts.h"
 #include "base_station/core/operator_commands.h"
 #include "base_station/core/robot_sessions.h"
+#include "base_station/core/round_trip.h"
 #include "base_station/core/saliency_layer.h"
 #include "base_station/store/journal.h"
 #include "cairn_msgsPubSubTypes.h"
@@ -71,6 +73,7 @@ class BaseNode {
     double last_heard_s = -1;  ///< wall seconds since start
     int bad_samples = 0;
     int keyframe_pose_updates = 0;  ///< the agent's loop-closed keyframe poses, stored
+    RoundTrip round_trip;           ///< the radio link's round trip (live statuses only)
   };
   BaseNode(const BaseNodeOptions& options, const MapperOptions& mapper_options);
   bool open_journal(std::string* error);
@@ -108,6 +111,8 @@ class BaseNode {
   void flush_journal();
   bool poll_inputs();
   void publish_acks_and_corrections();
+  /// The operator's keep-out areas, in `r`'s own frame, when it must be told them (KeepOutRelay).
+  void send_keep_out(const RobotSummary& r);
   // Exploration (base_node_exploration.cpp): the robots' navigation states in, goals out.
   void note_navigation(const NavStatus& nav, RobotId robot, bool live);
   /// `send`: false plans only (the final map's "where to search next"), no orders go out.
@@ -135,6 +140,7 @@ class BaseNode {
   bool all_finished() const;
   int finish();
   double now_s() const;
+  static uint64_t monotonic_ns();  ///< the probes' clock (Ack.probe_ns; RoundTrip)
 
   BaseNodeOptions options_;
   MapperOptions mapper_options_;
@@ -149,11 +155,13 @@ class BaseNode {
   std::unique_ptr<dds::Writer<dds::CorrectionTopic>> correction_out_;
   std::unique_ptr<dds::Writer<dds::GoalTopic>> goal_out_;
   std::unique_ptr<dds::Writer<dds::OperatorCommandTopic>> command_out_;
-  CommandInbox inbox_;       ///< commands the console accepted, for this thread (before console_: it points here)
-  CommandBook commands_;     ///< every operator command sent and what became of it
-  SearchControls search_;    ///< the operator's pause and keep-out areas (the planner obeys them)
-  AlertLog alert_log_;       ///< every alert raised, first seen, acknowledged
-  ObjectVerdicts verdicts_;  ///< the operator's verdicts on objects (applied to every merged map shown)
+  std::unique_ptr<dds::Writer<dds::KeepOutTopic>> keep_out_out_;
+  CommandInbox inbox_;           ///< commands the console accepted, for this thread (before console_: it points here)
+  CommandBook commands_;         ///< every operator command sent and what became of it
+  SearchControls search_;        ///< the operator's pause and keep-out areas (the planner obeys them)
+  KeepOutRelay keep_out_relay_;  ///< which robot must be told the keep-out areas, in its own frame
+  AlertLog alert_log_;           ///< every alert raised, first seen, acknowledged
+  ObjectVerdicts verdicts_;      ///< the operator's verdicts on objects (applied to every merged map shown)
   std::unique_ptr<ConsoleServer> console_;
   std::unique_ptr<Journal> journal_;
   ExplorationPlan plan_;                     ///< the newest exploration plan (console, goal topic, final export)
@@ -178,10 +186,9 @@ class BaseNode {
   uint64_t optimized_version_ = 0;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   int rejected_samples_ = 0;
-  int refused_overwrites_ = 0;
-  int spoofed_samples_ = 0;  ///< samples whose writer does not hold their robot's certificate           ///< samples
-                             ///< that would have overwritten a stored one (AddStatus::kConflict)
-  RobotSessions sessions_;   ///< (robot, session) on the wire -> the base's robot id
+  int refused_overwrites_ = 0;           ///< samples that would have overwritten a stored one (AddStatus::kConflict)
+  int spoofed_samples_ = 0;              ///< samples whose writer does not hold their robot's certificate
+  RobotSessions sessions_;               ///< (robot, session) on the wire -> the base's robot id
   size_t landmark_events_reported_ = 0;  ///< mapper_.landmark_link_events() already logged
 };
 

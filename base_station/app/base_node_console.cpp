@@ -1,6 +1,7 @@
 // BaseNode, what the console sees: each robot's link, the snapshot the console serves (rebuilt every
 // optimise tick and at once after an operator's verdict), and when the keyframes it shows arrived.
 #include <chrono>
+#include <cmath>
 
 #include "base_station/app/base_node.h"
 
@@ -42,6 +43,7 @@ nlohmann::json BaseNode::link_stats() const {
     j["bytes_rx"] = link.has_status ? link.last_status.bytes_sent() : 0;
     j["bad_samples"] = link.bad_samples;
     j["keyframe_pose_updates"] = link.keyframe_pose_updates;
+    if (const auto rtt_ms = link.round_trip.median_ms()) j["rtt_ms"] = std::lround(*rtt_ms);
     add_navigation_json(robot, &j);
     links[std::to_string(robot.value)] = j;
   }

@@ -119,6 +119,7 @@ std::optional<RobotId> BaseNode::ingest(const cairn_msgs::RobotStatus& m, bool l
   link.has_status = true;
   note_navigation(*nav, *robot, live);
   link.last_heard_s = live ? now_s() : -1.0;  // restored: not heard since this base started
+  if (live) link.round_trip.add(m.probe_echo_ns(), m.probe_held_ns(), monotonic_ns());
   return robot;
 }
 

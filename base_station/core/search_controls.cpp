@@ -31,6 +31,9 @@ std::optional<std::string> SearchControls::check(const SearchControlRequest& r) 
       return std::nullopt;
     case SearchAction::kKeepOut: {
       if (!r.corner_a_m.allFinite() || !r.corner_b_m.allFinite()) return "the area's corners must be finite numbers";
+      if (areas_.size() >= options_.max_areas) {
+        return "there are already " + std::to_string(options_.max_areas) + " keep-out areas: remove one first";
+      }
       const Eigen::Vector2d side = (r.corner_a_m - r.corner_b_m).cwiseAbs();
       char why[96];
       if (side.minCoeff() < options_.min_side_m) {

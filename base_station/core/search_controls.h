@@ -5,24 +5,17 @@
 // it into journal records and back, so a restarted base keeps the same areas and the same pause.
 // Pure: requests in, state and records out.
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "common/ids.h"
+#include "common/keep_out.h"  // KeepOutArea
 #include "common/time.h"
 
 namespace cairn::base {
-
-struct KeepOutArea {
-  uint32_t id = 0;
-  Eigen::Vector2d min_m{0, 0};  ///< merged map frame
-  Eigen::Vector2d max_m{0, 0};
-  bool contains(const Eigen::Vector2d& p_m) const {
-    return (p_m.array() >= min_m.array()).all() && (p_m.array() <= max_m.array()).all();
-  }
-};
 
 enum class SearchAction : uint8_t { kPause = 0, kResume = 1, kKeepOut = 2, kClearKeepOut = 3 };
 const char* to_string(SearchAction a);
@@ -46,6 +39,7 @@ struct SearchControlRecord {
 struct SearchControlOptions {
   double min_side_m = 0.3;    ///< a smaller area is a slip of the mouse
   double max_side_m = 500.0;  ///< a larger one is a typo, not a building
+  size_t max_areas = 64;      ///< what one message to a robot carries (dds::kMaxKeepOutAreas)
 };
 
 class SearchControls {

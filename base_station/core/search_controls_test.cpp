@@ -56,6 +56,16 @@ TEST(SearchControls, KeepOutAreasAreOrderedCheckedAndRemovedById) {
   EXPECT_EQ(c.apply(keep_out(0, 0, 1, 1), {}, 4).area.id, 3u);
 }
 
+TEST(SearchControls, NoMoreAreasThanOneMessageToARobotCarries) {
+  SearchControlOptions options;
+  options.max_areas = 2;
+  SearchControls c(options);
+  c.apply(keep_out(0, 0, 1, 1), {}, 1);
+  c.apply(keep_out(2, 0, 3, 1), {}, 2);
+  EXPECT_EQ(*c.check(keep_out(4, 0, 5, 1)), "there are already 2 keep-out areas: remove one first");
+  EXPECT_EQ(SearchControlOptions().max_areas, 64u) << "cairn_msgs::KeepOutAreas holds 64";
+}
+
 TEST(SearchControls, JournalRecordsRebuildTheSameStateAndBadOnesAreNamed) {
   SearchControls live;
   std::vector<std::string> journal;

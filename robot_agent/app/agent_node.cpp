@@ -57,6 +57,7 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
   n->ack_in_ = std::make_unique<dds::Reader<dds::AckTopic>>(p);
   n->goal_in_ = std::make_unique<dds::Reader<dds::GoalTopic>>(p);
   n->command_in_ = std::make_unique<dds::Reader<dds::OperatorCommandTopic>>(p);
+  n->keep_out_in_ = std::make_unique<dds::Reader<dds::KeepOutTopic>>(p);
   dds::QosOptions large;
   large.large_data_flow_controlled = options.large_data_bytes_per_sec > 0;
   n->keyframe_out_ = std::make_unique<dds::Writer<dds::KeyframeTopic>>(p, large);
@@ -66,7 +67,8 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
   n->cmd_out_ = std::make_unique<dds::Writer<dds::CmdVelTopic>>(p, robot);
   if (!n->cmd_out_->ok() || !n->odometry_in_->ok() || !n->laser_in_->ok() || !n->rgbd_in_->ok() ||
       !n->clock_in_->ok() || !n->ack_in_->ok() || !n->keyframe_out_->ok() || !n->object_out_->ok() ||
-      !n->keyframe_poses_out_->ok() || !n->status_out_->ok() || !n->goal_in_->ok() || !n->command_in_->ok()) {
+      !n->keyframe_poses_out_->ok() || !n->status_out_->ok() || !n->goal_in_->ok() || !n->command_in_->ok() ||
+      !n->keep_out_in_->ok()) {
     *error = "cannot create the agent's DDS readers/writers";
     return nullptr;
   }
@@ -118,11 +120,15 @@ bool AgentNode::poll_inputs() {
   for (const auto& c : command_in_->take_all()) {
     if (for_me(c)) take_command(c);  // a command to a session before a restart is not carried out
   }
+  for (const auto& k : keep_out_in_->take_all()) {
+    if (for_me(k)) take_keep_out(k);
+  }
   for (const auto& a : ack_in_->take_all()) {
     if (!for_me(a)) continue;  // what an earlier session sent is not this one's
     heard_from_base();
     acked_keyframe_seq_ = std::max(acked_keyframe_seq_, a.keyframe_seq());
     acked_object_count_ = std::max(acked_object_count_, int(a.object_count()));
+    if (a.probe_ns() != 0) probe_ = {a.probe_ns(), Clock::now()};  // echoed in the next status
   }
   return any;
 }
@@ -180,6 +186,11 @@ void AgentNode::publish_status(bool finished) {
   st.collision_risk(s.collision_risk >= 0.5f);  // optical-flow time-to-contact test (objects/optical_flow.h)
   st.finished(finished);
   dds::set_nav_status(nav_status(), &st);
+  if (probe_.base_ns != 0) {
+    st.probe_echo_ns(probe_.base_ns);
+    st.probe_held_ns(
+        uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - probe_.taken).count()));
+  }
   status_out_->write(st);
 }
 

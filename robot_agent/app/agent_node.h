@@ -90,6 +90,7 @@ class AgentNode {
   std::unique_ptr<dds::Reader<dds::AckTopic>> ack_in_;
   std::unique_ptr<dds::Reader<dds::GoalTopic>> goal_in_;
   std::unique_ptr<dds::Reader<dds::OperatorCommandTopic>> command_in_;
+  std::unique_ptr<dds::Reader<dds::KeepOutTopic>> keep_out_in_;
   std::unique_ptr<dds::Writer<dds::KeyframeTopic>> keyframe_out_;
   std::unique_ptr<dds::Writer<dds::ObjectTopic>> object_out_;
   std::unique_ptr<dds::Writer<dds::KeyframePosesTopic>> keyframe_poses_out_;
@@ -103,9 +104,15 @@ class AgentNode {
   int acked_object_count_ = 0;
   std::set<int32_t> objects_published_;
   int bad_samples_ = 0;
+  struct Probe {
+    uint64_t base_ns = 0;  ///< the newest ack's probe (the base's clock)
+    std::chrono::steady_clock::time_point taken{};
+  } probe_;  ///< echoed in each status: the base measures the link's round trip (base/core/round_trip.h)
   // Navigation (agent_node_navigation.cpp): goals in, cmd_vel out.
   void take_goal(const cairn_msgs::ExplorationGoal& g);
   void take_command(const cairn_msgs::OperatorCommand& c);
+  /// The operator's keep-out areas in this robot's frame: its planner and own exploration obey them.
+  void take_keep_out(const cairn_msgs::KeepOutAreas& m);
   /// The operator's newest command, applied before the scan's navigation step.
   void apply_operator_action();
   void heard_from_base();
@@ -113,6 +120,7 @@ class AgentNode {
   NavStatus nav_status() const;
   Navigator navigator_;
   MissionBehaviour behaviour_;
+  uint32_t keep_out_version_ = 0;    ///< the keep-out areas held (0: none told)
   OperatorOrders operator_;          ///< the operator's commands outrank behaviour_ until resumed
   CommandReport published_command_;  ///< the command report in the newest status sent
   OwnExplorationOptions own_options_;

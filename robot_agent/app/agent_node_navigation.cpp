@@ -6,6 +6,7 @@
 //   AgentOutputs::scans -> MissionBehaviour::update -> Navigator::set_goal / update -> cmd_vel
 //   cairn/goal -> take_goal -> MissionBehaviour::on_base_goal;  cairn/ack -> on_contact
 //   cairn/operator_command -> take_command -> OperatorOrders -> apply_operator_action -> Navigator
+//   cairn/keep_out -> take_keep_out -> Navigator (every plan) and nearest_own_frontier
 #include "dds/navigation_conversions.h"
 #include "robot_agent/app/agent_node.h"
 
@@ -43,6 +44,21 @@ void AgentNode::take_command(const cairn_msgs::OperatorCommand& m) {
     log_->info("operator command {}: {} ({:.1f}, {:.1f}) m", command->seq, to_string(command->kind),
                command->goal_m.x(), command->goal_m.y());
   }
+}
+
+void AgentNode::take_keep_out(const cairn_msgs::KeepOutAreas& m) {
+  std::string error;
+  auto message = dds::from_msg(m, &error);
+  if (!message) {
+    ++bad_samples_;
+    log_->warn("dropped keep-out areas from the base: {}", error);
+    return;
+  }
+  heard_from_base();
+  if (message->version == keep_out_version_) return;  // a resend of what it holds
+  keep_out_version_ = message->version;
+  log_->info("keep-out areas: {} (version {})", message->areas.size(), message->version);
+  navigator_.set_keep_out(std::move(message->areas));
 }
 
 void AgentNode::apply_operator_action() {
@@ -83,7 +99,8 @@ void AgentNode::drive(const AgentOutputs& outputs) {
     last_scan_ns_ = ps.scan.stamp_ns;
     breadcrumbs_.add(pose_.translation());
     const OwnFrontierSearch own_frontier = [&](const std::vector<Eigen::Vector2d>& blacklist_m) {
-      const auto f = nearest_own_frontier(navigator_.map().grid(), pose_.translation(), blacklist_m, own_options_);
+      const auto f = nearest_own_frontier(navigator_.map().grid(), pose_.translation(), blacklist_m, own_options_,
+                                          navigator_.keep_out());
       return f ? std::optional<Eigen::Vector2d>(f->goal_m) : std::nullopt;
     };
     // Map and steer first, then decide: the decision sees this scan in the map and the goal's
@@ -138,6 +155,7 @@ NavStatus AgentNode::nav_status() const {
   n.goal_m = reported_goal_.position_m;
   n.distance_m = distance_m_;
   n.command = operator_.report();
+  n.keep_out_version = keep_out_version_;
   return n;
 }
 

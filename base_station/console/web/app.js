@@ -67,6 +67,9 @@ function rateSparkline(id, bytes) {
   return cell;
 }
 
+// The robot's own planner obeys the keep-out areas once its status reports the version the base sent.
+const keepOutPending = (link) => (link.keep_out_sent ?? 0) > 0 && link.keep_out_held !== link.keep_out_sent;
+
 function renderRobots(robots) {
   const rows = robots.map((r) => {
     const link = r.link || {};
@@ -78,8 +81,10 @@ function renderRobots(robots) {
       el("td", {}, [el("span", { class: r.linked ? "badge ok" : "badge warn", text: r.linked ? "linked" : "not linked" })]),
       el("td", { text: r.time_to_link_s === null || r.time_to_link_s === undefined ? "–" : `${r.time_to_link_s.toFixed(0)} s` }),
       el("td", {
-        class: link.nav_state === "stuck" || link.nav_state === "unreachable" ? "bad" : "",
-        text: link.activity ? `${link.activity}${link.nav_state && link.nav_state !== "driving" ? ` (goal ${link.nav_state})` : ""}` : "–",
+        class: link.nav_state === "stuck" || link.nav_state === "unreachable" || keepOutPending(link) ? "bad" : "",
+        title: link.keep_out_sent ? `keep-out areas: holds version ${link.keep_out_held} of ${link.keep_out_sent} sent` : "",
+        text: (link.activity ? `${link.activity}${link.nav_state && link.nav_state !== "driving" ? ` (goal ${link.nav_state})` : ""}` : "–") +
+          (keepOutPending(link) ? " · keep-out areas not confirmed" : ""),
       }),
       el("td", { text: link.distance_m === undefined ? "–" : `${link.distance_m.toFixed(0)} m` }),
       el("td", { title: "received at the base / sent by the robot",

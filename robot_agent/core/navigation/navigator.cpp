@@ -78,9 +78,15 @@ void Navigator::cancel() {
   follower_.clear();
 }
 
+void Navigator::set_keep_out(std::vector<KeepOutPolygon> areas) {
+  keep_out_ = std::move(areas);
+  keep_out_changed_ = true;
+}
+
 bool Navigator::replan(StampNs stamp_ns, const Eigen::Vector2d& position_m) {
   CAIRN_CHECK(goal_.has_value(), "planning without a goal");
-  last_plan_ = planner_.plan(map_, position_m, goal_->position_m, tolerance_m());
+  keep_out_changed_ = false;
+  last_plan_ = planner_.plan(map_, position_m, goal_->position_m, tolerance_m(), keep_out_);
   ++counters_.plans;
   if (planned_once_) ++counters_.replans;
   const bool first = !planned_once_;
@@ -103,7 +109,9 @@ bool Navigator::replan(StampNs stamp_ns, const Eigen::Vector2d& position_m) {
   if (!have_path_) {
     ++counters_.plan_failures;
     follower_.clear();
-    tracker_.plan_failed(first, last_plan_.boxed_in, describe(*goal_) + ": " + last_plan_.reason);
+    // A goal in a keep-out area stays there: unreachable at once, like a first plan that failed.
+    const bool final = first || last_plan_.status == PlanStatus::kGoalKeptOut;
+    tracker_.plan_failed(final, last_plan_.boxed_in, describe(*goal_) + ": " + last_plan_.reason);
     return false;
   }
   tracker_.plan_succeeded();
@@ -132,7 +140,7 @@ VelocityCommand Navigator::update(StampNs stamp_ns, const SE2& T_local_base, con
     return {};
   }
   const double since_plan_s = ns_to_sec(stamp_ns - last_plan_ns_);
-  const bool due = !planned_once_ || since_plan_s >= options_.replan_period_s ||
+  const bool due = !planned_once_ || keep_out_changed_ || since_plan_s >= options_.replan_period_s ||
                    ((blocked_ || !have_path_) && since_plan_s >= options_.blocked_replan_interval_s);
   if (due && !replan(stamp_ns, position)) return {};
   if (!have_path_) return {};  // waiting to retry a failed plan

@@ -5,7 +5,8 @@
 // the robot or after a failed plan), the follower turns it into a velocity command and the goal
 // tracker (goal_tracker.h) keeps the state: idle, driving, reached, unreachable or stuck, each
 // change with its reason. Pure: no DDS, no threads, message time only; the agent's node sends the
-// command and publishes the state.
+// command and publishes the state. The operator's keep-out areas (in the robot's frame) bind every
+// plan from the update after they arrive; a goal inside one is unreachable at once.
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>
@@ -74,6 +75,9 @@ class Navigator {
   void set_goal(const NavGoal& goal);
   /// Stops: idle, no goal.
   void cancel();
+  /// The operator's keep-out areas in the robot's frame (replacing any); the path is re-planned.
+  void set_keep_out(std::vector<KeepOutPolygon> areas);
+  const std::vector<KeepOutPolygon>& keep_out() const { return keep_out_; }
   /// One processed scan at its SLAM pose: maps it, plans if needed, returns the command (zero
   /// unless driving).
   VelocityCommand update(StampNs stamp_ns, const SE2& T_local_base, const LaserScan& scan);
@@ -102,6 +106,8 @@ class Navigator {
   PathFollower follower_;
   GoalTracker tracker_;
   std::optional<NavGoal> goal_;
+  std::vector<KeepOutPolygon> keep_out_;
+  bool keep_out_changed_ = false;  ///< re-plan at the next update
   NavCounters counters_;
   PlannedPath last_plan_;
   FollowerOutput last_follow_;

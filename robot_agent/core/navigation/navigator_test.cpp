@@ -2,7 +2,8 @@
 // commands, the true pose as the SLAM pose. It drives from a room through a door and a corridor to
 // its goal never nearer a wall than its radius; stops for an obstacle that appears ahead, re-plans
 // and drives round it; reports a blocked corridor unreachable, and stuck when rubble boxes it in or
-// its wheels spin without moving it.
+// its wheels spin without moving it; keeps out of the operator's keep-out area that arrives while it
+// drives.
 #include "robot_agent/core/navigation/navigator.h"
 
 #include <gtest/gtest.h>
@@ -195,6 +196,35 @@ TEST(Navigator, ANewGoalReplacesTheOldAndCancelStops) {
   const VelocityCommand c = nav.update(stamp, pose, ray_cast(world, pose, stamp));
   EXPECT_EQ(c.linear_mps, 0.0);
   EXPECT_EQ(c.angular_radps, 0.0);
+}
+
+TEST(Navigator, AKeepOutAreaArrivingWhileItDrivesIsGoneRoundAndAGoalInOneIsUnreachable) {
+  std::vector<Segment> world;
+  add_box(&world, 0, 0, 10, 8);
+  Navigator nav;
+  SE2 pose(1, 4, 0);
+  StampNs stamp = 0;
+  nav.set_goal(goal_at(1, {9, 4}));
+  drive(&nav, world, &pose, &stamp, {}, [&] { return stamp >= sec_to_ns(1.0); });
+  ASSERT_LT(pose.x(), 3.0);
+  // The operator closes the middle of the room but for a gap along its north wall.
+  const KeepOutPolygon area = in_frame({5, {4.5, -1.0}, {5.5, 5.8}}, SE2());
+  nav.set_keep_out({area});
+  int inside = 0;
+  double north_m = 0;
+  drive(&nav, world, &pose, &stamp, {}, [&] {
+    inside += area.contains(pose.translation());
+    north_m = std::max(north_m, pose.y());
+    return false;
+  });
+  EXPECT_EQ(nav.state(), NavState::kReached) << nav.reason();
+  EXPECT_EQ(inside, 0) << "the robot drove into the keep-out area";
+  EXPECT_GT(north_m, 5.8);  // round it, through the gap
+  nav.set_goal(goal_at(2, {5, 3}));
+  nav.update(stamp, pose, ray_cast(world, pose, stamp));
+  EXPECT_EQ(nav.state(), NavState::kUnreachable);
+  EXPECT_EQ(nav.reason(),
+            "goal 2 (explore) at (5.00, 3.00): the goal (5.00, 3.00) lies in the operator's keep-out area 5");
 }
 
 TEST(Navigator, AGoalInsideAWallIsReachedAsNearAsTheFreeSpaceAllows) {

@@ -3,11 +3,13 @@
 // its own NavMap it can reach through known free space (common/grid_planning: frontier pieces,
 // Dijkstra with the robot's radius inflated), skipping frontier cells near goals that already
 // failed (unreachable or stuck). Nearest first is Yamauchi's (1997) frontier exploration for one
-// robot. Pure.
+// robot. The operator's keep-out areas (in the robot's frame) are neither crossed nor explored,
+// except one the robot stands in. Pure.
 #include <Eigen/Core>
 #include <optional>
 #include <vector>
 
+#include "common/keep_out.h"
 #include "robot_agent/core/navigation/nav_map.h"
 
 namespace cairn::agent {
@@ -30,10 +32,11 @@ struct OwnFrontierGoal {
 };
 
 /// The nearest reachable frontier cell of `map` from `robot_m` not within blacklist_radius_m of a
-/// `blacklist_m` position; nullopt when none is left.
+/// `blacklist_m` position nor in a `keep_out` area; nullopt when none is left.
 std::optional<OwnFrontierGoal> nearest_own_frontier(const OccupancyGrid& map, const Eigen::Vector2d& robot_m,
                                                     const std::vector<Eigen::Vector2d>& blacklist_m,
-                                                    const OwnExplorationOptions& options = {});
+                                                    const OwnExplorationOptions& options = {},
+                                                    const std::vector<KeepOutPolygon>& keep_out = {});
 
 /// nearest_own_frontier with the blacklist kept: the agent blacklists each own-frontier goal that
 /// ended unreachable or stuck.

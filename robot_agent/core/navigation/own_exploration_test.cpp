@@ -66,6 +66,21 @@ TEST(OwnExploration, SkipsFailedGoalsAndEndsWhenNoneIsLeft) {
   EXPECT_GT((rest->goal_m - first->goal_m).norm(), 0.15);
 }
 
+TEST(OwnExploration, AKeepOutAreaIsNeitherExploredNorCrossed) {
+  const GridDrawing d = two_rooms();
+  const Eigen::Vector2d robot(4.5, 1.5);
+  // The area over the west opening (the nearest frontier): the east room's opening is next.
+  const KeepOutPolygon west = in_frame({9, {0.5, 3.0}, {2.0, 5.0}}, SE2());
+  const std::optional<OwnFrontierGoal> g = nearest_own_frontier(d.grid, robot, {}, {}, {west});
+  ASSERT_TRUE(g);
+  EXPECT_GT(g->goal_m.x(), 5.5);
+  // Also over the way east (the passage at the dividing wall's north end): nothing is left.
+  const KeepOutPolygon passage = in_frame({10, {4.5, 3.5}, {5.6, 5.0}}, SE2());
+  EXPECT_FALSE(nearest_own_frontier(d.grid, robot, {}, {}, {west, passage}));
+  // A robot standing in an area is not trapped by it.
+  EXPECT_TRUE(nearest_own_frontier(d.grid, robot, {}, {}, {in_frame({11, {4, 1}, {5, 2}}, SE2())}));
+}
+
 TEST(OwnExploration, AFrontierBehindAGapTooNarrowIsNotReachable) {
   GridDrawing d = two_rooms();
   d.wall(5, 4, 5.1, 4.7);    // the passage narrowed to 0.3 m: the east room is out of reach

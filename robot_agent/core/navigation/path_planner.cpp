@@ -35,6 +35,8 @@ const char* to_string(PlanStatus status) {
       return "no path";
     case PlanStatus::kGoalOutsideMap:
       return "goal outside the map";
+    case PlanStatus::kGoalKeptOut:
+      return "goal in a keep-out area";
   }
   return "?";
 }
@@ -42,7 +44,7 @@ const char* to_string(PlanStatus status) {
 PathPlanner::PathPlanner(const PathPlannerOptions& options) : options_(options) {}
 
 PlannedPath PathPlanner::plan(const OccupancyGrid& map, const Eigen::Vector2d& from_m, const Eigen::Vector2d& goal_m,
-                              double goal_tolerance_m) const {
+                              double goal_tolerance_m, const std::vector<KeepOutPolygon>& keep_out) const {
   const PathPlannerOptions& o = options_;
   GridPlanningOptions gp;
   gp.free_below = o.free_below;
@@ -64,12 +66,20 @@ PlannedPath PathPlanner::plan(const OccupancyGrid& map, const Eigen::Vector2d& f
                  metres(o.max_goal_outside_map_m) + ")";
     return out;
   }
-  const PlanningGrid g(map, gp, {from_m, goal_m});
+  for (const KeepOutPolygon& area : keep_out) {
+    if (!area.contains(from_m) && area.contains(goal_m)) {
+      out.status = PlanStatus::kGoalKeptOut;
+      out.reason = "the goal " + point(goal_m) + " lies in the operator's keep-out area " + std::to_string(area.id);
+      return out;
+    }
+  }
+  PlanningGrid g(map, gp, {from_m, goal_m});
   if (g.empty()) {
     out.status = PlanStatus::kEmptyMap;
     out.reason = "nothing to plan on";
     return out;
   }
+  for (const KeepOutPolygon& area : closed_around(keep_out, from_m, gp.inflation_m)) g.forbid(area);
   Eigen::Vector2i goal = g.cell_of(goal_m);
   if (!g.traversable(g.index(goal))) {
     const std::optional<Eigen::Vector2i> moved = nearest_traversable(g, goal, goal_tolerance_m);

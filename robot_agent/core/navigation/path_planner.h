@@ -5,11 +5,15 @@
 // middle of corridors), unknown cells crossed at a cost (a goal beyond what the robot has seen is
 // still worth driving towards). A goal cell that is blocked is moved to the nearest traversable
 // cell within the goal's tolerance; a start inside the inflated band (the robot brushed a wall, or
-// rubble appeared beside it) starts from the nearest traversable cell. Pure.
+// rubble appeared beside it) starts from the nearest traversable cell. The operator's keep-out
+// areas (common/keep_out.h, in the robot's frame) are blocked like walls, grown by the same
+// inflation (the robot's body keeps out), except one the robot stands in (it drives out of it); a
+// goal inside one is refused. Pure.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
 
+#include "common/keep_out.h"
 #include "robot_agent/core/navigation/nav_map.h"
 
 namespace cairn::agent {
@@ -35,7 +39,7 @@ struct PathPlannerOptions {
   double occupied_above = 0.65;
 };
 
-enum class PlanStatus { kOk, kEmptyMap, kStartBlocked, kGoalBlocked, kNoPath, kGoalOutsideMap };
+enum class PlanStatus { kOk, kEmptyMap, kStartBlocked, kGoalBlocked, kNoPath, kGoalOutsideMap, kGoalKeptOut };
 
 struct PlannedPath {
   PlanStatus status = PlanStatus::kNoPath;
@@ -55,10 +59,10 @@ class PathPlanner {
   /// From `from_m` to `goal_m` (both in the map's frame). The goal counts as reached by any
   /// traversable cell whose centre is within `goal_tolerance_m` of it.
   PlannedPath plan(const OccupancyGrid& map, const Eigen::Vector2d& from_m, const Eigen::Vector2d& goal_m,
-                   double goal_tolerance_m) const;
+                   double goal_tolerance_m, const std::vector<KeepOutPolygon>& keep_out = {}) const;
   PlannedPath plan(const NavMap& map, const Eigen::Vector2d& from_m, const Eigen::Vector2d& goal_m,
-                   double goal_tolerance_m) const {
-    return plan(map.grid(), from_m, goal_m, goal_tolerance_m);
+                   double goal_tolerance_m, const std::vector<KeepOutPolygon>& keep_out = {}) const {
+    return plan(map.grid(), from_m, goal_m, goal_tolerance_m, keep_out);
   }
   const PathPlannerOptions& options() const { return options_; }
 

@@ -1,7 +1,8 @@
 // The planner on drawn grids (0.1 m cells, a 0.2 m robot): around a wall, never within the
 // robot's radius of a wall, through a 0.6 m door but not a 0.3 m one, a blocked corridor refused
 // with its reason, a goal in a wall moved to free space, unknown space crossed only at a cost, and
-// a robot boxed in told apart from a goal that cannot be reached.
+// a robot boxed in told apart from a goal that cannot be reached, and the operator's keep-out
+// areas (turned into the robot's frame) never crossed, except the one the robot stands in.
 #include "robot_agent/core/navigation/path_planner.h"
 
 #include <gtest/gtest.h>
@@ -63,6 +64,29 @@ TEST(PathPlanner, GoesAroundAWallKeepingTheRobotsRadiusFromIt) {
   EXPECT_GT(top, 4.0);
   EXPECT_GE(nearest, 0.2);  // the robot's radius from every wall's surface
   EXPECT_LT(nearest, 0.5);  // (it does use the passage next to the wall's end)
+}
+
+TEST(PathPlanner, GoesAroundAKeepOutAreaTurnedIntoItsFrameAndNeverThroughIt) {
+  GridDrawing d = room();
+  // The operator's rectangle as the robot sees it in its own frame: turned (0.2 rad), across the
+  // middle of the room, open at the north end. (keep_out_test checks the turning into its frame.)
+  const KeepOutPolygon turned = in_frame({4, {0, 0}, {0.6, 3.2}}, SE2(5.0, 1.0, 0.2));
+  const KeepOutPolygon local = in_frame({4, {0, 0}, {0.6, 3.2}}, SE2(5.0, 1.0, 0.0));
+  const PathPlanner planner;
+  const PlannedPath straight = planner.plan(d.grid, {3, 2}, {7, 2}, 0.4);
+  ASSERT_TRUE(straight.ok()) << straight.reason;
+  EXPECT_LT(polyline_length(straight.path_m), 4.5);  // without the area: straight across
+  for (const KeepOutPolygon& keep_out : {local, turned}) {
+    const PlannedPath p = planner.plan(d.grid, {3, 2}, {7, 2}, 0.4, {keep_out});
+    ASSERT_TRUE(p.ok()) << p.reason;
+    EXPECT_GT(polyline_length(p.path_m), 5.0);  // round its north end
+    for (const Eigen::Vector2d& q : p.path_m) EXPECT_FALSE(keep_out.contains(q)) << q.transpose();
+  }
+  // A goal inside the area is refused, naming it; a robot standing in it may drive out.
+  const PlannedPath into = planner.plan(d.grid, {3, 2}, {5.3, 2}, 0.4, {local});
+  EXPECT_EQ(into.status, PlanStatus::kGoalKeptOut);
+  EXPECT_EQ(into.reason, "the goal (5.30, 2.00) lies in the operator's keep-out area 4");
+  EXPECT_TRUE(planner.plan(d.grid, {5.3, 2}, {7, 2}, 0.4, {local}).ok());
 }
 
 TEST(PathPlanner, FitsThroughADoorWideEnoughAndNotThroughANarrowOne) {
