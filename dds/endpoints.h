@@ -22,6 +22,14 @@
 
 namespace cairn::dds {
 
+/// The clock Fast DDS stamps each sample's arrival with (SampleInfo::reception_timestamp: the
+/// system clock, ns since the Unix epoch). The link's round trip is measured on it.
+inline int64_t reception_clock_ns() {
+  eprosima::fastrtps::rtps::Time_t now;
+  eprosima::fastrtps::rtps::Time_t::now(now);
+  return now.to_ns();
+}
+
 using eprosima::fastrtps::types::ReturnCode_t;
 
 template <typename Topic>
@@ -102,10 +110,12 @@ class Reader {
   Reader& operator=(const Reader&) = delete;
 
   bool ok() const { return reader_ != nullptr; }
-  /// A sample with the GUID prefix of the participant that wrote it (dds/identity.h).
+  /// A sample with the GUID prefix of the participant that wrote it (dds/identity.h), and when it
+  /// arrived (reception_clock_ns(): before the app's poll took it).
   struct FromWriter {
     Msg msg;
     GuidPrefix writer{};
+    int64_t received_ns = 0;
   };
   /// Takes every valid sample available now, in arrival order, each with its writer's participant.
   std::vector<FromWriter> take_all_from_writers() {
@@ -116,6 +126,7 @@ class Reader {
     while (reader_->take_next_sample(&s.msg, &info) == ReturnCode_t::RETCODE_OK) {
       if (!info.valid_data) continue;
       for (size_t i = 0; i < s.writer.size(); ++i) s.writer[i] = info.publication_handle.value[i];
+      s.received_ns = info.reception_timestamp.to_ns();
       out.push_back(s);
     }
     return out;

@@ -68,6 +68,30 @@ TEST(Endpoints, LargeRgbdFramesArriveIntactAndInOrder) {
   }
 }
 
+// The link's round trip is measured on arrival stamps (base_station/core/round_trip.h): a sample
+// taken long after it arrived must still say when it arrived, on the clock reception_clock_ns reads.
+TEST(Endpoints, EachSampleSaysWhenItArrivedNotWhenItWasTaken) {
+  std::string error;
+  auto participant = Participant::create({test_domain(), "endpoints_arrival_test"}, &error);
+  ASSERT_TRUE(participant) << error;
+  Writer<AckTopic> writer(*participant);
+  Reader<AckTopic> reader(*participant);
+  ASSERT_TRUE(writer.ok() && reader.ok());
+  ASSERT_TRUE(wait_matched(writer, reader, 10.0));
+  const int64_t before_ns = reception_clock_ns();
+  cairn_msgs::Ack ack;
+  ack.robot_id(3);
+  ASSERT_TRUE(writer.write(ack));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the app is busy; the sample waits
+  std::vector<Reader<AckTopic>::FromWriter> got;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (got.empty() && std::chrono::steady_clock::now() < end) got = reader.take_all_from_writers();
+  const int64_t taken_ns = reception_clock_ns();
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_GE(got[0].received_ns, before_ns);
+  EXPECT_LT(got[0].received_ns, taken_ns - 250'000'000) << "stamped when taken, not when it arrived";
+}
+
 TEST(Endpoints, ManyObjectInstancesFromManyRobotsAllArrive) {
   // Regression: Fast DDS's default of 10 instances per endpoint silently refused the 11th object.
   std::string error;

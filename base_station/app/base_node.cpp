@@ -72,10 +72,6 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   return n;
 }
 
-uint64_t BaseNode::monotonic_ns() {
-  return uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count());
-}
-
 double BaseNode::now_s() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
 
 void BaseNode::publish_acks_and_corrections() {
@@ -86,7 +82,7 @@ void BaseNode::publish_acks_and_corrections() {
     if (all_journaled) {
       ack.keyframe_seq(contiguous_seq(mapper_, r.id));
       ack.object_count(r.objects);
-      ack.probe_ns(monotonic_ns());  // the robot echoes it: the link's round trip (RoundTrip)
+      ack.probe_ns(uint64_t(dds::reception_clock_ns()));  // the robot echoes it: the link's round trip
       ack_out_->write(ack);
     }
     cairn_msgs::Correction c;

@@ -140,7 +140,6 @@ class BaseNode {
   bool all_finished() const;
   int finish();
   double now_s() const;
-  static uint64_t monotonic_ns();  ///< the probes' clock (Ack.probe_ns; RoundTrip)
 
   BaseNodeOptions options_;
   MapperOptions mapper_options_;

@@ -119,7 +119,6 @@ std::optional<RobotId> BaseNode::ingest(const cairn_msgs::RobotStatus& m, bool l
   link.has_status = true;
   note_navigation(*nav, *robot, live);
   link.last_heard_s = live ? now_s() : -1.0;  // restored: not heard since this base started
-  if (live) link.round_trip.add(m.probe_echo_ns(), m.probe_held_ns(), monotonic_ns());
   return robot;
 }
 
@@ -137,32 +136,34 @@ bool BaseNode::poll_inputs() {
   bool any = false;
   // Journaled under the base's id of the robot's session (the payload keeps the robot's own).
   auto journal_key = [this](int32_t robot_id, uint32_t session) { return base_id(robot_id, session)->value; };
-  for (const auto& [m, writer] : keyframe_in_->take_all_from_writers()) {
+  for (const auto& [m, writer, received_ns] : keyframe_in_->take_all_from_writers()) {
     any = true;
     if (from_its_robot(writer, m.robot_id(), "a keyframe") && ingest(m).stored()) {
       journal(JournalKind::kKeyframe, journal_key(m.robot_id(), m.session()), m.seq(),
               dds::to_cdr<cairn_msgs::KeyframePubSubType>(m));
     }
   }
-  for (const auto& [m, writer] : keyframe_poses_in_->take_all_from_writers()) {  // after this poll's keyframes
+  for (const auto& [m, writer, received_ns] :
+       keyframe_poses_in_->take_all_from_writers()) {  // after this poll's keyframes
     any = true;
     if (from_its_robot(writer, m.robot_id(), "keyframe poses") && ingest(m).stored()) {
       journal(JournalKind::kKeyframePoses, journal_key(m.robot_id(), m.session()), 0,
               dds::to_cdr<cairn_msgs::KeyframePosesPubSubType>(m));
     }
   }
-  for (const auto& [m, writer] : object_in_->take_all_from_writers()) {
+  for (const auto& [m, writer, received_ns] : object_in_->take_all_from_writers()) {
     any = true;
     if (from_its_robot(writer, m.robot_id(), "an object report") && ingest(m).stored()) {
       journal(JournalKind::kObject, journal_key(m.robot_id(), m.session()), m.object_seq(),
               dds::to_cdr<cairn_msgs::ObjectReportPubSubType>(m));
     }
   }
-  for (const auto& [m, writer] : status_in_->take_all_from_writers()) {
+  for (const auto& [m, writer, received_ns] : status_in_->take_all_from_writers()) {
     if (!from_its_robot(writer, m.robot_id(), "a status")) continue;
     bool news = false;
     const auto robot = ingest(m, /*live=*/true, &news);
     if (!robot) continue;
+    links_[*robot].round_trip.add(m.probe_echo_ns(), m.probe_held_ns(), uint64_t(received_ns));
     unjournaled_status_[*robot] = m;  // the newest per robot; see flush_journal()
     status_urgent_ = status_urgent_ || news;
   }

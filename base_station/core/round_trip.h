@@ -1,9 +1,10 @@
 #pragma once
 // The radio link's round trip to one robot, measured without synchronised clocks (as NTP does): the
-// base stamps each ack with its own monotonic clock (the probe); the robot echoes the newest probe
-// it took in its status, with how long it held it before writing that status; when the status
-// arrives, round trip = (arrival - probe) - held. Each probe counts once; the figure shown is the
-// median of the newest few (one slow retransmission does not make the link look dead). Pure.
+// base stamps each ack with its own clock (the probe); the robot echoes the newest probe it received
+// in its status, with how long it held it before writing that status; round trip = (the status's
+// arrival - probe) - held. Arrivals are DDS's reception stamps, not when an app's loop got round to
+// the sample: a base busy optimising is not a slow radio. Each probe counts once; the figure shown
+// is the median of the newest few (one slow retransmission does not make the link look dead). Pure.
 #include <cstdint>
 #include <deque>
 #include <optional>

@@ -123,12 +123,12 @@ bool AgentNode::poll_inputs() {
   for (const auto& k : keep_out_in_->take_all()) {
     if (for_me(k)) take_keep_out(k);
   }
-  for (const auto& a : ack_in_->take_all()) {
+  for (const auto& [a, writer, received_ns] : ack_in_->take_all_from_writers()) {
     if (!for_me(a)) continue;  // what an earlier session sent is not this one's
     heard_from_base();
     acked_keyframe_seq_ = std::max(acked_keyframe_seq_, a.keyframe_seq());
     acked_object_count_ = std::max(acked_object_count_, int(a.object_count()));
-    if (a.probe_ns() != 0) probe_ = {a.probe_ns(), Clock::now()};  // echoed in the next status
+    if (a.probe_ns() != 0) probe_ = {a.probe_ns(), received_ns};  // echoed in the next status
   }
   return any;
 }
@@ -188,8 +188,7 @@ void AgentNode::publish_status(bool finished) {
   dds::set_nav_status(nav_status(), &st);
   if (probe_.base_ns != 0) {
     st.probe_echo_ns(probe_.base_ns);
-    st.probe_held_ns(
-        uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - probe_.taken).count()));
+    st.probe_held_ns(uint64_t(std::max<int64_t>(0, dds::reception_clock_ns() - probe_.received_ns)));
   }
   status_out_->write(st);
 }

@@ -105,8 +105,8 @@ class AgentNode {
   std::set<int32_t> objects_published_;
   int bad_samples_ = 0;
   struct Probe {
-    uint64_t base_ns = 0;  ///< the newest ack's probe (the base's clock)
-    std::chrono::steady_clock::time_point taken{};
+    uint64_t base_ns = 0;     ///< the newest ack's probe (the base's clock)
+    int64_t received_ns = 0;  ///< when it arrived here (dds::reception_clock_ns)
   } probe_;  ///< echoed in each status: the base measures the link's round trip (base/core/round_trip.h)
   // Navigation (agent_node_navigation.cpp): goals in, cmd_vel out.
   void take_goal(const cairn_msgs::ExplorationGoal& g);
