@@ -262,7 +262,8 @@ int BaseNode::finish() {
   if (const auto home_ns = goals_.sent_home_at_ns()) summary["exploration"]["sent_home_at_s"] = ns_to_sec(*home_ns);
   summary["coverage_series"] = coverage_series_;
   summary["commands"] = commands_json(commands_.records(), commands_.records().size());
-  summary["verdicts"] = nlohmann::json::array();  // the operator's, as given (objects.csv: as applied)
+  summary["alerts_acknowledged"] = journaled_alert_acks_;  // the operator's, across restarts
+  summary["verdicts"] = nlohmann::json::array();           // the operator's, as given (objects.csv: as applied)
   for (const auto& [id, v] : verdicts_.records())
     summary["verdicts"].push_back({{"object", object_key(id)}, {"verdict", to_string(v.verdict)}, {"note", v.note}});
   summary["rejected_samples"] = rejected_samples_;

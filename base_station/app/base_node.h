@@ -10,6 +10,7 @@
 #include <chrono>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -128,6 +129,9 @@ class BaseNode {
   void send_operator_commands();
   bool restore_command(const JournalRecord& r, std::string* error);
   bool restore_search(const JournalRecord& r, std::string* error);
+  /// The operator's alert acknowledgements not journaled yet go into the journal (kAlertAck).
+  void journal_alert_acks();
+  bool restore_alert_ack(const JournalRecord& r, std::string* error);
   void apply_search_controls();  ///< the operator's pause, resume and keep-out areas
   bool restore_verdict(const JournalRecord& r, std::string* error);
   /// The merged map with the operator's verdicts on its objects (what the console and exports show).
@@ -160,7 +164,9 @@ class BaseNode {
   SearchControls search_;        ///< the operator's pause and keep-out areas (the planner obeys them)
   KeepOutRelay keep_out_relay_;  ///< which robot must be told the keep-out areas, in its own frame
   AlertLog alert_log_;           ///< every alert raised, first seen, acknowledged
-  ObjectVerdicts verdicts_;      ///< the operator's verdicts on objects (applied to every merged map shown)
+  std::set<std::string> journaled_alert_acks_;  ///< acknowledgements in the journal (restored or written)
+  int64_t last_alert_ack_key_ = 0;              ///< their journal keys: 1, 2, ...
+  ObjectVerdicts verdicts_;  ///< the operator's verdicts on objects (applied to every merged map shown)
   std::unique_ptr<ConsoleServer> console_;
   std::unique_ptr<Journal> journal_;
   ExplorationPlan plan_;                     ///< the newest exploration plan (console, goal topic, final export)

@@ -20,6 +20,7 @@ void BaseNode::send_operator_commands() {
                v.note);
     refresh_snapshot();  // the console shows it at once
   }
+  journal_alert_acks();
   apply_search_controls();  // first: a pause or resume queues its stop or resume commands
   const std::vector<CommandInbox::Entry> entries = inbox_.take_all();
   if (entries.empty()) return;
@@ -122,6 +123,29 @@ bool BaseNode::restore_verdict(const JournalRecord& r, std::string* error) {
     return false;
   }
   verdicts_.set(*record);
+  return true;
+}
+
+void BaseNode::journal_alert_acks() {
+  bool any = false;
+  for (const std::string& key : inbox_.acked_alerts()) {
+    if (!journaled_alert_acks_.insert(key).second) continue;
+    const std::string payload = alert_ack_to_json(key);
+    journal(JournalKind::kAlertAck, 0, ++last_alert_ack_key_, std::vector<uint8_t>(payload.begin(), payload.end()));
+    log_->info("operator: alert {} acknowledged", key);
+    any = true;
+  }
+  if (!any) return;
+  flush_journal();
+  refresh_snapshot(/*full=*/false);  // the console's alert log shows it at once, not at the next map change
+}
+
+bool BaseNode::restore_alert_ack(const JournalRecord& r, std::string* error) {
+  last_alert_ack_key_ = std::max(last_alert_ack_key_, r.key);  // a damaged record's key is not reused either
+  const auto key = alert_ack_from_json(std::string(r.payload.begin(), r.payload.end()), error);
+  if (!key) return false;
+  journaled_alert_acks_.insert(*key);
+  inbox_.ack_alert(*key);  // shown acknowledged as soon as it is raised again
   return true;
 }
 

@@ -103,6 +103,9 @@ void BaseNode::restore(const JournalContents& contents) {
       case JournalKind::kSearch:
         restored = restore_search(r, &why);
         break;
+      case JournalKind::kAlertAck:
+        restored = restore_alert_ack(r, &why);
+        break;
     }
     if (restored)
       ++restored_records_;

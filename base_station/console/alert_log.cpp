@@ -27,6 +27,9 @@ nlohmann::json AlertLog::observe(const nlohmann::json& alerts, double wall_s, co
     (e.acked ? done : open).push_back(std::move(shown));
   }
   for (auto& a : done) open.push_back(std::move(a));
+  // An alert acknowledged after it stopped being raised (a collision risk that passed) is
+  // acknowledged in the log too.
+  for (auto& [key, e] : entries_) e.acked = e.acked || acked.count(key) > 0;
   return open;
 }
 
@@ -47,6 +50,27 @@ nlohmann::json AlertLog::log() const {
                    {"active", e.active}});
   }
   return out;
+}
+
+std::string alert_ack_to_json(const std::string& key) { return nlohmann::json{{"key", key}}.dump(); }
+
+std::optional<std::string> alert_ack_from_json(const std::string& text, std::string* error) {
+  constexpr size_t kMaxKeyChars = 64;  // keys are short: "object:0-1", "contact:2"
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (!j.is_object()) {
+    *error = "alert acknowledgement: not a JSON object";
+    return std::nullopt;
+  }
+  if (!j.contains("key") || !j["key"].is_string()) {
+    *error = "alert acknowledgement: no \"key\" string";
+    return std::nullopt;
+  }
+  const std::string key = j["key"];
+  if (key.empty() || key.size() > kMaxKeyChars) {
+    *error = "alert acknowledgement: the key is empty or longer than " + std::to_string(kMaxKeyChars) + " characters";
+    return std::nullopt;
+  }
+  return key;
 }
 
 }  // namespace cairn::base

@@ -5,6 +5,7 @@
 // inactive. Pure (the wall clock comes in); the base's thread owns it, acknowledgements arrive
 // through the CommandInbox.
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -29,5 +30,10 @@ class AlertLog {
   };
   std::map<std::string, Entry> entries_;
 };
+
+/// An operator's acknowledgement as the base journals it ({"key": "<alert key>"}), and back: nullopt
+/// with `error` naming what is wrong (not JSON, no key, an empty or overlong key).
+std::string alert_ack_to_json(const std::string& key);
+std::optional<std::string> alert_ack_from_json(const std::string& text, std::string* error);
 
 }  // namespace cairn::base

@@ -40,6 +40,20 @@ TEST(AlertLog, KeepsFirstSeenAcknowledgementAndAlertsNoLongerRaised) {
   }
   EXPECT_TRUE(log.contains("contact:2"));
   EXPECT_FALSE(log.contains("stuck:2"));
+  // Acknowledged after it stopped being raised: the log says so.
+  log.observe(nlohmann::json::array({alert("object:0-1", "Victim found")}), 1006.0, {"contact:2"});
+  for (const auto& e : log.log()) EXPECT_TRUE(e["acked"].get<bool>()) << e.dump();
+}
+
+TEST(AlertLog, AnAcknowledgementRoundTripsThroughTheJournalAndADamagedOneIsNamed) {
+  std::string error;
+  EXPECT_EQ(alert_ack_from_json(alert_ack_to_json("object:0-1"), &error).value_or(error), "object:0-1");
+  EXPECT_FALSE(alert_ack_from_json("{\"key\": ", &error));
+  EXPECT_EQ(error, "alert acknowledgement: not a JSON object");
+  EXPECT_FALSE(alert_ack_from_json(R"({"key": 7})", &error));
+  EXPECT_EQ(error, "alert acknowledgement: no \"key\" string");
+  EXPECT_FALSE(alert_ack_from_json(R"({"key": ""})", &error));
+  EXPECT_EQ(error, "alert acknowledgement: the key is empty or longer than 64 characters");
 }
 
 }  // namespace

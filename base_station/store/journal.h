@@ -32,7 +32,8 @@ enum class JournalKind : int32_t {
   kCommand = 4,
   kVerdict = 5,
   kSearch = 6,
-  kSession = 7
+  kSession = 7,
+  kAlertAck = 8
 };
 const char* to_string(JournalKind kind);
 

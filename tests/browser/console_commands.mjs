@@ -3,13 +3,14 @@
 //   - watching without the operator token: the map and the robot are shown, commands are refused
 //     in the page and nothing is sent;
 //   - with the token: click the robot's marker, then a point on the map; the simulated robot drives
-//     there and the command shows as done; "All home" ends the mission;
+//     there and the command shows as done; an alert is acknowledged and a victim confirmed by a
+//     click, and both are in summary.json; "All home" ends the mission;
 //   - at 400 px wide the page has no horizontal scroll;
 //   - the printable mission report shows the map and the commands.
 // Exit 0 passed, 1 failed, 77 skipped (no chromium or no node_modules: said loudly).
 //   node tests/browser/console_commands.mjs <bin dir> <source dir> <out dir>
 import { spawn } from "node:child_process";
-import { existsSync, mkdirSync } from "node:fs";
+import { existsSync, mkdirSync, readFileSync } from "node:fs";
 import { createServer } from "node:net";
 import { join } from "node:path";
 
@@ -132,6 +133,22 @@ try {
   const refused = await page.waitForFunction(() => document.getElementById("command-feedback").textContent.includes("keep-out area 1"),
     null, { timeout: 10000 }).then(() => true, () => false);
   check(refused, `a goto into the keep-out area is refused with the reason ("${await page.textContent("#command-feedback")}")`);
+
+  // Sent where the victim is in view; its alert acknowledged and the victim confirmed, each by a
+  // click: both reach the base.
+  await page.click("#map", { position: await page.evaluate(([a, b]) => MapView.pixelOf(a, b), [2.5, 2.8]) });
+  const victim = await waitFor("robot 0 to find the victim", 120000,
+    async () => (await getJson("/api/objects")).find((o) => o.class === "victim"));
+  check(true, `robot 0 found victim ${victim.id}`);
+  const victimAlert = page.locator("#alerts li", { hasText: /victim/i }).locator("button.ack").first();
+  await victimAlert.click({ timeout: 30000 });
+  const acked = await waitFor("the acknowledgement at the base", 10000,
+    async () => (await getJson("/api/alerts/log")).find((a) => a.acked));
+  check(/victim/i.test(acked.text), `the alert "${acked.text}" was acknowledged by a click`);
+  await page.locator("#objects button.judge.confirmed").first().click({ timeout: 30000 });
+  const judged = await waitFor("the verdict at the base", 10000,
+    async () => (await getJson("/api/objects")).find((o) => o.verdict === "confirmed"));
+  check(judged.id === victim.id, `victim ${judged.id} was confirmed by a click`);
   // Pause and resume the exploration.
   await page.click("#pause-search");
   await waitFor("exploration paused", 10000, async () => (await getJson("/api/search")).paused);
@@ -166,6 +183,10 @@ try {
   await page.click("button[data-all='home']");
   const code = await Promise.race([missionExit, sleep(120000).then(() => "timeout")]);
   check(code === 0, `"All home" ends the mission (exit ${code})`);
+  // What the operator did is in the mission's record (and its journal, read back after a restart).
+  const summary = JSON.parse(readFileSync(join(outDir, "mission", "map", "summary.json"), "utf8"));
+  check(summary.alerts_acknowledged.includes(acked.key), `summary.json lists the acknowledged alert ${acked.key}`);
+  check(summary.verdicts.some((v) => v.verdict === "confirmed"), "summary.json lists the confirmed victim");
 } catch (e) {
   check(false, e.message);
 } finally {
