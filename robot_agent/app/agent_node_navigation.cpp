@@ -55,9 +55,12 @@ void AgentNode::take_keep_out(const cairn_msgs::KeepOutAreas& m) {
     return;
   }
   heard_from_base();
-  if (message->version == keep_out_version_) return;  // a resend of what it holds
+  // Taken even when the version is the one held: a restarted base counts versions from 1 again, and
+  // a resend (the base did not hear this robot hold it) only costs one re-plan.
+  if (message->version != keep_out_version_) {
+    log_->info("keep-out areas: {} (version {})", message->areas.size(), message->version);
+  }
   keep_out_version_ = message->version;
-  log_->info("keep-out areas: {} (version {})", message->areas.size(), message->version);
   navigator_.set_keep_out(std::move(message->areas));
 }
 
