@@ -58,6 +58,11 @@ class Operator {
     return nlohmann::json();
   }
   nlohmann::json robot(int id) { return entry("/api/robots", "id", id); }
+  /// One field of robot `id`'s entry: null while there is none (or the base did not answer).
+  nlohmann::json robot_field(int id, const char* key) {
+    const nlohmann::json r = robot(id);
+    return r.is_object() && r.contains(key) ? r[key] : nlohmann::json();
+  }
   nlohmann::json command(int seq) { return entry("/api/commands", "seq", seq); }
 
  private:
@@ -190,8 +195,9 @@ TEST(OperatorCommands, PauseHoldsTheExploringRobotAndNoGoalIsSentIntoAKeepOutAre
   // The robot is told the area in its own frame, and its own planner holds it (its status says so).
   nlohmann::json robot;
   ASSERT_TRUE(wait_for(30, [&] {
-    robot = op.robot(0).value("link", nlohmann::json::object());
-    return robot.value("keep_out_held", 0u) >= 1u && robot["keep_out_held"] == robot["keep_out_sent"];
+    robot = op.robot_field(0, "link");
+    return robot.is_object() && robot.value("keep_out_held", 0u) >= 1u &&
+           robot["keep_out_held"] == robot["keep_out_sent"];
   })) << robot.dump();
   // The link's round trip, measured by the base from the probes its acks carry and the robot echoes.
   ASSERT_TRUE(robot.contains("rtt_ms")) << robot.dump();
@@ -211,7 +217,7 @@ TEST(OperatorCommands, PauseHoldsTheExploringRobotAndNoGoalIsSentIntoAKeepOutAre
   int plans_seen = 0;
   auto ended = [&] { return mission.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
   wait_for(8, [&] {
-    const nlohmann::json pose = op.robot(0).value("pose_m", nlohmann::json::array());
+    const nlohmann::json pose = op.robot_field(0, "pose_m");
     if (started_outside && pose.size() == 3u) EXPECT_FALSE(in_area(pose)) << "robot 0 drove into the area";
     for (const auto& goal : goals()) {
       ++plans_seen;
