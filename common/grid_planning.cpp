@@ -168,16 +168,6 @@ Eigen::Vector2i PlanningGrid::cell_of(const Eigen::Vector2d& p_m) const {
   return {floor_div(mc, k_), floor_div(mr, k_)};
 }
 
-void PlanningGrid::forbid(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m) {
-  const Eigen::Vector2i lo = cell_of(min_m).cwiseMax(Eigen::Vector2i(0, 0));
-  const Eigen::Vector2i hi = cell_of(max_m).cwiseMin(Eigen::Vector2i(w_ - 1, h_ - 1));
-  for (int r = lo.y(); r <= hi.y(); ++r)
-    for (int c = lo.x(); c <= hi.x(); ++c) {
-      const Eigen::Vector2d p = centre_m({c, r});
-      if ((p.array() >= min_m.array()).all() && (p.array() <= max_m.array()).all()) traversable_[index(c, r)] = 0;
-    }
-}
-
 void PlanningGrid::forbid(const KeepOutPolygon& area) {
   const Eigen::Vector2i lo = cell_of(area.min_m()).cwiseMax(Eigen::Vector2i(0, 0));
   const Eigen::Vector2i hi = cell_of(area.max_m()).cwiseMin(Eigen::Vector2i(w_ - 1, h_ - 1));

@@ -91,9 +91,8 @@ class PlanningGrid {
   bool is_frontier(int c, int r) const;
   /// What a step into cell i costs per metre: the near-wall and the unknown factors.
   double step_factor(size_t i) const { return double(step_factor_[i]); }
-  /// Cells whose centres lie in [min_m, max_m] become untraversable (an operator's keep-out area).
-  void forbid(const Eigen::Vector2d& min_m, const Eigen::Vector2d& max_m);
-  /// Cells whose centres lie in `area` become untraversable (a keep-out area in a robot's frame).
+  /// Cells whose centres lie in `area` become untraversable (an operator's keep-out area: on the
+  /// merged map, in_frame(area, SE2()); in a robot's frame, as the base sent it).
   void forbid(const KeepOutPolygon& area);
 
  private:

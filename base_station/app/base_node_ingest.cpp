@@ -143,8 +143,8 @@ bool BaseNode::poll_inputs() {
               dds::to_cdr<cairn_msgs::KeyframePubSubType>(m));
     }
   }
-  for (const auto& [m, writer, received_ns] :
-       keyframe_poses_in_->take_all_from_writers()) {  // after this poll's keyframes
+  // Keyframe poses after this poll's keyframes.
+  for (const auto& [m, writer, received_ns] : keyframe_poses_in_->take_all_from_writers()) {
     any = true;
     if (from_its_robot(writer, m.robot_id(), "keyframe poses") && ingest(m).stored()) {
       journal(JournalKind::kKeyframePoses, journal_key(m.robot_id(), m.session()), 0,

@@ -40,7 +40,7 @@ ExplorationPlan plan_exploration(const OccupancyGrid& grid, const std::map<Robot
     return plan;
   }
   PlanningGrid g(grid, planning_options(o));
-  for (const KeepOutArea& area : context.keep_out) g.forbid(area.min_m, area.max_m);  // no path through
+  for (const KeepOutArea& area : context.keep_out) g.forbid(in_frame(area, SE2()));  // no path through
   std::vector<FrontierPiece> pieces = frontier_pieces(g);
   // Cells near a goal that failed lately are not offered again, nor cells in a keep-out area.
   for (FrontierPiece& piece : pieces) {
