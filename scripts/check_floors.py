@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Fails (exit 1) and names every project #include that runs back up a floor.
 
-The floors, bottom up: common -> dds and the cores (sim, robot_agent/core, base_station/core) ->
-base_station/{export,store,console} -> the apps (sim/app, robot_agent/app, base_station/app).
+The floors, bottom up: common -> dds, bag and the cores (sim, robot_agent/core, base_station/core) ->
+base_station/{export,store,console} -> the apps (bag/app, sim/app, robot_agent/app, base_station/app).
 Each folder below may include only the folders listed for it. Tests (*_test.cpp, *test_util*),
 tools/, tests/, bench/ and fuzz/ may reach down anywhere and are not checked.
 """
@@ -15,6 +15,8 @@ import sys
 ALLOWED = {
     "common": ["common"],
     "dds": ["common", "dds"],
+    "bag": ["common", "bag"],
+    "bag/app": ["common", "dds", "bag"],
     "sim": ["common", "sim"],
     "sim/app": ["common", "dds", "sim"],
     "robot_agent/core": ["common", "robot_agent/core"],

@@ -41,8 +41,9 @@ fi
 
 # npm packages, pinned in their package-lock.json (the field has no internet: nothing is fetched
 # at run time, and the console serves only its own files).
-# The console's own libraries (Leaflet) are served by the base; the browser tests' (playwright-core) drive it.
-for dir in base_station/console/web tests/browser; do
+# The console's own libraries (Leaflet) are served by the base; the browser tests' (playwright-core) drive it;
+# the bag tests' (@mcap/core, fzstd) read Cairn's recordings as the reference implementation does.
+for dir in base_station/console/web tests/browser tests/bag; do
   npm_dir="$(dirname "$0")/../$dir"
   if ! cmp -s "$npm_dir/package-lock.json" "$npm_dir/node_modules/.installed-lock.json" 2>/dev/null; then
     npm ci --prefix "$npm_dir" --no-audit --no-fund --loglevel=error >/dev/null

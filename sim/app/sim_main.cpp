@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   cairn::dds::ParticipantOptions participant;
   double speed = 0.0, wait_agents_s = 30.0, duration_s = 0.0, answer_timeout_s = 10.0;
   int64_t seed = -1;
+  int subscribers = 1;
   app.add_option("--world", world_path, "world YAML file")->required();
   app.add_option("--routes", routes_path,
                  "scripted routes YAML (routes: - {robot: N, waypoints: [[x, y], ...]}): the robots drive them "
@@ -32,6 +33,9 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "override the world's random seed");
   app.add_option("--duration", duration_s, "override the mission duration [s]");
   app.add_option("--wait-agents", wait_agents_s, "seconds to wait for every robot's agent");
+  app.add_option("--subscribers", subscribers,
+                 "subscribers each robot's sensor topics must have before the mission starts (2 with a recorder)")
+      ->check(CLI::Range(1, 16));
   app.add_option("--answer-timeout", answer_timeout_s,
                  "lock-step (--speed 0, command mode): seconds to wait for an agent's command answering a scan");
   app.add_option("--log-level", log_level);
@@ -72,7 +76,7 @@ int main(int argc, char** argv) {
       return 3;
     }
   }
-  if (!publisher->wait_for_agents(wait_agents_s)) {
+  if (!publisher->wait_for_agents(wait_agents_s, subscribers)) {
     log->error("not every robot's agent subscribed within {} s", wait_agents_s);
     return 4;
   }

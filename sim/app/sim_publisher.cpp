@@ -34,12 +34,13 @@ std::unique_ptr<SimPublisher> SimPublisher::create(dds::ParticipantOptions parti
   return p;
 }
 
-bool SimPublisher::wait_for_agents(double timeout_s) {
+bool SimPublisher::wait_for_agents(double timeout_s, int subscribers) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   while (std::chrono::steady_clock::now() < end) {
     bool all = true;
     for (auto& w : robots_) {
-      all = all && w.laser->matched_readers() > 0 && w.odometry->matched_readers() > 0 && w.rgbd->matched_readers() > 0;
+      all = all && w.laser->matched_readers() >= subscribers && w.odometry->matched_readers() >= subscribers &&
+            w.rgbd->matched_readers() >= subscribers;
     }
     if (all) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));

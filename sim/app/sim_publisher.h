@@ -14,8 +14,9 @@ class SimPublisher {
   /// `participant`: domain, peers and security; its name is set here.
   static std::unique_ptr<SimPublisher> create(dds::ParticipantOptions participant, const std::vector<RobotId>& robots,
                                               std::string* error);
-  /// True once every robot's laser topic has a subscriber (its agent).
-  bool wait_for_agents(double timeout_s);
+  /// True once every robot's sensor topics have `subscribers` subscribers each (its agent, and a
+  /// recorder when one runs: a recorder alone must not start the mission before the agents).
+  bool wait_for_agents(double timeout_s, int subscribers = 1);
   /// Publishes one step's readings (and the clock once per simulated second).
   bool publish(const SimStep& step, std::string* error);
   /// Waits until the agents acknowledged every reading, then announces the end of the mission.

@@ -47,6 +47,7 @@ struct Options {
   /// "SIGMA_XY_M,SIGMA_YAW_DEG": the team's rough guess of where every other robot entered.
   std::string entry_hints;
   std::string operator_token;  ///< the console's commands need it (default: a fresh one)
+  std::string record;          ///< an MCAP file to record the mission's DDS topics to
 };
 
 std::string fmt_pose(int id, const cairn::SE2& p) {
@@ -82,6 +83,8 @@ int main(int argc, char** argv) {
                  "secret the console's commands need (default: a fresh random one, printed in the console's address)");
   app.add_option("--link-loss", opt.link.loss_pct, "emulated radio: % of packets lost each way (needs root)");
   app.add_option("--link-kbit", opt.link.rate_kbit, "emulated radio: rate limit each way in kbit/s (needs root)");
+  app.add_option("--record", opt.record,
+                 "record every DDS topic to this MCAP file (ROS 2 bag storage; cairn_replay plays it back)");
   CLI11_PARSE(app, argc, argv);
 
   cairn::sim::WorldFile wf;
@@ -133,7 +136,7 @@ int main(int argc, char** argv) {
     return cmd;
   };
   if (opt.secure) {
-    std::string make = "bash '" + (bin / "make_certs.sh").string() + "' '" + security.string() + "' base sim";
+    std::string make = "bash '" + (bin / "make_certs.sh").string() + "' '" + security.string() + "' base sim recorder";
     for (const auto& r : wf.world.robots) make += " robot" + std::to_string(r.id.value);
     if (std::system(make.c_str()) != 0) {
       std::cerr << "cairn_mission: cannot make the mission's certificates (" << make << ")\n";
@@ -208,6 +211,19 @@ int main(int argc, char** argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   std::vector<std::unique_ptr<ChildProcess>> procs;
   procs.push_back(std::make_unique<ChildProcess>("base", base_cmd, (out / "logs/base.log").string()));
+  if (!opt.record.empty()) {
+    // The recorder sits with the base. Behind an emulated radio it records what crosses the radio
+    // (the shared topics): subscribing to the sensor topics would drag them over the link.
+    std::vector<std::string> cmd = lab ? lab->prefix() : std::vector<std::string>{};
+    cmd.insert(cmd.end(), {(bin / "cairn_record").string(), "--domain", std::to_string(opt.domain), "--robots",
+                           std::to_string(robots), "--out", opt.record});
+    if (lab)
+      cmd.insert(cmd.end(), {"--peer", lab->robots_side_address(), "--topics", "cairn/mission_clock", "cairn/keyframe",
+                             "cairn/object", "cairn/status", "cairn/ack", "cairn/correction", "cairn/goal",
+                             "cairn/operator_command", "cairn/keep_out"});
+    procs.push_back(
+        std::make_unique<ChildProcess>("record", secured(cmd, "recorder"), (out / "logs/record.log").string()));
+  }
   for (const auto& r : wf.world.robots) {
     const std::string id = std::to_string(r.id.value);
     procs.push_back(std::make_unique<ChildProcess>(
@@ -234,6 +250,9 @@ int main(int argc, char** argv) {
                                                                                     std::to_string(opt.speed)};
                                                        if (!opt.routes.empty())
                                                          cmd.insert(cmd.end(), {"--routes", opt.routes});
+                                                       // The recorder subscribes too (not behind a radio).
+                                                       if (!opt.record.empty() && !lab)
+                                                         cmd.insert(cmd.end(), {"--subscribers", "2"});
                                                        return cmd;
                                                      }(),
                                                      "sim"),
@@ -256,7 +275,7 @@ int main(int argc, char** argv) {
                   << "\n";
         failed = true;
       }
-      if (p->name() != "base") workers_done = workers_done && p->exited();
+      if (p->name() != "base" && p->name() != "record") workers_done = workers_done && p->exited();
     }
     const bool base_done = procs[0]->exited() || (opt.serve && fs::exists(summary_file));
     if (failed || g_interrupted ||
@@ -273,6 +292,12 @@ int main(int argc, char** argv) {
     std::this_thread::sleep_for(std::chrono::seconds(1));
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  for (const auto& p : procs) {
+    if (p->name() != "record") continue;
+    p->terminate();  // the recorder closes its file (summary, index) on SIGTERM
+    for (int i = 0; i < 100 && !p->poll(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    std::cout << "recording: " << opt.record << " (" << p->log_path() << ")\n";
+  }
 
   int code = cairn::mission::report(out, wall_s, procs, std::cout);
   if (opt.serve && code == 0) {

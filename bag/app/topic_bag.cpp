@@ -1,0 +1,149 @@
+#include "bag/app/topic_bag.h"
+
+#include <algorithm>
+#include <regex>
+
+#include "cairn_msgs_idl_text.h"  // generated from idl/cairn_msgs.idl (bag/CMakeLists.txt)
+#include "dds/cdr.h"
+#include "dds/endpoints.h"
+#include "dds/topics.h"
+
+namespace cairn::bag {
+namespace {
+
+template <typename Msg>
+std::optional<int> robot_of_msg(const Msg& msg) {
+  if constexpr (std::is_same_v<Msg, cairn_msgs::MissionClock>) {
+    return std::nullopt;  // the one message that belongs to no robot
+  } else {
+    return int(msg.robot_id());
+  }
+}
+
+template <typename Topic>
+std::string type_name_of() {
+  typename Topic::PubSub type;
+  return type.getName();
+}
+
+template <typename Topic>
+class Tap : public TopicTap {
+ public:
+  Tap(dds::Participant& participant, std::string name, [[maybe_unused]] RobotId robot)
+      : TopicTap(std::move(name), type_name_of<Topic>()) {
+    if constexpr (Topic::kPerRobot) {
+      reader_ = std::make_unique<dds::Reader<Topic>>(participant, robot);
+    } else {
+      reader_ = std::make_unique<dds::Reader<Topic>>(participant);
+    }
+  }
+  std::vector<TappedSample> take() override {
+    std::vector<TappedSample> out;
+    for (const auto& s : reader_->take_all_from_writers()) {
+      out.push_back({s.received_ns, dds::to_cdr<typename Topic::PubSub>(s.msg)});
+    }
+    return out;
+  }
+
+ private:
+  std::unique_ptr<dds::Reader<Topic>> reader_;
+};
+
+template <typename Topic>
+class Player : public TopicPlayer {
+ public:
+  Player(dds::Participant& participant, [[maybe_unused]] RobotId robot) {
+    if constexpr (Topic::kPerRobot) {
+      writer_ = std::make_unique<dds::Writer<Topic>>(participant, robot);
+    } else {
+      writer_ = std::make_unique<dds::Writer<Topic>>(participant);
+    }
+  }
+  PlayResult play(const std::vector<uint8_t>& cdr, const std::vector<int>& robots) override {
+    typename Topic::Msg msg;
+    if (!dds::from_cdr<typename Topic::PubSub>(cdr, &msg)) return PlayResult::kUndecodable;
+    const auto robot = robot_of_msg(msg);
+    if (robot && !robots.empty() && std::find(robots.begin(), robots.end(), *robot) == robots.end()) {
+      return PlayResult::kFilteredOut;
+    }
+    return writer_->write(msg) ? PlayResult::kWritten : PlayResult::kWriteFailed;
+  }
+  int matched_readers() const override { return writer_->matched_readers(); }
+  bool flush(double timeout_s) override { return writer_->wait_for_acknowledgments(timeout_s); }
+
+ private:
+  std::unique_ptr<dds::Writer<Topic>> writer_;
+};
+
+template <typename... Topics>
+void add_taps(dds::TopicList<Topics...>, dds::Participant& participant, int robot_count,
+              const std::function<bool(const std::string&)>& wanted, std::vector<std::unique_ptr<TopicTap>>* out) {
+  auto add = [&](auto topic_tag) {
+    using Topic = decltype(topic_tag);
+    if constexpr (Topic::kPerRobot) {
+      for (int r = 0; r < robot_count; ++r) {
+        const std::string name = dds::topic_name<Topic>(RobotId(r));
+        if (wanted(name)) out->push_back(std::make_unique<Tap<Topic>>(participant, name, RobotId(r)));
+      }
+    } else {
+      const std::string name = dds::topic_name<Topic>();
+      if (wanted(name)) out->push_back(std::make_unique<Tap<Topic>>(participant, name, RobotId()));
+    }
+  };
+  (add(Topics{}), ...);
+}
+
+template <typename... Topics>
+std::unique_ptr<TopicPlayer> find_player(dds::TopicList<Topics...>, dds::Participant& participant,
+                                         const std::string& topic, const std::string& type_name, std::string* why) {
+  std::unique_ptr<TopicPlayer> out;
+  const auto robot = robot_of_topic(topic);
+  auto try_topic = [&](auto topic_tag) {
+    using Topic = decltype(topic_tag);
+    if (out) return;
+    bool same_name = false;
+    if constexpr (Topic::kPerRobot) {
+      same_name = robot && dds::topic_name<Topic>(RobotId(*robot)) == topic;
+    } else {
+      same_name = dds::topic_name<Topic>() == topic;
+    }
+    if (!same_name) return;
+    if (type_name_of<Topic>() != type_name) {
+      *why = topic + " carries " + type_name_of<Topic>() + ", but the recording says " + type_name;
+      return;
+    }
+    out = std::make_unique<Player<Topic>>(participant, Topic::kPerRobot ? RobotId(*robot) : RobotId());
+  };
+  (try_topic(Topics{}), ...);
+  if (!out && why->empty()) *why = topic + " is not a Cairn topic";
+  return out;
+}
+
+}  // namespace
+
+const std::string& cairn_idl_text() {
+  static const std::string text = kCairnMsgsIdl;
+  return text;
+}
+
+std::optional<int> robot_of_topic(const std::string& topic) {
+  static const std::regex per_robot(R"(cairn/robot(\d{1,4})/.+)");
+  std::smatch m;
+  if (!std::regex_match(topic, m, per_robot)) return std::nullopt;
+  return std::stoi(m[1].str());
+}
+
+std::vector<std::unique_ptr<TopicTap>> make_taps(dds::Participant& participant, int robot_count,
+                                                 const std::function<bool(const std::string&)>& wanted) {
+  std::vector<std::unique_ptr<TopicTap>> out;
+  add_taps(dds::AllTopics{}, participant, robot_count, wanted, &out);
+  return out;
+}
+
+std::unique_ptr<TopicPlayer> make_player(dds::Participant& participant, const std::string& topic,
+                                         const std::string& type_name, std::string* why) {
+  why->clear();
+  return find_player(dds::AllTopics{}, participant, topic, type_name, why);
+}
+
+}  // namespace cairn::bag

@@ -1,0 +1,97 @@
+// Cairn's MCAP files as the reference implementation sees them (@mcap/core, Foxglove's own reader
+// and writer; fzstd, an independent zstd decoder). Run by ctest (bag/app/CMakeLists.txt):
+//   node mcap_check.mjs check FILE [--topic T]...   the indexed and the streaming reader both read
+//       FILE: summary CRC, statistics, chunk and message indexes, every chunk CRC, the data-section
+//       CRC, schemas and encodings, per-channel counts; each --topic must hold messages. Prints one
+//       JSON line of what it found; exit 1 naming the first thing wrong.
+//   node mcap_check.mjs write-reference FILE   writes a small file with the reference writer, for
+//       Cairn's reader to read (bag tests).
+import { readFile, writeFile } from "node:fs/promises";
+import { McapIndexedReader, McapStreamReader, McapWriter, TempBuffer } from "@mcap/core";
+import { crc32 } from "@foxglove/crc";
+import { decompress } from "fzstd";
+
+const decompressHandlers = { zstd: (data, size) => decompress(data, new Uint8Array(Number(size))) };
+
+function fail(what) {
+  console.error(`mcap_check: ${what}`);
+  process.exit(1);
+}
+
+async function check(path, topics) {
+  const bytes = new Uint8Array(await readFile(path));
+  const readable = {
+    size: async () => BigInt(bytes.byteLength),
+    read: async (offset, size) => bytes.subarray(Number(offset), Number(offset + size)),
+  };
+  const reader = await McapIndexedReader.Initialize({ readable, decompressHandlers });  // checks the summary CRC
+  if (reader.header.profile !== "ros2") fail(`profile is "${reader.header.profile}", not ros2`);
+  const stats = reader.statistics;
+  if (!stats) fail("no Statistics record in the summary");
+  if (reader.chunkIndexes.length !== stats.chunkCount) fail(`${reader.chunkIndexes.length} chunk indexes, statistics say ${stats.chunkCount}`);
+  for (const op of [3, 4, 8, 11]) {
+    if (!reader.summaryOffsetsByOpcode.has(op)) fail(`no SummaryOffset for opcode ${op}`);
+  }
+  for (const [id, channel] of reader.channelsById) {
+    if (channel.messageEncoding !== "cdr") fail(`${channel.topic}: message encoding ${channel.messageEncoding}`);
+    const schema = reader.schemasById.get(channel.schemaId);
+    if (!schema || !["omgidl", "ros2msg"].includes(schema.encoding)) fail(`${channel.topic}: schema ${schema?.encoding}`);
+  }
+  // Every message through the indexes, with chunk CRCs checked, in log-time order.
+  const counts = new Map();
+  let previous = -1n, indexed = 0;
+  for await (const m of reader.readMessages({ validateCrcs: true })) {
+    if (m.logTime < previous) fail(`indexed messages out of time order at ${m.logTime}`);
+    previous = m.logTime;
+    counts.set(m.channelId, (counts.get(m.channelId) ?? 0) + 1);
+    ++indexed;
+  }
+  if (BigInt(indexed) !== stats.messageCount) fail(`indexes reach ${indexed} messages, statistics say ${stats.messageCount}`);
+  for (const [id, n] of stats.channelMessageCounts) {
+    if (BigInt(counts.get(id) ?? 0) !== n) fail(`channel ${id}: ${counts.get(id) ?? 0} indexed, statistics say ${n}`);
+  }
+  // The whole file front to back, as a streaming consumer (a live viewer) reads it.
+  const stream = new McapStreamReader({ decompressHandlers, validateCrcs: true });
+  stream.append(bytes);
+  let streamed = 0, dataEnd;
+  for (let r; (r = stream.nextRecord()); ) {
+    if (r.type === "Message") ++streamed;
+    if (r.type === "DataEnd") dataEnd = r;
+  }
+  if (!stream.done()) fail("the stream reader did not reach the end of the file");
+  if (streamed !== indexed) fail(`stream reader found ${streamed} messages, the indexes ${indexed}`);
+  const dataCrc = crc32(bytes.subarray(0, Number(reader.dataEndOffset)));
+  if (!dataEnd || dataEnd.dataSectionCrc !== dataCrc) fail(`data section CRC ${dataEnd?.dataSectionCrc}, computed ${dataCrc}`);
+  const byTopic = {};
+  for (const [id, channel] of reader.channelsById) byTopic[channel.topic] = counts.get(id) ?? 0;
+  for (const t of topics) {
+    if (!byTopic[t]) fail(`no messages on ${t}`);
+  }
+  console.log(JSON.stringify({ messages: indexed, chunks: stats.chunkCount, channels: reader.channelsById.size,
+                               schemas: reader.schemasById.size, topics: byTopic }));
+}
+
+async function writeReference(path) {
+  const buffer = new TempBuffer();
+  const writer = new McapWriter({ writable: buffer, chunkSize: 1024 });
+  await writer.start({ profile: "ros2", library: "@mcap/core reference" });
+  const schemaId = await writer.registerSchema({ name: "cairn_msgs::Odometry", encoding: "omgidl", data: new TextEncoder().encode("struct Odometry { double x; };") });
+  const a = await writer.registerChannel({ topic: "reference/a", messageEncoding: "cdr", schemaId, metadata: new Map([["k", "v"]]) });
+  const b = await writer.registerChannel({ topic: "reference/b", messageEncoding: "cdr", schemaId, metadata: new Map() });
+  for (let i = 0; i < 100; ++i) {
+    const data = new Uint8Array(20 + (i % 5)).fill(i);
+    await writer.addMessage({ channelId: i % 3 ? a : b, sequence: i, logTime: BigInt(1000 + i), publishTime: BigInt(1000 + i), data });
+  }
+  await writer.end();
+  await writeFile(path, buffer.get());
+}
+
+const [mode, path, ...rest] = process.argv.slice(2);
+const topics = rest.flatMap((arg, i) => (rest[i - 1] === "--topic" ? [arg] : []));
+try {
+  if (mode === "check") await check(path, topics);
+  else if (mode === "write-reference") await writeReference(path);
+  else fail("usage: mcap_check.mjs check FILE [--topic T]... | write-reference FILE");
+} catch (e) {
+  fail(`${path}: ${e.message}`);
+}
