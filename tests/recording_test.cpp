@@ -86,6 +86,17 @@ TEST(Recording, AMissionRecordedAsMcapReplaysIntoAFreshBaseWithTheSameRobotsAndO
   EXPECT_EQ(b.objects.detected, a.objects.detected) << eval::format_score(b);
   EXPECT_NEAR(b.objects.mean_error_xy_m, a.objects.mean_error_xy_m, 0.05) << eval::format_score(b);
 
+  // A recording cut in half (a pulled battery) replays up to the cut, and says where it was cut.
+  const fs::path half = out / "half.mcap";
+  fs::copy_file(bag, half);
+  fs::resize_file(half, fs::file_size(bag) / 2);
+  const CommandResult cut = run_command("timeout 120 " + bin("cairn_replay") + " " + half.string() + " --domain " +
+                                        domain + " --speed 0 --wait 0");
+  EXPECT_EQ(cut.exit_code, 5) << cut.output;
+  EXPECT_NE(cut.output.find("no footer and closing magic"), std::string::npos) << cut.output;
+  EXPECT_NE(cut.output.find("truncated or corrupt; reading stops here"), std::string::npos) << cut.output;
+  EXPECT_NE(cut.output.find("not closed cleanly"), std::string::npos) << cut.output;
+
   // The reference reader (Foxglove's @mcap/core) reads the same file: indexes, CRCs, counts.
   const fs::path checker = fs::path(source_path("tests/bag/mcap_check.mjs"));
   if (run_command("command -v node").exit_code != 0 || !fs::exists(checker.parent_path() / "node_modules/@mcap/core")) {

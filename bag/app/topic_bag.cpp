@@ -6,7 +6,9 @@
 #include "cairn_msgs_idl_text.h"  // generated from idl/cairn_msgs.idl (bag/CMakeLists.txt)
 #include "dds/cdr.h"
 #include "dds/endpoints.h"
+#include "dds/ros2_endpoints.h"
 #include "dds/topics.h"
+#include "ros2_msgsPubSubTypes.h"
 
 namespace cairn::bag {
 namespace {
@@ -119,6 +121,41 @@ std::unique_ptr<TopicPlayer> find_player(dds::TopicList<Topics...>, dds::Partici
   return out;
 }
 
+// A ROS 2 channel ("/robot1/scan" of "sensor_msgs/msg/LaserScan") played onto its DDS topic
+// ("rt/robot1/scan"). ROS 2 messages name no robot: --robots does not filter them.
+template <typename PubSub>
+class Ros2Player : public TopicPlayer {
+ public:
+  Ros2Player(dds::Participant& participant, const std::string& ros_topic, dds::Ros2Qos qos)
+      : writer_(participant, dds::ros2_dds_topic("", ros_topic), qos) {}
+  PlayResult play(const std::vector<uint8_t>& cdr, const std::vector<int>&) override {
+    typename PubSub::type msg;
+    if (!dds::from_cdr<PubSub>(cdr, &msg)) return PlayResult::kUndecodable;
+    return writer_.write(msg) ? PlayResult::kWritten : PlayResult::kWriteFailed;
+  }
+  int matched_readers() const override { return writer_.matched_readers(); }
+  bool flush(double) override { return true; }  // sensor data: best effort for the readers
+
+ private:
+  dds::Ros2Writer<PubSub> writer_;
+};
+
+std::unique_ptr<TopicPlayer> make_ros2_player(dds::Participant& p, const std::string& topic,
+                                              const std::string& type_name) {
+  using dds::Ros2Qos;
+  if (type_name == "sensor_msgs/msg/LaserScan")
+    return std::make_unique<Ros2Player<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(p, topic, Ros2Qos::kSensorData);
+  if (type_name == "nav_msgs/msg/Odometry")
+    return std::make_unique<Ros2Player<nav_msgs::msg::dds_::Odometry_PubSubType>>(p, topic, Ros2Qos::kSensorData);
+  if (type_name == "sensor_msgs/msg/Image")
+    return std::make_unique<Ros2Player<sensor_msgs::msg::dds_::Image_PubSubType>>(p, topic, Ros2Qos::kSensorData);
+  if (type_name == "sensor_msgs/msg/CameraInfo")
+    return std::make_unique<Ros2Player<sensor_msgs::msg::dds_::CameraInfo_PubSubType>>(p, topic, Ros2Qos::kSensorData);
+  if (type_name == "geometry_msgs/msg/Twist")
+    return std::make_unique<Ros2Player<geometry_msgs::msg::dds_::Twist_PubSubType>>(p, topic, Ros2Qos::kDefault);
+  return nullptr;
+}
+
 }  // namespace
 
 const std::string& cairn_idl_text() {
@@ -143,6 +180,11 @@ std::vector<std::unique_ptr<TopicTap>> make_taps(dds::Participant& participant, 
 std::unique_ptr<TopicPlayer> make_player(dds::Participant& participant, const std::string& topic,
                                          const std::string& type_name, std::string* why) {
   why->clear();
+  if (type_name.find("/msg/") != std::string::npos) {  // a ROS 2 type: a ROS 2 bag's channel
+    auto player = make_ros2_player(participant, topic, type_name);
+    if (!player) *why = topic + ": ROS 2 type " + type_name + " is not one Cairn replays";
+    return player;
+  }
   return find_player(dds::AllTopics{}, participant, topic, type_name, why);
 }
 

@@ -3,6 +3,7 @@
 // recorded under another type are refused with their names.
 #include "bag/app/topic_bag.h"
 
+#include "bag/app/ros2_schemas.h"
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -36,6 +37,18 @@ TEST(TopicBag, PerRobotTopicNamesGiveTheirRobot) {
   EXPECT_FALSE(robot_of_topic("cairn/keyframe"));
   EXPECT_FALSE(robot_of_topic("cairn/robotX/odometry"));
   EXPECT_NE(cairn_idl_text().find("struct Keyframe"), std::string::npos);
+}
+
+TEST(TopicBag, Ros2SchemasCarryEveryTypeTheyUse) {
+  const auto scan = ros2msg_schema("sensor_msgs/msg/LaserScan");
+  ASSERT_TRUE(scan);
+  EXPECT_EQ(scan->find("std_msgs/Header header\nfloat32 angle_min\n"), 0u);
+  EXPECT_NE(scan->find(std::string(80, '=') + "\nMSG: builtin_interfaces/Time\nint32 sec\n"), std::string::npos);
+  const auto odom = ros2msg_schema("nav_msgs/msg/Odometry");
+  ASSERT_TRUE(odom);
+  EXPECT_NE(odom->find("MSG: geometry_msgs/Quaternion\nfloat64 x 0\n"), std::string::npos);
+  EXPECT_FALSE(ros2msg_schema("sensor_msgs/msg/Imu"));
+  EXPECT_FALSE(ros2msg_schema("LaserScan"));
 }
 
 TEST(TopicBag, TapsCoverEveryTopicAndEachRobotsSensorTopics) {
@@ -95,6 +108,9 @@ TEST(TopicBag, ARecordedSampleIsPlayedBackAsTheSameSampleAndBadBytesAreRefused) 
   ASSERT_EQ(got.size(), 1u);  // robot 3's, and nothing of the filtered robot 2
   EXPECT_EQ(got[0].cdr, cdr3);
 
+  EXPECT_FALSE(make_player(*participant, "/robot1/imu", "sensor_msgs/msg/Imu", &error));
+  EXPECT_EQ(error, "/robot1/imu: ROS 2 type sensor_msgs/msg/Imu is not one Cairn replays");
+  EXPECT_TRUE(make_player(*participant, "/robot1/scan", "sensor_msgs/msg/LaserScan", &error)) << error;
   EXPECT_FALSE(make_player(*participant, "cairn/robot0/nonsense", "cairn_msgs::Odometry", &error));
   EXPECT_EQ(error, "cairn/robot0/nonsense is not a Cairn topic");
   EXPECT_FALSE(make_player(*participant, "cairn/robot0/odometry", "sensor_msgs::msg::LaserScan", &error));

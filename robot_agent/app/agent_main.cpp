@@ -2,6 +2,9 @@
 // pipeline (robot_agent/core), and publishes keyframes, objects and status to the base station.
 #include <CLI/CLI.hpp>
 
+#include <cmath>
+#include <iostream>
+
 #include "common/carmen_log.h"
 #include "common/errors.h"
 #include "common/huge_pages.h"
@@ -28,8 +31,38 @@ int main(int argc, char** argv) {
                  "multi-robot log (docs/multirobot_log_format.md; this robot's records are used)");
   app.add_option("--log-speed", input.log_options.speed, "log replay speed, times real time (0 = as fast as possible)");
   app.add_option("--object-rate-limit", node.large_data_bytes_per_sec, "bytes/s for object clouds (0 = no limit)");
+  bool ros2 = false, no_navigation = false;
+  cairn::agent::Ros2InputOptions ros2_options;
+  std::vector<double> camera_mount{0.5, 0.0};
+  app.add_flag("--ros2", ros2,
+               "sensors from the robot's ROS 2 drivers (sensor_msgs/LaserScan, nav_msgs/Odometry, colour and aligned "
+               "depth sensor_msgs/Image with CameraInfo); velocity commands out as geometry_msgs/Twist");
+  app.add_option("--ros2-namespace", ros2_options.ros_namespace, "ROS 2 namespace of the robot's topics");
+  app.add_option("--ros2-scan", ros2_options.scan_topic, "laser topic (relative to the namespace)");
+  app.add_option("--ros2-odom", ros2_options.odom_topic, "odometry topic");
+  app.add_option("--ros2-color", ros2_options.color_topic, "colour image topic (rgb8 or bgr8)");
+  app.add_option("--ros2-depth", ros2_options.depth_topic, "depth image aligned to colour (16UC1 mm or 32FC1 m)");
+  app.add_option("--ros2-camera-info", ros2_options.camera_info_topic, "colour camera's CameraInfo topic");
+  app.add_option("--ros2-cmd-vel", ros2_options.cmd_vel_topic, "where velocity commands go");
+  app.add_option("--ros2-camera-mount", camera_mount, "HEIGHT_M PITCH_DEG: the forward camera above the base")
+      ->expected(2);
+  app.add_option("--ros2-idle-end", ros2_options.idle_end_s,
+                 "end the input after this many seconds without a scan (a replayed bag; 0 = never)");
+  app.add_flag("--no-navigation", no_navigation, "do not steer the robot (its data is recorded: it drove already)");
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
+  if (ros2) {
+    if (!log_path.empty()) {
+      std::cerr << "cairn_agent: --ros2 and --log are two inputs: choose one\n";
+      return 2;
+    }
+    if (!std::isfinite(camera_mount[0]) || !std::isfinite(camera_mount[1])) {
+      std::cerr << "cairn_agent: --ros2-camera-mount: not finite\n";
+      return 2;
+    }
+    ros2_options.T_base_camera = cairn::agent::forward_camera_mount(camera_mount[0], camera_mount[1]);
+    node.ros2 = ros2_options;
+  }
   cairn::set_log_level(log_level);
   auto log = cairn::make_logger("agent", cairn::RobotId(robot));
 
@@ -67,7 +100,7 @@ int main(int argc, char** argv) {
     log->error("{}", e.what());
     return 2;
   }
-  node.navigate = log_path.empty();  // a recorded robot drove already: nothing to steer
+  node.navigate = log_path.empty() && !no_navigation;  // a recorded robot drove already: nothing to steer
   std::string error;
   auto agent = cairn::agent::AgentNode::create(cairn::RobotId(robot), options, node, input, &error);
   if (!agent) {

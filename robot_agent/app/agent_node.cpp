@@ -58,6 +58,13 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
   n->goal_in_ = std::make_unique<dds::Reader<dds::GoalTopic>>(p);
   n->command_in_ = std::make_unique<dds::Reader<dds::OperatorCommandTopic>>(p);
   n->keep_out_in_ = std::make_unique<dds::Reader<dds::KeepOutTopic>>(p);
+  if (options.ros2) {
+    n->ros2_in_ = std::make_unique<Ros2SensorInput>(p, *options.ros2);
+    if (!n->ros2_in_->ok()) {
+      *error = "cannot create the agent's ROS 2 readers/writers";
+      return nullptr;
+    }
+  }
   dds::QosOptions large;
   large.large_data_flow_controlled = options.large_data_bytes_per_sec > 0;
   n->keyframe_out_ = std::make_unique<dds::Writer<dds::KeyframeTopic>>(p, large);
@@ -82,6 +89,18 @@ bool AgentNode::poll_inputs() {
     const double elapsed_s = std::chrono::duration<double>(Clock::now() - start_).count();
     any = log_source_->feed(elapsed_s, &pipeline_) > 0;
     input_finished_ = log_source_->finished();
+  }
+  if (ros2_in_) {
+    any = ros2_in_->feed(&pipeline_, &error) > 0 || any;
+    if (ros2_in_->refused() > ros2_refused_) {
+      ros2_refused_ = ros2_in_->refused();
+      CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::warn, 2.0, "refused a ROS 2 message ({} so far): {}", ros2_refused_,
+                            error);
+    }
+    if (ros2_in_->ended() && !input_finished_) {
+      log_->info("ROS 2 input ended: no scan for {:.1f} s", options_.ros2->idle_end_s);
+      input_finished_ = true;
+    }
   }
   auto reject = [&](const char* topic) {
     ++bad_samples_;

@@ -13,6 +13,7 @@
 #include "common/logging.h"
 #include "dds/endpoints.h"
 #include "robot_agent/app/log_source.h"
+#include "robot_agent/app/ros2_input.h"
 #include "robot_agent/core/agent_pipeline.h"
 #include "robot_agent/core/navigation/breadcrumbs.h"
 #include "robot_agent/core/navigation/mission_behaviour.h"
@@ -34,6 +35,8 @@ struct AgentNodeOptions {
   double ack_timeout_s = 60.0;            ///< how long to wait for the base to store everything at the end
   uint32_t large_data_bytes_per_sec = 0;  ///< flow controller for objects; 0 = unlimited
   bool navigate = true;                   ///< drive the robot (cmd_vel); off when replaying a log
+  /// Sensors from a ROS 2 robot's drivers (cairn_agent --ros2) instead of Cairn's sensor topics.
+  std::optional<Ros2InputOptions> ros2;
   NavigatorOptions navigator;
   MissionBehaviourOptions behaviour;
   OwnExplorationOptions own_exploration;
@@ -96,7 +99,8 @@ class AgentNode {
   std::unique_ptr<dds::Writer<dds::KeyframePosesTopic>> keyframe_poses_out_;
   std::unique_ptr<dds::Writer<dds::StatusTopic>> status_out_;
 
-  std::unique_ptr<LogSource> log_source_;  ///< set when replaying a log instead of DDS input
+  std::unique_ptr<LogSource> log_source_;     ///< set when replaying a log instead of DDS input
+  std::unique_ptr<Ros2SensorInput> ros2_in_;  ///< set with --ros2: the robot's ROS 2 drivers
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   bool input_finished_ = false;
   int32_t last_keyframe_seq_ = -1;
@@ -104,6 +108,7 @@ class AgentNode {
   int acked_object_count_ = 0;
   std::set<int32_t> objects_published_;
   int bad_samples_ = 0;
+  int ros2_refused_ = 0;  ///< ROS 2 messages refused so far (logged as the count grows)
   struct Probe {
     uint64_t base_ns = 0;     ///< the newest ack's probe (the base's clock)
     int64_t received_ns = 0;  ///< when it arrived here (dds::reception_clock_ns)

@@ -144,6 +144,7 @@ void AgentNode::drive(const AgentOutputs& outputs) {
     if (behaviour_.done()) command = VelocityCommand{};
   }
   cmd_out_->write(dds::to_msg(StampedCommand{robot_, last_scan_ns_, command, behaviour_.done()}));
+  if (ros2_in_) ros2_in_->send_cmd_vel(command.linear_mps, command.angular_radps);
 }
 
 NavStatus AgentNode::nav_status() const {

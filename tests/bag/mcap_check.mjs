@@ -4,12 +4,19 @@
 //       FILE: summary CRC, statistics, chunk and message indexes, every chunk CRC, the data-section
 //       CRC, schemas and encodings, per-channel counts; each --topic must hold messages. Prints one
 //       JSON line of what it found; exit 1 naming the first thing wrong.
+//   node mcap_check.mjs decode-ros2 FILE   decodes every message on a ros2msg channel twice with
+//       @foxglove/rosmsg2-serialization: with the standard definitions (@foxglove/rosmsg-msgs-common,
+//       Jazzy) and with the file's own schema text; both must agree and make sense (a LaserScan's
+//       ranges fit its angles, an Odometry's quaternion is a unit one). Prints counts per type.
 //   node mcap_check.mjs write-reference FILE   writes a small file with the reference writer, for
 //       Cairn's reader to read (bag tests).
 import { readFile, writeFile } from "node:fs/promises";
 import { McapIndexedReader, McapStreamReader, McapWriter, TempBuffer } from "@mcap/core";
 import { crc32 } from "@foxglove/crc";
 import { decompress } from "fzstd";
+import { parse as parseMsg } from "@foxglove/rosmsg";
+import { MessageReader } from "@foxglove/rosmsg2-serialization";
+import { ros2jazzy } from "@foxglove/rosmsg-msgs-common";
 
 const decompressHandlers = { zstd: (data, size) => decompress(data, new Uint8Array(Number(size))) };
 
@@ -71,6 +78,52 @@ async function check(path, topics) {
                                schemas: reader.schemasById.size, topics: byTopic }));
 }
 
+// "sensor_msgs/msg/LaserScan" -> reader built from the standard definitions.
+function standardReader(type) {
+  const name = type.replace("/msg/", "/");
+  const root = ros2jazzy[name];
+  if (!root) fail(`no standard definition for ${type}`);
+  return new MessageReader([root, ...Object.values(ros2jazzy).filter((d) => d !== root)]);
+}
+
+function sane(type, m, where) {
+  if (type === "sensor_msgs/msg/LaserScan") {
+    const beams = Math.round((m.angle_max - m.angle_min) / m.angle_increment) + 1;
+    if (beams !== m.ranges.length) fail(`${where}: ${m.ranges.length} ranges for ${beams} beams`);
+  } else if (type === "nav_msgs/msg/Odometry") {
+    const q = m.pose.pose.orientation;
+    if (Math.abs(Math.hypot(q.x, q.y, q.z, q.w) - 1) > 1e-6) fail(`${where}: orientation is not a unit quaternion`);
+  }
+  if (m.header && !(m.header.stamp.sec > 0)) fail(`${where}: no stamp`);
+}
+
+async function decodeRos2(path) {
+  const bytes = new Uint8Array(await readFile(path));
+  const stream = new McapStreamReader({ decompressHandlers, validateCrcs: true });
+  stream.append(bytes);
+  const schemas = new Map(), channels = new Map(), counts = {};
+  for (let r; (r = stream.nextRecord()); ) {
+    if (r.type === "Schema") schemas.set(r.id, r);
+    else if (r.type === "Channel") {
+      const schema = schemas.get(r.schemaId);
+      if (schema?.encoding !== "ros2msg") continue;
+      const ownText = new TextDecoder().decode(schema.data);
+      channels.set(r.id, { topic: r.topic, type: schema.name, standard: standardReader(schema.name),
+                           own: new MessageReader(parseMsg(ownText, { ros2: true })) });
+    } else if (r.type === "Message" && channels.has(r.channelId)) {
+      const c = channels.get(r.channelId);
+      const where = `${c.topic} message ${r.sequence}`;
+      const m = c.standard.readMessage(r.data);
+      const own = c.own.readMessage(r.data);
+      if (JSON.stringify(m) !== JSON.stringify(own)) fail(`${where}: the file's schema decodes it differently`);
+      sane(c.type, m, where);
+      counts[c.type] = (counts[c.type] ?? 0) + 1;
+    }
+  }
+  if (channels.size === 0) fail("no ros2msg channel");
+  console.log(JSON.stringify(counts));
+}
+
 async function writeReference(path) {
   const buffer = new TempBuffer();
   const writer = new McapWriter({ writable: buffer, chunkSize: 1024 });
@@ -90,8 +143,9 @@ const [mode, path, ...rest] = process.argv.slice(2);
 const topics = rest.flatMap((arg, i) => (rest[i - 1] === "--topic" ? [arg] : []));
 try {
   if (mode === "check") await check(path, topics);
+  else if (mode === "decode-ros2") await decodeRos2(path);
   else if (mode === "write-reference") await writeReference(path);
-  else fail("usage: mcap_check.mjs check FILE [--topic T]... | write-reference FILE");
+  else fail("usage: mcap_check.mjs check FILE [--topic T]... | decode-ros2 FILE | write-reference FILE");
 } catch (e) {
   fail(`${path}: ${e.message}`);
 }
