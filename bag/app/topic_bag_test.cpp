@@ -3,8 +3,8 @@
 // recorded under another type are refused with their names.
 #include "bag/app/topic_bag.h"
 
-#include "bag/app/ros2_schemas.h"
 #include <gtest/gtest.h>
+#include "bag/app/ros2_schemas.h"
 
 #include <chrono>
 #include <thread>
