@@ -7,6 +7,8 @@
 #include <cstring>
 #include <thread>
 
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+
 #include "dds/domain_lease.h"
 #include "dds/ros2_conversions.h"
 #include "dds/ros2_endpoints.h"
@@ -141,6 +143,53 @@ TEST(Ros2, ALaserScanCrossesTheDomainUnderSensorDataQos) {
   ASSERT_EQ(got.size(), 1u);
   EXPECT_EQ(got[0].ranges().size(), 360u);
   EXPECT_EQ(got[0].header().frame_id(), "laser");
+}
+
+// RViz2 as a ROS 2 user starts it: a participant with Fast DDS's defaults (ROS 2's default
+// discovery, builtin transports), nothing of Cairn's set-up. It must find a Cairn participant's
+// latched map on the same host and get the sample it published before the viewer started.
+TEST(Ros2, AParticipantWithRos2DefaultDiscoveryOnThisHostGetsCairnsLatchedMap) {
+  using namespace eprosima::fastdds::dds;
+  static const auto lease = DomainLease::claim({}, nullptr);
+  const int domain = lease ? lease->domain_id() : 0;
+  ParticipantOptions options;
+  options.domain_id = domain;
+  std::string error;
+  auto cairn = Participant::create(options, &error);
+  ASSERT_TRUE(cairn) << error;
+  Ros2Writer<nav_msgs::msg::dds_::OccupancyGrid_PubSubType> map(*cairn, ros2_dds_topic("", "map"), Ros2Qos::kLatched);
+  nav_msgs::msg::dds_::OccupancyGrid_ grid;
+  grid.info().width(3);
+  grid.info().height(2);
+  grid.data({0, 100, 255, 0, 0, 0});
+  ASSERT_TRUE(map.write(grid));  // before anyone listens: transient local keeps it
+
+  DomainParticipant* viewer =
+      DomainParticipantFactory::get_instance()->create_participant(domain, PARTICIPANT_QOS_DEFAULT);
+  ASSERT_NE(viewer, nullptr);
+  TypeSupport type(new nav_msgs::msg::dds_::OccupancyGrid_PubSubType());
+  type.register_type(viewer);
+  Topic* topic = viewer->create_topic("rt/map", type.get_type_name(), TOPIC_QOS_DEFAULT);
+  Subscriber* subscriber = viewer->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
+  DataReaderQos qos = DATAREADER_QOS_DEFAULT;  // what RViz2's map display asks for: reliable, transient local
+  qos.reliability().kind = RELIABLE_RELIABILITY_QOS;
+  qos.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+  DataReader* reader = subscriber->create_datareader(topic, qos);
+  ASSERT_NE(reader, nullptr);
+  nav_msgs::msg::dds_::OccupancyGrid_ got;
+  SampleInfo info;
+  bool received = false;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(15);
+  while (!received && std::chrono::steady_clock::now() < end) {
+    received =
+        reader->take_next_sample(&got, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK && info.valid_data;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  viewer->delete_contained_entities();
+  DomainParticipantFactory::get_instance()->delete_participant(viewer);
+  ASSERT_TRUE(received);
+  EXPECT_EQ(got.info().width(), 3u);
+  EXPECT_EQ(got.data().size(), 6u);
 }
 
 }  // namespace

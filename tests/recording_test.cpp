@@ -1,4 +1,4 @@
-// A mission recorded as MCAP (cairn_mission --record) and played back (cairn_replay) into a fresh
+// A mission recorded as MCAP (cairn_mission --ros2 --record) and played back (cairn_replay) into a fresh
 // base station on another domain: the base, fed only the recording, must merge the same robots and
 // place the same objects as it did live. The recording is then read by the reference MCAP reader
 // (tests/bag/mcap_check.mjs), which skips loudly without Node.
@@ -27,7 +27,7 @@ TEST(Recording, AMissionRecordedAsMcapReplaysIntoAFreshBaseWithTheSameRobotsAndO
   fs::create_directories(out);
   const fs::path bag = out / "mission.mcap";
   const CommandResult live = run_command(bin("cairn_mission") + " --world " + source_path(world) + " --out " +
-                                         (out / "live").string() + " --port 0 --timeout 400 --record " + bag.string());
+                                         (out / "live").string() + " --port 0 --timeout 400 --ros2 --record " + bag.string());
   ASSERT_EQ(live.exit_code, 0) << live.output;
 
   // Every Cairn topic is in the recording, sensor topics per robot.
@@ -105,6 +105,15 @@ TEST(Recording, AMissionRecordedAsMcapReplaysIntoAFreshBaseWithTheSameRobotsAndO
   const CommandResult check = run_command("node " + checker.string() + " check " + bag.string() +
                                           " --topic cairn/keyframe --topic cairn/robot0/laser_scan");
   EXPECT_EQ(check.exit_code, 0) << check.output;
+  // The base's ROS 2 topics, decoded by Foxglove's ROS 2 CDR reader with the standard Jazzy
+  // definitions: the map's grid, one box, label and ellipsoid per object after a DELETEALL, the frames.
+  const CommandResult ros2 = run_command("node " + checker.string() + " decode-ros2 " + bag.string());
+  ASSERT_EQ(ros2.exit_code, 0) << ros2.output;
+  EXPECT_NE(ros2.output.find("\"resolution\":0.05"), std::string::npos) << ros2.output;
+  EXPECT_NE(ros2.output.find("\"markers\":" + std::to_string(1 + 3 * a.objects.detected)), std::string::npos)
+      << ros2.output;
+  EXPECT_NE(ros2.output.find("\"map->robot1/odom\""), std::string::npos) << ros2.output;
+  EXPECT_NE(ros2.output.find("\"robot1/odom->robot1/base_link\""), std::string::npos) << ros2.output;
 }
 
 }  // namespace

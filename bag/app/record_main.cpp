@@ -44,6 +44,8 @@ int main(int argc, char** argv) {
   app.add_option("--duration", duration_s, "stop after this many seconds (0 = at Ctrl-C or SIGTERM)");
   app.add_option("--chunk-bytes", writer_options.chunk_bytes, "uncompressed chunk size in bytes")
       ->check(CLI::Range(1024, 1 << 28));
+  bool ros2 = false;
+  app.add_flag("--ros2", ros2, "also the ROS 2 topics a base publishes with --ros2 (map, tf, paths, objects)");
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
   cairn::set_log_level(log_level);
@@ -61,13 +63,18 @@ int main(int argc, char** argv) {
     return 3;
   }
   auto taps = cairn::bag::make_taps(*participant, robots, [&](const std::string& t) { return matches_any(t, topics); });
+  if (ros2) {
+    for (auto& tap : cairn::bag::make_ros2_taps(*participant, robots)) {
+      if (matches_any(tap->topic(), topics)) taps.push_back(std::move(tap));
+    }
+  }
   cairn::bag::McapWriter writer(file, writer_options);
   std::map<std::string, uint16_t> schema_of_type;
   std::vector<uint16_t> channel_of_tap;
   std::vector<uint32_t> sequence(taps.size(), 0);
   for (const auto& tap : taps) {
     auto [it, added] = schema_of_type.emplace(tap->type_name(), 0);
-    if (added) it->second = writer.add_schema(tap->type_name(), "omgidl", cairn::bag::cairn_idl_text());
+    if (added) it->second = writer.add_schema(tap->type_name(), tap->schema_encoding(), tap->schema_text());
     channel_of_tap.push_back(writer.add_channel(tap->topic(), it->second, "cdr"));
   }
   log->info("recording {} topics to {}", taps.size(), out_path);

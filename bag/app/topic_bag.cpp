@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <regex>
+#include "bag/app/ros2_schemas.h"
 
 #include "cairn_msgs_idl_text.h"  // generated from idl/cairn_msgs.idl (bag/CMakeLists.txt)
 #include "dds/cdr.h"
@@ -32,7 +33,7 @@ template <typename Topic>
 class Tap : public TopicTap {
  public:
   Tap(dds::Participant& participant, std::string name, [[maybe_unused]] RobotId robot)
-      : TopicTap(std::move(name), type_name_of<Topic>()) {
+      : TopicTap(std::move(name), type_name_of<Topic>(), "omgidl", cairn_idl_text()) {
     if constexpr (Topic::kPerRobot) {
       reader_ = std::make_unique<dds::Reader<Topic>>(participant, robot);
     } else {
@@ -121,6 +122,24 @@ std::unique_ptr<TopicPlayer> find_player(dds::TopicList<Topics...>, dds::Partici
   return out;
 }
 
+// A ROS 2 topic ("/map" of "nav_msgs/msg/OccupancyGrid") recorded under its ROS name. Arrival is
+// stamped when the poll takes it (every few milliseconds), not by Fast DDS.
+template <typename PubSub>
+class Ros2Tap : public TopicTap {
+ public:
+  Ros2Tap(dds::Participant& participant, const std::string& ros_topic, const std::string& ros_type, dds::Ros2Qos qos)
+      : TopicTap(ros_topic, ros_type, "ros2msg", ros2msg_schema(ros_type).value_or("")),
+        reader_(participant, dds::ros2_dds_topic("", ros_topic), qos, 100) {}
+  std::vector<TappedSample> take() override {
+    std::vector<TappedSample> out;
+    for (const auto& m : reader_.take_all()) out.push_back({dds::reception_clock_ns(), dds::to_cdr<PubSub>(m)});
+    return out;
+  }
+
+ private:
+  dds::Ros2Reader<PubSub> reader_;
+};
+
 // A ROS 2 channel ("/robot1/scan" of "sensor_msgs/msg/LaserScan") played onto its DDS topic
 // ("rt/robot1/scan"). ROS 2 messages name no robot: --robots does not filter them.
 template <typename PubSub>
@@ -153,6 +172,17 @@ std::unique_ptr<TopicPlayer> make_ros2_player(dds::Participant& p, const std::st
     return std::make_unique<Ros2Player<sensor_msgs::msg::dds_::CameraInfo_PubSubType>>(p, topic, Ros2Qos::kSensorData);
   if (type_name == "geometry_msgs/msg/Twist")
     return std::make_unique<Ros2Player<geometry_msgs::msg::dds_::Twist_PubSubType>>(p, topic, Ros2Qos::kDefault);
+  if (type_name == "nav_msgs/msg/OccupancyGrid")
+    return std::make_unique<Ros2Player<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>>(p, topic, Ros2Qos::kLatched);
+  if (type_name == "tf2_msgs/msg/TFMessage")
+    return std::make_unique<Ros2Player<tf2_msgs::msg::dds_::TFMessage_PubSubType>>(p, topic, Ros2Qos::kDefault);
+  if (type_name == "nav_msgs/msg/Path")
+    return std::make_unique<Ros2Player<nav_msgs::msg::dds_::Path_PubSubType>>(p, topic, Ros2Qos::kLatched);
+  if (type_name == "visualization_msgs/msg/MarkerArray")
+    return std::make_unique<Ros2Player<visualization_msgs::msg::dds_::MarkerArray_PubSubType>>(p, topic,
+                                                                                               Ros2Qos::kLatched);
+  if (type_name == "sensor_msgs/msg/PointCloud2")
+    return std::make_unique<Ros2Player<sensor_msgs::msg::dds_::PointCloud2_PubSubType>>(p, topic, Ros2Qos::kLatched);
   return nullptr;
 }
 
@@ -174,6 +204,24 @@ std::vector<std::unique_ptr<TopicTap>> make_taps(dds::Participant& participant, 
                                                  const std::function<bool(const std::string&)>& wanted) {
   std::vector<std::unique_ptr<TopicTap>> out;
   add_taps(dds::AllTopics{}, participant, robot_count, wanted, &out);
+  return out;
+}
+
+std::vector<std::unique_ptr<TopicTap>> make_ros2_taps(dds::Participant& p, int robot_count) {
+  using dds::Ros2Qos;
+  std::vector<std::unique_ptr<TopicTap>> out;
+  out.push_back(std::make_unique<Ros2Tap<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>>(
+      p, "/map", "nav_msgs/msg/OccupancyGrid", Ros2Qos::kLatched));
+  out.push_back(std::make_unique<Ros2Tap<tf2_msgs::msg::dds_::TFMessage_PubSubType>>(p, "/tf", "tf2_msgs/msg/TFMessage",
+                                                                                     Ros2Qos::kDefault));
+  out.push_back(std::make_unique<Ros2Tap<visualization_msgs::msg::dds_::MarkerArray_PubSubType>>(
+      p, "/cairn/objects", "visualization_msgs/msg/MarkerArray", Ros2Qos::kLatched));
+  out.push_back(std::make_unique<Ros2Tap<sensor_msgs::msg::dds_::PointCloud2_PubSubType>>(
+      p, "/cairn/object_clouds", "sensor_msgs/msg/PointCloud2", Ros2Qos::kLatched));
+  for (int r = 0; r < robot_count; ++r) {
+    out.push_back(std::make_unique<Ros2Tap<nav_msgs::msg::dds_::Path_PubSubType>>(
+        p, "/robot" + std::to_string(r) + "/path", "nav_msgs/msg/Path", Ros2Qos::kLatched));
+  }
   return out;
 }
 

@@ -29,19 +29,29 @@ class TopicTap {
   virtual ~TopicTap() = default;
   const std::string& topic() const { return topic_; }
   const std::string& type_name() const { return type_name_; }
+  const std::string& schema_encoding() const { return schema_encoding_; }  ///< "omgidl" or "ros2msg"
+  const std::string& schema_text() const { return schema_text_; }
   /// Every sample that arrived since the last call.
   virtual std::vector<TappedSample> take() = 0;
 
  protected:
-  TopicTap(std::string topic, std::string type_name) : topic_(std::move(topic)), type_name_(std::move(type_name)) {}
+  TopicTap(std::string topic, std::string type_name, std::string schema_encoding, std::string schema_text)
+      : topic_(std::move(topic)),
+        type_name_(std::move(type_name)),
+        schema_encoding_(std::move(schema_encoding)),
+        schema_text_(std::move(schema_text)) {}
 
  private:
-  std::string topic_, type_name_;
+  std::string topic_, type_name_, schema_encoding_, schema_text_;
 };
 
 /// A tap on every Cairn topic whose name `wanted` accepts; per-robot topics for robots 0..robot_count-1.
 std::vector<std::unique_ptr<TopicTap>> make_taps(dds::Participant& participant, int robot_count,
                                                  const std::function<bool(const std::string&)>& wanted);
+
+/// Taps on the ROS 2 topics the base publishes with --ros2 (base_station/app/ros2_output.h), under
+/// their ROS names ("/map", "/tf", "/cairn/objects", "/cairn/object_clouds", "/robotN/path").
+std::vector<std::unique_ptr<TopicTap>> make_ros2_taps(dds::Participant& participant, int robot_count);
 
 enum class PlayResult { kWritten, kFilteredOut, kUndecodable, kWriteFailed };
 

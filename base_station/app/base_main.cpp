@@ -86,6 +86,9 @@ int main(int argc, char** argv) {
                  "how robots get frontiers: coordinated (no two on one area), nearest (each its own nearest) or "
                  "saliency (coordinated, frontiers near salient spots the cameras saw first)")
       ->check(CLI::IsMember({"coordinated", "nearest", "saliency"}));
+  app.add_flag("--ros2", options.ros2,
+               "publish the mission as ROS 2 topics for RViz2/Foxglove: map, tf, robotN/path, cairn/objects "
+               "(MarkerArray), cairn/object_clouds (PointCloud2); docs/ros2.md");
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
   options.use_shared_memory = !no_shm;

@@ -52,6 +52,13 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   n->status_in_ = std::make_unique<dds::Reader<dds::StatusTopic>>(p);
   n->keyframe_poses_in_ = std::make_unique<dds::Reader<dds::KeyframePosesTopic>>(p);
   n->ack_out_ = std::make_unique<dds::Writer<dds::AckTopic>>(p);
+  if (options.ros2) {
+    n->ros2_out_ = std::make_unique<Ros2Output>(p);
+    if (!n->ros2_out_->ok()) {
+      *error = "cannot create the ROS 2 output writers";
+      return nullptr;
+    }
+  }
   n->correction_out_ = std::make_unique<dds::Writer<dds::CorrectionTopic>>(p);
   n->goal_out_ = std::make_unique<dds::Writer<dds::GoalTopic>>(p);
   n->command_out_ = std::make_unique<dds::Writer<dds::OperatorCommandTopic>>(p);
@@ -180,6 +187,7 @@ int BaseNode::run() {
       }
       refresh_snapshot();
       record_coverage(mapper_.merged());
+      publish_ros2();
       next_optimize = Clock::now() + period;
     }
     if (all_finished()) break;
@@ -194,6 +202,7 @@ int BaseNode::finish() {
   for (int i = 0; i < 50 && mapper_.refinement_pending(); ++i) r = mapper_.optimize();
   plan_and_publish_goals(/*send=*/false);  // where to search next, on the final map (the robots are done)
   refresh_snapshot();
+  publish_ros2();
   const MergedMap merged = judged_map();
   const ExportSummary exported = export_all(merged, options_.out_dir, {}, &plan_);
   for (const auto& f : exported.files) {

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base_station/app/ros2_output.h"
 #include "base_station/console/alert_log.h"
 #include "base_station/console/console_server.h"
 #include "base_station/console/snapshot.h"
@@ -56,6 +57,7 @@ struct BaseNodeOptions {
   std::string journal_path;         ///< default <out_dir>/journal.sqlite
   std::string operator_token;       ///< the console's commands need it; empty = commands off
   bool new_mission = false;         ///< move an existing journal aside instead of resuming it
+  bool ros2 = false;                ///< the map, frames, paths and objects as ROS 2 topics (Ros2Output)
 };
 
 class BaseNode {
@@ -155,6 +157,8 @@ class BaseNode {
   std::unique_ptr<dds::Reader<dds::StatusTopic>> status_in_;
   std::unique_ptr<dds::Reader<dds::KeyframePosesTopic>> keyframe_poses_in_;
   std::unique_ptr<dds::Writer<dds::AckTopic>> ack_out_;
+  std::unique_ptr<Ros2Output> ros2_out_;  ///< with --ros2
+  void publish_ros2();
   std::unique_ptr<dds::Writer<dds::CorrectionTopic>> correction_out_;
   std::unique_ptr<dds::Writer<dds::GoalTopic>> goal_out_;
   std::unique_ptr<dds::Writer<dds::OperatorCommandTopic>> command_out_;

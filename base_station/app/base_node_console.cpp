@@ -76,3 +76,21 @@ void BaseNode::refresh_snapshot(bool full) {
 }
 
 }  // namespace cairn::base
+
+namespace cairn::base {
+
+void BaseNode::publish_ros2() {
+  if (!ros2_out_) return;
+  std::map<RobotId, SE2> poses;  // each robot's newest reported pose, in its own frame
+  for (const auto& [robot, link] : links_) {
+    if (!link.has_status) continue;
+    const auto& p = link.last_status.pose();
+    if (std::isfinite(p.x_m()) && std::isfinite(p.y_m()) && std::isfinite(p.yaw_rad())) {
+      poses[robot] = SE2(p.x_m(), p.y_m(), p.yaw_rad());
+    }
+  }
+  // Stamped with the wall clock, as ROS tools expect of live data (the paths keep mission stamps).
+  ros2_out_->publish(judged_map(), poses, dds::reception_clock_ns());
+}
+
+}  // namespace cairn::base

@@ -86,7 +86,22 @@ function standardReader(type) {
   return new MessageReader([root, ...Object.values(ros2jazzy).filter((d) => d !== root)]);
 }
 
+const seen = { map: undefined, markers: undefined, tf: new Set(), paths: {} };
+
 function sane(type, m, where) {
+  if (type === "nav_msgs/msg/OccupancyGrid") {
+    if (m.data.length !== m.info.width * m.info.height) fail(`${where}: ${m.data.length} cells for ${m.info.width}x${m.info.height}`);
+    if (!(m.info.resolution > 0)) fail(`${where}: resolution ${m.info.resolution}`);
+    seen.map = { width: m.info.width, height: m.info.height, resolution: Math.round(m.info.resolution * 1e6) / 1e6,
+                 known: m.data.filter((v) => v !== -1).length };
+  } else if (type === "visualization_msgs/msg/MarkerArray") {
+    if (m.markers[0]?.action !== 3) fail(`${where}: does not start with DELETEALL`);
+    seen.markers = m.markers.length;
+  } else if (type === "tf2_msgs/msg/TFMessage") {
+    for (const t of m.transforms) seen.tf.add(`${t.header.frame_id}->${t.child_frame_id}`);
+  } else if (type === "nav_msgs/msg/Path") {
+    seen.paths[where.split(" ")[0]] = m.poses.length;
+  }
   if (type === "sensor_msgs/msg/LaserScan") {
     const beams = Math.round((m.angle_max - m.angle_min) / m.angle_increment) + 1;
     if (beams !== m.ranges.length) fail(`${where}: ${m.ranges.length} ranges for ${beams} beams`);
@@ -121,7 +136,7 @@ async function decodeRos2(path) {
     }
   }
   if (channels.size === 0) fail("no ros2msg channel");
-  console.log(JSON.stringify(counts));
+  console.log(JSON.stringify({ counts, map: seen.map, markers: seen.markers, tf: [...seen.tf].sort(), paths: seen.paths }));
 }
 
 async function writeReference(path) {

@@ -48,6 +48,7 @@ struct Options {
   std::string entry_hints;
   std::string operator_token;  ///< the console's commands need it (default: a fresh one)
   std::string record;          ///< an MCAP file to record the mission's DDS topics to
+  bool ros2 = false;           ///< the base publishes the mission as ROS 2 topics (RViz2, Foxglove)
 };
 
 std::string fmt_pose(int id, const cairn::SE2& p) {
@@ -85,6 +86,9 @@ int main(int argc, char** argv) {
   app.add_option("--link-kbit", opt.link.rate_kbit, "emulated radio: rate limit each way in kbit/s (needs root)");
   app.add_option("--record", opt.record,
                  "record every DDS topic to this MCAP file (ROS 2 bag storage; cairn_replay plays it back)");
+  app.add_flag("--ros2", opt.ros2,
+               "the base publishes the map, frames, paths and objects as ROS 2 topics (RViz2, Foxglove; docs/ros2.md); "
+               "with --record they are recorded too");
   CLI11_PARSE(app, argc, argv);
 
   cairn::sim::WorldFile wf;
@@ -197,6 +201,7 @@ int main(int argc, char** argv) {
   if (opt.operator_token.empty()) opt.operator_token = cairn::random_hex_token();
   if (!opt.operator_token.empty()) base_cmd.insert(base_cmd.end(), {"--operator-token", opt.operator_token});
   if (opt.serve) base_cmd.push_back("--serve");
+  if (opt.ros2) base_cmd.push_back("--ros2");
   if (lab) base_cmd.insert(base_cmd.end(), {"--no-shm", "--bind", "0.0.0.0", "--peer", lab->robots_side_address()});
   base_cmd = secured(base_cmd, "base");
 
@@ -217,6 +222,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> cmd = lab ? lab->prefix() : std::vector<std::string>{};
     cmd.insert(cmd.end(), {(bin / "cairn_record").string(), "--domain", std::to_string(opt.domain), "--robots",
                            std::to_string(robots), "--out", opt.record});
+    if (opt.ros2) cmd.push_back("--ros2");
     if (lab)
       cmd.insert(cmd.end(), {"--peer", lab->robots_side_address(), "--topics", "cairn/mission_clock", "cairn/keyframe",
                              "cairn/object", "cairn/status", "cairn/ack", "cairn/correction", "cairn/goal",
