@@ -26,8 +26,9 @@ TEST(Recording, AMissionRecordedAsMcapReplaysIntoAFreshBaseWithTheSameRobotsAndO
   fs::remove_all(out);
   fs::create_directories(out);
   const fs::path bag = out / "mission.mcap";
-  const CommandResult live = run_command(bin("cairn_mission") + " --world " + source_path(world) + " --out " +
-                                         (out / "live").string() + " --port 0 --timeout 400 --ros2 --record " + bag.string());
+  const CommandResult live =
+      run_command(bin("cairn_mission") + " --world " + source_path(world) + " --out " + (out / "live").string() +
+                  " --port 0 --timeout 400 --ros2 --record " + bag.string());
   ASSERT_EQ(live.exit_code, 0) << live.output;
 
   // Every Cairn topic is in the recording, sensor topics per robot.
