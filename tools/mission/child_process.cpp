@@ -41,6 +41,8 @@ bool ChildProcess::poll() {
   if (r != pid_) return false;
   exited_ = true;
   peak_rss_kb_ = usage.ru_maxrss;
+  cpu_s_ = double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+           1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
   exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return true;
 }

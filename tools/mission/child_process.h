@@ -1,5 +1,5 @@
 #pragma once
-// A child process with its output in a log file; reaped with its peak memory (ru_maxrss).
+// A child process with its output in a log file; reaped with its peak memory (ru_maxrss) and CPU time.
 #include <sys/types.h>
 
 #include <string>
@@ -24,6 +24,7 @@ class ChildProcess {
   const std::string& log_path() const { return log_path_; }
   int exit_code() const { return exit_code_; }  ///< 128+signal when killed by a signal
   long peak_rss_kb() const { return peak_rss_kb_; }
+  double cpu_s() const { return cpu_s_; }  ///< user + system CPU seconds, once exited
   bool exited() const { return exited_; }
 
  private:
@@ -33,6 +34,7 @@ class ChildProcess {
   bool exited_ = false;
   int exit_code_ = -1;
   long peak_rss_kb_ = 0;
+  double cpu_s_ = 0.0;
 };
 
 }  // namespace cairn::mission

@@ -186,6 +186,15 @@ int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr
     s << " " << p->name() << " " << p->peak_rss_kb() / 1024 << " MiB";
     memory[p->name()] = p->peak_rss_kb();
   }
+  s << "\ncpu time:";
+  json cpu = json::object();
+  for (const auto& p : procs) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, " %.1f s", p->cpu_s());
+    s << " " << p->name() << buf;
+    cpu[p->name()] = p->cpu_s();
+  }
+  results["cpu_s"] = cpu;
   s << "\nresults: " << fs::absolute(out).string() << " (map.png, map.pgm/.yaml, objects.geojson, *.ply, "
     << "objects.bt, graph.g2o in map/; logs in logs/)\n";
   results["peak_rss_kb"] = memory;
