@@ -195,7 +195,11 @@ struct NavStatus {
   double distance_m = 0;          ///< driven so far
   CommandReport command;          ///< the operator's newest command, as the robot sees it
   uint32_t keep_out_version = 0;  ///< the operator's keep-out areas it holds (KeepOutMessage::version)
+  /// The path it is driving, ahead of it, in its own frame (at most kMaxStatusPathPoints).
+  std::vector<Eigen::Vector2d> path_m;
 };
+/// Points of the planned path a status carries (RobotStatus.path_x_m: a bounded sequence).
+constexpr size_t kMaxStatusPathPoints = 32;
 
 /// Wire value -> enum; nullopt for a value no version of Cairn sends.
 inline std::optional<GoalKind> goal_kind_from(uint8_t v) {

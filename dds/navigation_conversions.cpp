@@ -109,6 +109,13 @@ void set_nav_status(const NavStatus& nav, cairn_msgs::RobotStatus* m) {
   m->command_state(uint8_t(nav.command.state));
   m->command_note(eprosima::fastrtps::fixed_string<160>(nav.command.note.substr(0, 160)));
   m->keep_out_version(nav.keep_out_version);
+  std::vector<float> xs, ys;
+  for (size_t i = 0; i < nav.path_m.size() && i < kMaxStatusPathPoints; ++i) {
+    xs.push_back(float(nav.path_m[i].x()));
+    ys.push_back(float(nav.path_m[i].y()));
+  }
+  m->path_x_m(xs);
+  m->path_y_m(ys);
 }
 
 std::optional<NavStatus> nav_status_from(const cairn_msgs::RobotStatus& m, std::string* error) {
@@ -131,6 +138,16 @@ std::optional<NavStatus> nav_status_from(const cairn_msgs::RobotStatus& m, std::
   n.distance_m = m.distance_m();
   n.command = {m.command_seq(), *command_state, m.command_note().to_string()};
   n.keep_out_version = m.keep_out_version();
+  if (m.path_x_m().size() != m.path_y_m().size() || m.path_x_m().size() > kMaxStatusPathPoints) {
+    return fail(error, "status: path of " + std::to_string(m.path_x_m().size()) + " x and " +
+                           std::to_string(m.path_y_m().size()) + " y coordinates");
+  }
+  for (size_t i = 0; i < m.path_x_m().size(); ++i) {
+    if (!std::isfinite(m.path_x_m()[i]) || !std::isfinite(m.path_y_m()[i])) {
+      return fail(error, "status: path point " + std::to_string(i) + " is not finite");
+    }
+    n.path_m.emplace_back(m.path_x_m()[i], m.path_y_m()[i]);
+  }
   return n;
 }
 

@@ -84,6 +84,25 @@ TEST(NavigationConversions, StatusNavigationPartRoundTrips) {
   EXPECT_FALSE(nav_status_from(m, &error));
 }
 
+TEST(NavigationConversions, TheStatusCarriesThePathAheadAndRefusesABrokenOne) {
+  NavStatus n;
+  for (int i = 0; i < 40; ++i) n.path_m.emplace_back(0.5 * i, -0.25 * i);  // more than a status carries
+  cairn_msgs::RobotStatus m;
+  set_nav_status(n, &m);
+  std::string error;
+  auto back = nav_status_from(m, &error);
+  ASSERT_TRUE(back) << error;
+  ASSERT_EQ(back->path_m.size(), kMaxStatusPathPoints);
+  EXPECT_TRUE(back->path_m[3].isApprox(Eigen::Vector2d(1.5, -0.75)));
+  m.path_y_m().pop_back();
+  EXPECT_FALSE(nav_status_from(m, &error));
+  EXPECT_EQ(error, "status: path of 32 x and 31 y coordinates");
+  set_nav_status(n, &m);
+  m.path_x_m()[5] = std::nanf("");
+  EXPECT_FALSE(nav_status_from(m, &error));
+  EXPECT_EQ(error, "status: path point 5 is not finite");
+}
+
 TEST(NavigationConversions, OperatorCommandRoundTripsAndBadOnesAreNamed) {
   const OperatorCommand c{RobotId(2), 5, CommandKind::kGoTo, {1.5, -3}};
   std::string error;

@@ -127,6 +127,9 @@ void BaseNode::add_navigation_json(RobotId robot, nlohmann::json* link) const {
   (*link)["goal_kind"] = to_string(n.goal_kind);
   (*link)["distance_m"] = n.distance_m;
   (*link)["pose_local"] = {n.pose.x(), n.pose.y(), n.pose.yaw()};
+  nlohmann::json path = nlohmann::json::array();  // the path it is driving, ahead of it, own frame
+  for (const Eigen::Vector2d& p : n.path_m) path.push_back({p.x(), p.y()});
+  (*link)["path_local"] = path;
   // The keep-out areas the robot's own planner obeys: the version it holds, and the newest sent.
   (*link)["keep_out_held"] = n.keep_out_version;
   (*link)["keep_out_sent"] = keep_out_relay_.sent_version(robot);

@@ -55,6 +55,13 @@ nlohmann::json robot_json(const MergedMap& merged, const RobotSummary& r, const 
       link_stats.is_object() && link_stats.contains(key) ? link_stats[key] : nlohmann::json::object();
   nlohmann::json pose_m;  // its newest reported pose on the map (placed robots only): [x, y, yaw]
   if (const std::optional<SE2> p = pose_on_map(r, link)) pose_m = {p->x(), p->y(), p->yaw()};
+  nlohmann::json path_m = nlohmann::json::array();  // the path it is driving, on the map (placed robots)
+  if (r.linked && link.contains("path_local") && link["path_local"].is_array()) {
+    for (const auto& p : link["path_local"]) {
+      const Eigen::Vector2d g = r.T_global_local * Eigen::Vector2d(p[0].get<double>(), p[1].get<double>());
+      path_m.push_back({g.x(), g.y()});
+    }
+  }
   return {{"id", r.id.value},
           {"linked", r.linked},
           {"keyframes", r.keyframes},
@@ -70,6 +77,7 @@ nlohmann::json robot_json(const MergedMap& merged, const RobotSummary& r, const 
            {{"x_m", r.T_global_local.x()}, {"y_m", r.T_global_local.y()}, {"yaw_rad", r.T_global_local.yaw()}}},
           {"trajectory", trajectory},
           {"pose_m", pose_m},
+          {"path_m", path_m},
           {"link", link}};
 }
 

@@ -160,6 +160,7 @@ NavStatus AgentNode::nav_status() const {
   n.distance_m = distance_m_;
   n.command = operator_.report();
   n.keep_out_version = keep_out_version_;
+  n.path_m = navigator_.path_ahead(kMaxStatusPathPoints);
   return n;
 }
 

@@ -3,8 +3,9 @@
 //   - watching without the operator token: the map and the robot are shown, commands are refused
 //     in the page and nothing is sent;
 //   - with the token: click the robot's marker, then a point on the map; the simulated robot drives
-//     there and the command shows as done; an alert is acknowledged and a victim confirmed by a
-//     click, and both are in summary.json; "All home" ends the mission;
+//     there (the path it plans drawn while it drives) and the command shows as done; an alert is
+//     acknowledged and a victim confirmed by a click, and both are in summary.json; "All home" ends
+//     the mission;
 //   - at 400 px wide the page has no horizontal scroll;
 //   - the printable mission report shows the map and the commands.
 // Exit 0 passed, 1 failed, 77 skipped (no chromium or no node_modules: said loudly).
@@ -121,6 +122,10 @@ try {
   const sent = await waitFor("the goto in the base's command list", 5000, async () => (await getJson("/api/commands"))[0]);
   check(sent && sent.kind === "goto" && Math.hypot(sent.x_m - TARGET.x, sent.y_m - TARGET.y) < 0.3,
     `the click named the point (${sent && sent.x_m.toFixed(2)}, ${sent && sent.y_m.toFixed(2)}) m`);
+  // While it drives, the path its own planner chose is drawn from where it is (from its status).
+  const drawn = await page.waitForSelector("path.planned-path", { timeout: 15000 }).then(() => true, () => false);
+  const reported = (await getJson("/api/robots")).find((x) => x.id === 0);
+  check(drawn, `the path robot 0 drives is drawn on the map (${reported && reported.path_m ? reported.path_m.length : 0} points reported now)`);
   await waitFor("the command shown as done", 60000, async () =>
     (await page.textContent("#commands")).includes("done"));
   const robot = await waitFor("robot 0 at the point", 10000, async () => {

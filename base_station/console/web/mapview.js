@@ -105,6 +105,7 @@ const MapView = (() => {
       "Frontiers": group("frontiers", true),
       "Trajectories": group("trajectories", true),
       "Goals": group("goals", true),
+      "Planned paths": group("paths", true),
       "Could not reach": group("unreachable", true),
       "Objects": group("objects", true),
       "Robots": group("robots", true),
@@ -191,9 +192,17 @@ const MapView = (() => {
     }
   }
 
-  // Each robot's next goal (the plan's, dashed) and the point the operator sent it to (ringed).
+  // Each robot's next goal (the plan's, dashed) and the point the operator sent it to (ringed);
+  // the path its own planner drives there (solid, from where it is: what it reported last).
   function drawGoals(robots, exploration, commands) {
     layers.goals.clearLayers();
+    layers.paths.clearLayers();
+    for (const r of robots) {
+      if (!r.pose_m || !r.path_m || r.path_m.length < 2) continue;
+      const points = [ll(r.pose_m[0], r.pose_m[1]), ...r.path_m.slice(1).map(([x, y]) => ll(x, y))];
+      L.polyline(points, { color: robotColour(r.id), weight: 3, opacity: 0.75, interactive: false, className: "planned-path" })
+        .addTo(layers.paths);
+    }
     const pose = new Map(robots.filter((r) => r.pose_m).map((r) => [r.id, r.pose_m]));
     for (const g of (exploration && exploration.goals) || []) {
       const from = pose.get(g.robot);

@@ -86,6 +86,10 @@ class Navigator {
   const std::optional<NavGoal>& goal() const { return goal_; }
   /// The path being followed (local frame, the robot's position when planned first); for display.
   const std::vector<Eigen::Vector2d>& path() const { return follower_.path(); }
+  /// The path still to drive, at most `max_points` (PathFollower::path_ahead); empty without a goal.
+  std::vector<Eigen::Vector2d> path_ahead(size_t max_points) const {
+    return goal() ? follower_.path_ahead(max_points) : std::vector<Eigen::Vector2d>{};
+  }
   /// Why the state last changed.
   const std::string& reason() const { return tracker_.reason(); }
   const NavTransition& last_transition() const { return tracker_.last_transition(); }

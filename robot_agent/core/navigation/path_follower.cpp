@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/check.h"
+
 namespace cairn::agent {
 namespace {
 
@@ -76,6 +78,19 @@ double PathFollower::turn_rate(double heading_error_rad) const {
 void PathFollower::set_path(std::vector<Eigen::Vector2d> path_m) {
   path_ = std::move(path_m);
   progress_ = 0;
+}
+
+std::vector<Eigen::Vector2d> PathFollower::path_ahead(size_t max_points) const {
+  CAIRN_CHECK(max_points >= 2, "a path needs its start and its end");
+  if (path_.size() < 2 || progress_ + 1 >= path_.size()) return {};
+  const size_t first = progress_, n = path_.size() - first;
+  std::vector<Eigen::Vector2d> out;
+  for (size_t k = 0; k < std::min(n, max_points); ++k) {
+    // Evenly spaced indices from `first` to the last point, both kept.
+    const size_t i = n <= max_points ? first + k : first + (k * (n - 1)) / (max_points - 1);
+    out.push_back(path_[i]);
+  }
+  return out;
 }
 
 Eigen::Vector2d PathFollower::project(const Eigen::Vector2d& p) {

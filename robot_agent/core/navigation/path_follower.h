@@ -74,6 +74,9 @@ class PathFollower {
     escape_.reset();
   }
   const std::vector<Eigen::Vector2d>& path() const { return path_; }
+  /// What is left of the path (from the segment the robot is on to the end), thinned evenly to at
+  /// most `max_points` (>= 2) with its end kept: what the robot reports of its plan.
+  std::vector<Eigen::Vector2d> path_ahead(size_t max_points) const;
   /// The command for the robot at `T_local_base` seeing `scan` (zero without a path).
   FollowerOutput update(const SE2& T_local_base, const LaserScan& scan);
   const PathFollowerOptions& options() const { return options_; }

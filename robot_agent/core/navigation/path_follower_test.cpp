@@ -178,3 +178,29 @@ TEST(PathFollower, PressedAgainstRubbleItStepsAwayToTheMiddleAfterBeingBlocked) 
 
 }  // namespace
 }  // namespace cairn::agent
+
+namespace cairn::agent {
+namespace {
+
+TEST(PathFollower, ThePathAheadStartsWhereTheRobotIsAndKeepsTheEnd) {
+  PathFollower f;
+  std::vector<Eigen::Vector2d> path;
+  for (int i = 0; i <= 100; ++i) path.emplace_back(0.1 * i, 0.0);  // 10 m in 101 points
+  f.set_path(path);
+  auto ahead = f.path_ahead(32);
+  ASSERT_EQ(ahead.size(), 32u);
+  EXPECT_TRUE(ahead.front().isApprox(path.front()));
+  EXPECT_TRUE(ahead.back().isApprox(path.back()));
+  for (size_t i = 1; i < ahead.size(); ++i) EXPECT_GT(ahead[i].x(), ahead[i - 1].x());  // in order, no repeats
+  for (double x : {2.0, 4.0, 6.05}) f.update(SE2(x, 0, 0), kClear);  // 6 m along: behind it is not reported
+  ahead = f.path_ahead(32);
+  ASSERT_FALSE(ahead.empty());
+  EXPECT_NEAR(ahead.front().x(), 6.0, 1e-9);
+  EXPECT_TRUE(ahead.back().isApprox(path.back()));
+  EXPECT_EQ(f.path_ahead(100).size(), 41u);  // fewer points than asked: every one
+  f.clear();
+  EXPECT_TRUE(f.path_ahead(32).empty());
+}
+
+}  // namespace
+}  // namespace cairn::agent
