@@ -61,12 +61,16 @@ TEST(Ros2Bag, TheCsailLogAsARos2BagGivesTheKeyframesOfTheLogItself) {
   const CommandResult a = run_command("(" + base("log") + " & timeout 300 " + bin("cairn_agent") +
                                       " --robot 0 --domain " + domain + " --log " + kMitLog + "; s=$?; wait; exit $s)");
   ASSERT_EQ(a.exit_code, 0) << a.output;
-  // The bag on ROS 2 topics (rt/robot0/scan, rt/robot0/odom), at twenty times real time.
-  const CommandResult b =
-      run_command("(" + base("ros2") + " & timeout 300 " + bin("cairn_agent") + " --robot 0 --domain " + domain +
-                  " --ros2 --ros2-namespace robot0 --ros2-idle-end 3 --no-navigation > " +
-                  (dir / "agent.log").string() + " 2>&1 & timeout 300 " + bin("cairn_replay") + " " + bag.string() +
-                  " --domain " + domain + " --speed 20 --wait 10; s=$?; wait; exit $s)");
+  // The bag on ROS 2 topics (rt/robot0/scan, rt/robot0/odom), at twenty times real time, with
+  // cairn_record --ros2 taking the ROS 2 topics down as they go by.
+  const fs::path rerecorded = dir / "rerecorded.mcap";
+  const CommandResult b = run_command(
+      "(" + base("ros2") + " & timeout 300 " + bin("cairn_agent") + " --robot 0 --domain " + domain +
+      " --ros2 --ros2-namespace robot0 --ros2-idle-end 3 --no-navigation > " + (dir / "agent.log").string() +
+      " 2>&1 & timeout 300 " + bin("cairn_record") + " --domain " + domain +
+      " --robots 1 --ros2 --topics /robot0/ --out " + rerecorded.string() + " > " + (dir / "record.log").string() +
+      " 2>&1 & rec=$!; timeout 300 " + bin("cairn_replay") + " " + bag.string() + " --domain " + domain +
+      " --speed 20 --wait 10 --subscribers 2; s=$?; kill -INT $rec; wait; exit $s)");
   ASSERT_EQ(b.exit_code, 0) << b.output << run_command("cat " + (dir / "agent.log").string()).output;
 
   const auto from_log = journaled_keyframes(dir / "log" / "journal.sqlite");
@@ -100,6 +104,11 @@ TEST(Ros2Bag, TheCsailLogAsARos2BagGivesTheKeyframesOfTheLogItself) {
   const CommandResult decode = run_command("node " + checker.string() + " decode-ros2 " + bag.string());
   EXPECT_EQ(decode.exit_code, 0) << decode.output;
   EXPECT_NE(decode.output.find("\"sensor_msgs/msg/LaserScan\":1988"), std::string::npos) << decode.output;
+  // And what cairn_record took off the wire: every scan and odometry message, decodable as sent.
+  const CommandResult again = run_command("node " + checker.string() + " decode-ros2 " + rerecorded.string());
+  EXPECT_EQ(again.exit_code, 0) << again.output << run_command("cat " + (dir / "record.log").string()).output;
+  EXPECT_NE(again.output.find("\"sensor_msgs/msg/LaserScan\":1988"), std::string::npos) << again.output;
+  EXPECT_NE(again.output.find("\"nav_msgs/msg/Odometry\":1988"), std::string::npos) << again.output;
 }
 
 }  // namespace

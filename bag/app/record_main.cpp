@@ -45,7 +45,9 @@ int main(int argc, char** argv) {
   app.add_option("--chunk-bytes", writer_options.chunk_bytes, "uncompressed chunk size in bytes")
       ->check(CLI::Range(1024, 1 << 28));
   bool ros2 = false;
-  app.add_flag("--ros2", ros2, "also the ROS 2 topics a base publishes with --ros2 (map, tf, paths, objects)");
+  app.add_flag("--ros2", ros2,
+               "also the ROS 2 topics: a base's with --ros2 (map, tf, paths, objects) and each ROS 2 robot's under "
+               "namespace robotN (scan, odom, cmd_vel)");
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
   cairn::set_log_level(log_level);

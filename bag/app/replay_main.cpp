@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   po.name = "cairn_replay";
   std::string path, log_level = "info";
   double speed = 1.0, wait_s = 3.0;
+  int subscribers = 1;
   std::vector<std::string> topics;
   std::vector<int> robots;
   app.add_option("file", path, "the MCAP recording")->required();
@@ -44,6 +45,9 @@ int main(int argc, char** argv) {
   app.add_option("--peer", po.initial_peers, "IPv4 address of a DDS peer; repeatable");
   app.add_option("--security", po.security_dir, "DDS Security folder (ca.pem, cert.pem, key.pem)");
   app.add_option("--wait", wait_s, "seconds to wait for subscribers before playing");
+  app.add_option("--subscribers", subscribers,
+                 "subscribers each played topic must have before playing starts (2: a consumer and a recorder)")
+      ->check(CLI::Range(1, 16));
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
   cairn::set_log_level(log_level);
@@ -92,8 +96,8 @@ int main(int argc, char** argv) {
   }
   file.clear();
   const auto wait_until = Clock::now() + std::chrono::duration<double>(wait_s);
-  while (Clock::now() < wait_until && std::any_of(channels.begin(), channels.end(), [](const auto& c) {
-           return c.second.player && c.second.player->matched_readers() == 0;
+  while (Clock::now() < wait_until && std::any_of(channels.begin(), channels.end(), [&](const auto& c) {
+           return c.second.player && c.second.player->matched_readers() < subscribers;
          })) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }

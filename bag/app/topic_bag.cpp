@@ -219,8 +219,15 @@ std::vector<std::unique_ptr<TopicTap>> make_ros2_taps(dds::Participant& p, int r
   out.push_back(std::make_unique<Ros2Tap<sensor_msgs::msg::dds_::PointCloud2_PubSubType>>(
       p, "/cairn/object_clouds", "sensor_msgs/msg/PointCloud2", Ros2Qos::kLatched));
   for (int r = 0; r < robot_count; ++r) {
-    out.push_back(std::make_unique<Ros2Tap<nav_msgs::msg::dds_::Path_PubSubType>>(
-        p, "/robot" + std::to_string(r) + "/path", "nav_msgs/msg/Path", Ros2Qos::kLatched));
+    const std::string ns = "/robot" + std::to_string(r) + "/";
+    out.push_back(std::make_unique<Ros2Tap<nav_msgs::msg::dds_::Path_PubSubType>>(p, ns + "path", "nav_msgs/msg/Path",
+                                                                                  Ros2Qos::kLatched));
+    out.push_back(std::make_unique<Ros2Tap<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(
+        p, ns + "scan", "sensor_msgs/msg/LaserScan", Ros2Qos::kSensorData));
+    out.push_back(std::make_unique<Ros2Tap<nav_msgs::msg::dds_::Odometry_PubSubType>>(
+        p, ns + "odom", "nav_msgs/msg/Odometry", Ros2Qos::kSensorData));
+    out.push_back(std::make_unique<Ros2Tap<geometry_msgs::msg::dds_::Twist_PubSubType>>(
+        p, ns + "cmd_vel", "geometry_msgs/msg/Twist", Ros2Qos::kSensorData));
   }
   return out;
 }

@@ -50,7 +50,9 @@ std::vector<std::unique_ptr<TopicTap>> make_taps(dds::Participant& participant, 
                                                  const std::function<bool(const std::string&)>& wanted);
 
 /// Taps on the ROS 2 topics the base publishes with --ros2 (base_station/app/ros2_output.h), under
-/// their ROS names ("/map", "/tf", "/cairn/objects", "/cairn/object_clouds", "/robotN/path").
+/// their ROS names ("/map", "/tf", "/cairn/objects", "/cairn/object_clouds", "/robotN/path"), and
+/// on each ROS 2 robot's own topics under namespace robotN ("/robotN/scan", "/robotN/odom",
+/// "/robotN/cmd_vel": what cairn_agent --ros2 reads and writes).
 std::vector<std::unique_ptr<TopicTap>> make_ros2_taps(dds::Participant& participant, int robot_count);
 
 enum class PlayResult { kWritten, kFilteredOut, kUndecodable, kWriteFailed };
