@@ -53,6 +53,14 @@ class ByteWriter {
     bytes(reinterpret_cast<const uint8_t*>(s.data()), s.size());
   }
   void string_map(const std::map<std::string, std::string>& m);
+  /// A Map<uint16, uint64>: channel ids to counts or offsets.
+  void id_map(const std::map<uint16_t, uint64_t>& m) {
+    u32(uint32_t(m.size() * 10));
+    for (const auto& [id, value] : m) {
+      u16(id);
+      u64(value);
+    }
+  }
   /// <opcode><uint64 length><content>.
   void record(Op op, const std::vector<uint8_t>& content) {
     u8(uint8_t(op));

@@ -28,35 +28,41 @@ void McapWriter::emit(const std::vector<uint8_t>& bytes) {
   stats_.file_bytes = offset_;
 }
 
-uint16_t McapWriter::add_schema(const std::string& name, const std::string& encoding, const std::string& data) {
-  if (schemas_.size() >= 0xFFFE) throw std::length_error("McapWriter: more than 65534 schemas");
-  const Schema s{uint16_t(schemas_.size() + 1), name, encoding, data};  // id 0 means "no schema"
-  schemas_.push_back(s);
-  std::vector<uint8_t> content;
-  ByteWriter w(&content);
+std::vector<uint8_t> McapWriter::content(const Schema& s) {
+  std::vector<uint8_t> out;
+  ByteWriter w(&out);
   w.u16(s.id);
   w.str(s.name);
   w.str(s.encoding);
   w.str(s.data);  // uint32 length-prefixed bytes: the same layout as a string
-  ByteWriter(&chunk_).record(Op::kSchema, content);
-  return s.id;
+  return out;
+}
+
+std::vector<uint8_t> McapWriter::content(const Channel& c) {
+  std::vector<uint8_t> out;
+  ByteWriter w(&out);
+  w.u16(c.id);
+  w.u16(c.schema_id);
+  w.str(c.topic);
+  w.str(c.message_encoding);
+  w.string_map(c.metadata);
+  return out;
+}
+
+uint16_t McapWriter::add_schema(const std::string& name, const std::string& encoding, const std::string& data) {
+  if (schemas_.size() >= 0xFFFE) throw std::length_error("McapWriter: more than 65534 schemas");
+  schemas_.push_back({uint16_t(schemas_.size() + 1), name, encoding, data});  // id 0 means "no schema"
+  ByteWriter(&chunk_).record(Op::kSchema, content(schemas_.back()));
+  return schemas_.back().id;
 }
 
 uint16_t McapWriter::add_channel(const std::string& topic, uint16_t schema_id, const std::string& message_encoding,
                                  const std::map<std::string, std::string>& metadata) {
   if (schema_id > schemas_.size()) throw std::invalid_argument("McapWriter: channel " + topic + ": unknown schema");
   if (channels_.size() >= 0xFFFF) throw std::length_error("McapWriter: more than 65535 channels");
-  const Channel c{uint16_t(channels_.size()), schema_id, topic, message_encoding, metadata};
-  channels_.push_back(c);
-  std::vector<uint8_t> content;
-  ByteWriter w(&content);
-  w.u16(c.id);
-  w.u16(c.schema_id);
-  w.str(c.topic);
-  w.str(c.message_encoding);
-  w.string_map(c.metadata);
-  ByteWriter(&chunk_).record(Op::kChannel, content);
-  return c.id;
+  channels_.push_back({uint16_t(channels_.size()), schema_id, topic, message_encoding, metadata});
+  ByteWriter(&chunk_).record(Op::kChannel, content(channels_.back()));
+  return channels_.back().id;
 }
 
 bool McapWriter::write(uint16_t channel_id, uint32_t sequence, uint64_t log_time_ns, uint64_t publish_time_ns,
@@ -151,27 +157,10 @@ std::vector<uint8_t> McapWriter::summary_records(uint64_t summary_start, std::ve
     ByteWriter(offsets).record(Op::kSummaryOffset, so);
   };
   group(Op::kSchema, [&] {
-    for (const auto& s : schemas_) {
-      std::vector<uint8_t> c;
-      ByteWriter r(&c);
-      r.u16(s.id);
-      r.str(s.name);
-      r.str(s.encoding);
-      r.str(s.data);
-      w.record(Op::kSchema, c);
-    }
+    for (const auto& s : schemas_) w.record(Op::kSchema, content(s));
   });
   group(Op::kChannel, [&] {
-    for (const auto& ch : channels_) {
-      std::vector<uint8_t> c;
-      ByteWriter r(&c);
-      r.u16(ch.id);
-      r.u16(ch.schema_id);
-      r.str(ch.topic);
-      r.str(ch.message_encoding);
-      r.string_map(ch.metadata);
-      w.record(Op::kChannel, c);
-    }
+    for (const auto& c : channels_) w.record(Op::kChannel, content(c));
   });
   group(Op::kStatistics, [&] {
     std::vector<uint8_t> c;
@@ -184,14 +173,7 @@ std::vector<uint8_t> McapWriter::summary_records(uint64_t summary_start, std::ve
     r.u32(stats_.chunks);
     r.u64(stats_.messages ? start_ns_ : 0);
     r.u64(stats_.messages ? end_ns_ : 0);
-    std::vector<uint8_t> counts;
-    ByteWriter m(&counts);
-    for (const auto& [channel, n] : channel_counts_) {
-      m.u16(channel);
-      m.u64(n);
-    }
-    r.u32(uint32_t(counts.size()));
-    r.bytes(counts.data(), counts.size());
+    r.id_map(channel_counts_);
     w.record(Op::kStatistics, c);
   });
   group(Op::kChunkIndex, [&] {
@@ -202,14 +184,7 @@ std::vector<uint8_t> McapWriter::summary_records(uint64_t summary_start, std::ve
       r.u64(ci.end_ns);
       r.u64(ci.offset);
       r.u64(ci.length);
-      std::vector<uint8_t> offsets_map;
-      ByteWriter m(&offsets_map);
-      for (const auto& [channel, at] : ci.index_offsets) {
-        m.u16(channel);
-        m.u64(at);
-      }
-      r.u32(uint32_t(offsets_map.size()));
-      r.bytes(offsets_map.data(), offsets_map.size());
+      r.id_map(ci.index_offsets);
       r.u64(ci.index_length);
       r.str(ci.compression);
       r.u64(ci.compressed_size);

@@ -64,6 +64,9 @@ class McapWriter {
     std::map<uint16_t, uint64_t> index_offsets;
     std::string compression;
   };
+  /// The records' contents (in a chunk, and again in the summary).
+  static std::vector<uint8_t> content(const Schema& schema);
+  static std::vector<uint8_t> content(const Channel& channel);
   void emit(const std::vector<uint8_t>& bytes);
   void flush_chunk();
   std::vector<uint8_t> summary_records(uint64_t summary_start, std::vector<uint8_t>* offsets) const;
