@@ -17,12 +17,16 @@ namespace cairn::dds {
 
 enum class Ros2Qos {
   kSensorData,  ///< best effort, volatile, keep last (matches every driver, reliable or not)
-  kDefault,     ///< reliable, volatile, keep last 10 (cmd_vel, paths, markers)
-  kLatched,     ///< reliable, transient local, keep last 1 (the map, as map_server offers it)
+  /// Reliable, volatile, keep all: lossless from reliable publishers only (a bag replayed by
+  /// cairn_replay, whose writers are reliable and keep a deep history).
+  kReliableSensorData,
+  kDefault,  ///< reliable, volatile, keep last 10 (cmd_vel, paths, markers)
+  kLatched,  ///< reliable, transient local, keep last 1 (the map, as map_server offers it)
 };
 
 eprosima::fastdds::dds::DataReaderQos ros2_reader_qos(Ros2Qos profile, int depth);
-eprosima::fastdds::dds::DataWriterQos ros2_writer_qos(Ros2Qos profile);
+/// `depth` 0: the profile's (5 sensor data, 10 default, 1 latched).
+eprosima::fastdds::dds::DataWriterQos ros2_writer_qos(Ros2Qos profile, int depth = 0);
 
 /// "rt" + the fully qualified ROS name: ("robot1", "scan") -> "rt/robot1/scan"; ("", "/map") -> "rt/map".
 std::string ros2_dds_topic(const std::string& ros_namespace, const std::string& name);
@@ -63,10 +67,11 @@ template <typename PubSub>
 class Ros2Writer {
  public:
   using Msg = typename PubSub::type;
-  Ros2Writer(Participant& participant, const std::string& dds_topic, Ros2Qos profile) {
+  /// `depth` 0: the profile's history depth.
+  Ros2Writer(Participant& participant, const std::string& dds_topic, Ros2Qos profile, int depth = 0) {
     if (auto* topic = participant.topic<PubSub>(dds_topic)) {
       publisher_ = participant.publisher();
-      writer_ = publisher_->create_datawriter(topic, ros2_writer_qos(profile));
+      writer_ = publisher_->create_datawriter(topic, ros2_writer_qos(profile, depth));
     }
   }
   ~Ros2Writer() {
@@ -78,6 +83,11 @@ class Ros2Writer {
   bool write(const Msg& msg) {
     Msg copy = msg;  // write() takes a non-const pointer
     return writer_ && writer_->write(&copy);
+  }
+  /// Waits until every matched reliable reader acknowledged all samples.
+  bool wait_for_acknowledgments(double timeout_s) {
+    const eprosima::fastrtps::Duration_t timeout(int32_t(timeout_s), uint32_t((timeout_s - int32_t(timeout_s)) * 1e9));
+    return writer_ && writer_->wait_for_acknowledgments(timeout) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
   }
   int matched_readers() const {
     eprosima::fastdds::dds::PublicationMatchedStatus st;

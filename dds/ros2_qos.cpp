@@ -12,14 +12,16 @@ DataReaderQos ros2_reader_qos(Ros2Qos profile, int depth) {
   // A best-effort reader matches reliable and best-effort writers alike: drivers use either.
   q.reliability().kind = profile == Ros2Qos::kSensorData ? BEST_EFFORT_RELIABILITY_QOS : RELIABLE_RELIABILITY_QOS;
   q.durability().kind = profile == Ros2Qos::kLatched ? TRANSIENT_LOCAL_DURABILITY_QOS : VOLATILE_DURABILITY_QOS;
+  // Lossless: what has not been taken yet is never overwritten (the publisher resends instead).
+  if (profile == Ros2Qos::kReliableSensorData) q.history().kind = KEEP_ALL_HISTORY_QOS;
   return q;
 }
 
-DataWriterQos ros2_writer_qos(Ros2Qos profile) {
+DataWriterQos ros2_writer_qos(Ros2Qos profile, int depth) {
   DataWriterQos q = DATAWRITER_QOS_DEFAULT;
   q.endpoint().history_memory_policy = eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
   q.history().kind = KEEP_LAST_HISTORY_QOS;
-  q.history().depth = profile == Ros2Qos::kLatched ? 1 : profile == Ros2Qos::kSensorData ? 5 : 10;
+  q.history().depth = depth > 0 ? depth : profile == Ros2Qos::kLatched ? 1 : profile == Ros2Qos::kDefault ? 10 : 5;
   // Reliable writers serve both kinds of readers (RViz2 subscribes to most displays reliably).
   q.reliability().kind = RELIABLE_RELIABILITY_QOS;
   q.reliability().max_blocking_time = {0, 100'000'000};

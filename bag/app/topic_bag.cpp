@@ -145,15 +145,16 @@ class Ros2Tap : public TopicTap {
 template <typename PubSub>
 class Ros2Player : public TopicPlayer {
  public:
+  // A deep history: a reliable subscriber (cairn_agent --ros2-reliable) gets every message back.
   Ros2Player(dds::Participant& participant, const std::string& ros_topic, dds::Ros2Qos qos)
-      : writer_(participant, dds::ros2_dds_topic("", ros_topic), qos) {}
+      : writer_(participant, dds::ros2_dds_topic("", ros_topic), qos, 1000) {}
   PlayResult play(const std::vector<uint8_t>& cdr, const std::vector<int>&) override {
     typename PubSub::type msg;
     if (!dds::from_cdr<PubSub>(cdr, &msg)) return PlayResult::kUndecodable;
     return writer_.write(msg) ? PlayResult::kWritten : PlayResult::kWriteFailed;
   }
   int matched_readers() const override { return writer_.matched_readers(); }
-  bool flush(double) override { return true; }  // sensor data: best effort for the readers
+  bool flush(double timeout_s) override { return writer_.wait_for_acknowledgments(timeout_s); }
 
  private:
   dds::Ros2Writer<PubSub> writer_;

@@ -46,6 +46,8 @@ int main(int argc, char** argv) {
   app.add_option("--ros2-cmd-vel", ros2_options.cmd_vel_topic, "where velocity commands go");
   app.add_option("--ros2-camera-mount", camera_mount, "HEIGHT_M PITCH_DEG: the forward camera above the base")
       ->expected(2);
+  app.add_flag("--ros2-reliable", ros2_options.reliable,
+               "reliable scan and odometry readers: nothing lost, but only reliable publishers match (cairn_replay)");
   app.add_option("--ros2-idle-end", ros2_options.idle_end_s,
                  "end the input after this many seconds without a scan (a replayed bag; 0 = never)");
   app.add_flag("--no-navigation", no_navigation, "do not steer the robot (its data is recorded: it drove already)");

@@ -17,10 +17,16 @@ Eigen::Isometry3d forward_camera_mount(double height_m, double pitch_deg) {
   return T;
 }
 
+namespace {
+dds::Ros2Qos sensor_qos(const Ros2InputOptions& o) {
+  return o.reliable ? dds::Ros2Qos::kReliableSensorData : dds::Ros2Qos::kSensorData;
+}
+}  // namespace
+
 Ros2SensorInput::Ros2SensorInput(dds::Participant& p, const Ros2InputOptions& o)
     : options_(o),
-      scan_(p, dds::ros2_dds_topic(o.ros_namespace, o.scan_topic), dds::Ros2Qos::kSensorData, o.history_depth),
-      odom_(p, dds::ros2_dds_topic(o.ros_namespace, o.odom_topic), dds::Ros2Qos::kSensorData, o.history_depth),
+      scan_(p, dds::ros2_dds_topic(o.ros_namespace, o.scan_topic), sensor_qos(o), o.history_depth),
+      odom_(p, dds::ros2_dds_topic(o.ros_namespace, o.odom_topic), sensor_qos(o), o.history_depth),
       color_(p, dds::ros2_dds_topic(o.ros_namespace, o.color_topic), dds::Ros2Qos::kSensorData, 10),
       depth_(p, dds::ros2_dds_topic(o.ros_namespace, o.depth_topic), dds::Ros2Qos::kSensorData, 10),
       info_(p, dds::ros2_dds_topic(o.ros_namespace, o.camera_info_topic), dds::Ros2Qos::kSensorData, 1),

@@ -30,6 +30,9 @@ struct Ros2InputOptions {
   /// Samples a reader keeps until the agent's poll takes them (sensor-data QoS keeps 5; a bag
   /// replayed at speed needs more so none is dropped while a scan is being matched).
   int history_depth = 200;
+  /// Reliable readers for scan and odometry: nothing lost, but only reliable publishers match (a bag
+  /// played by cairn_replay); off: ROS 2's sensor-data QoS (best effort), which every driver matches.
+  bool reliable = false;
   /// The camera's optical frame in the robot's base frame (no TF listener here).
   Eigen::Isometry3d T_base_camera = Eigen::Isometry3d::Identity();
   /// Input ends after this long with no scan once scans came (a bag played to its end); 0 = never.
