@@ -17,6 +17,7 @@ void GoalTracker::start(const std::string& reason) {
   failures_ = 0;
   boxed_in_.clear();
   anchor_stamp_ns_.reset();
+  recent_.clear();
   change(NavState::kDriving, reason);
 }
 
@@ -31,6 +32,8 @@ void GoalTracker::note_pose(StampNs stamp_ns, const Eigen::Vector2d& position_m)
   if (stamp_ns < stamp_ns_) return;
   stamp_ns_ = stamp_ns;
   if (state_ != NavState::kDriving) return;
+  recent_.emplace_back(stamp_ns, position_m);
+  if (confined()) return;
   if (!anchor_stamp_ns_ || (position_m - anchor_m_).norm() >= options_.stuck_progress_m) {
     anchor_stamp_ns_ = stamp_ns;
     anchor_m_ = position_m;
@@ -42,6 +45,23 @@ void GoalTracker::note_pose(StampNs stamp_ns, const Eigen::Vector2d& position_m)
   std::snprintf(buf, sizeof(buf), "no progress: moved %.2f m (< %.2f m) in %.1f s", (position_m - anchor_m_).norm(),
                 options_.stuck_progress_m, idle_s);
   change(NavState::kStuck, boxed_in_.empty() ? std::string(buf) : std::string(buf) + "; " + boxed_in_);
+}
+
+bool GoalTracker::confined() {
+  const StampNs window_start = stamp_ns_ - sec_to_ns(options_.confined_after_s);
+  while (recent_.size() > 1 && recent_[1].first <= window_start) recent_.pop_front();
+  if (recent_.front().first > window_start) return false;  // not watched that long yet
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& [stamp, p] : recent_) mean += p;
+  mean /= double(recent_.size());
+  double radius_m = 0;
+  for (const auto& [stamp, p] : recent_) radius_m = std::max(radius_m, (p - mean).norm());
+  if (radius_m >= options_.confined_radius_m) return false;
+  char buf[160];
+  std::snprintf(buf, sizeof(buf), "no progress: stayed within %.2f m for %.1f s (back and forth)", radius_m,
+                options_.confined_after_s);
+  change(NavState::kStuck, boxed_in_.empty() ? std::string(buf) : std::string(buf) + "; " + boxed_in_);
+  return true;
 }
 
 double GoalTracker::seconds_without_progress() const {

@@ -6,15 +6,22 @@
 //                      |     re-plans failed in a row-------------------------> unreachable
 //                      |  ---moved less than stuck_progress_m in the last
 //                      |     stuck_after_s seconds of message time-------------> stuck
+//                      |  ---stayed within confined_radius_m for the last
+//                      |     confined_after_s (back and forth: a livelock)-----> stuck
 //   any --cancel--> idle;  any --start (a new goal)--> driving
 //
 // Every change carries a reason. Progress is the robot's displacement from where it last was
-// stuck_progress_m away from (turning on the spot is no progress). A failed plan that finds the
+// stuck_progress_m away from (turning on the spot is no progress). A robot that swings back and forth
+// (blocked, steps away, re-plans into the same block) makes that kind of progress for ever: seen in
+// the office, 0.85 m to and fro for 40 s while going home. Hence the second, longer test on the
+// area it stays in. A failed plan that finds the
 // robot boxed in (no way out of its immediate surroundings) does not count towards unreachable:
 // the goal may be fine, the robot cannot move; that ends in stuck. Pure: message time only.
 #include <Eigen/Core>
+#include <deque>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "common/navigation.h"  // NavState
 #include "common/time.h"
@@ -25,6 +32,8 @@ struct GoalTrackerOptions {
   double stuck_after_s = 10.0;
   double stuck_progress_m = 0.3;
   int max_plan_failures = 3;  ///< re-plans failing in a row (not boxed in) before unreachable
+  double confined_after_s = 30.0;
+  double confined_radius_m = 1.0;  ///< every pose of the last confined_after_s within this of their mean
 };
 
 struct NavTransition {
@@ -72,6 +81,10 @@ class GoalTracker {
   StampNs stamp_ns_ = 0;  ///< the newest stamp seen
   std::optional<StampNs> anchor_stamp_ns_;
   Eigen::Vector2d anchor_m_{0, 0};
+  /// Poses of the last confined_after_s (and the one just before), oldest first.
+  std::deque<std::pair<StampNs, Eigen::Vector2d>> recent_;
+  /// Stuck with a reason when every pose of the last confined_after_s stayed in a small disc.
+  bool confined();
 };
 
 }  // namespace cairn::agent

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace cairn::agent {
 namespace {
 
@@ -27,6 +29,26 @@ TEST(GoalTracker, StuckAfterTenSecondsWithoutThirtyCentimetresOfProgress) {
   EXPECT_EQ(t.last_transition().from, NavState::kDriving);
   EXPECT_EQ(t.last_transition().stamp_ns, at(110.0));
   EXPECT_NE(t.reason().find("no progress: moved 0.29 m (< 0.30 m) in 10.0 s"), std::string::npos) << t.reason();
+}
+
+TEST(GoalTracker, SwingingBackAndForthIsStuckOnceItLastsHalfAMinute) {
+  GoalTracker t;
+  t.start("home");
+  // 0.85 m to and fro every 4 s: each swing is "progress" for the 10 s test (as seen in the office).
+  double s = 0;
+  for (; s < 29.9; s += 0.1) {
+    t.note_pose(at(s),
+                {14.85, 11.65 + 0.85 * (std::fmod(s, 8.0) < 4.0 ? std::fmod(s, 4.0) : 4.0 - std::fmod(s, 4.0)) / 4.0});
+  }
+  EXPECT_EQ(t.state(), NavState::kDriving);
+  t.note_pose(at(30.0), {14.85, 11.65});
+  EXPECT_EQ(t.state(), NavState::kStuck);
+  EXPECT_NE(t.reason().find("back and forth"), std::string::npos) << t.reason();
+  // A robot driving on (0.1 m/s, slowly) is never confined.
+  GoalTracker d;
+  d.start("far");
+  for (double u = 0; u < 60; u += 0.1) d.note_pose(at(u), {0.1 * u, 0});
+  EXPECT_EQ(d.state(), NavState::kDriving);
 }
 
 TEST(GoalTracker, ProgressRestartsTheClock) {
