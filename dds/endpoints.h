@@ -82,9 +82,6 @@ class Writer {
     publisher_ = participant.publisher();
     if (topic) writer_ = publisher_->create_datawriter(topic, writer_qos(Topic::kKind, options));
   }
-  static eprosima::fastrtps::Duration_t to_duration(double s) {
-    return eprosima::fastrtps::Duration_t(int32_t(s), uint32_t((s - int32_t(s)) * 1e9));
-  }
   typename Topic::PubSub type_;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;

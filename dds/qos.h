@@ -18,6 +18,11 @@ enum class TopicKind {
   kCommand,        ///< velocity command: reliable, volatile, keep last 1 (only the newest counts)
 };
 
+/// Seconds as a Fast DDS duration (timeouts, blocking times).
+inline eprosima::fastrtps::Duration_t to_duration(double s) {
+  return eprosima::fastrtps::Duration_t(int32_t(s), uint32_t((s - int32_t(s)) * 1e9));
+}
+
 struct QosOptions {
   bool large_data_flow_controlled = false;  ///< objects through the participant's flow controller
 };

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "dds/participant.h"
+#include "dds/qos.h"
 
 namespace cairn::dds {
 
@@ -86,8 +87,8 @@ class Ros2Writer {
   }
   /// Waits until every matched reliable reader acknowledged all samples.
   bool wait_for_acknowledgments(double timeout_s) {
-    const eprosima::fastrtps::Duration_t timeout(int32_t(timeout_s), uint32_t((timeout_s - int32_t(timeout_s)) * 1e9));
-    return writer_ && writer_->wait_for_acknowledgments(timeout) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+    return writer_ && writer_->wait_for_acknowledgments(to_duration(timeout_s)) ==
+                          eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
   }
   int matched_readers() const {
     eprosima::fastdds::dds::PublicationMatchedStatus st;

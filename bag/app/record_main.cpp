@@ -18,12 +18,6 @@
 namespace {
 std::atomic<bool> g_stop{false};
 void on_signal(int) { g_stop = true; }
-
-bool matches_any(const std::string& topic, const std::vector<std::string>& parts) {
-  if (parts.empty()) return true;
-  return std::any_of(parts.begin(), parts.end(),
-                     [&](const std::string& p) { return topic.find(p) != std::string::npos; });
-}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -64,10 +58,11 @@ int main(int argc, char** argv) {
     log->error("{}", error);
     return 3;
   }
-  auto taps = cairn::bag::make_taps(*participant, robots, [&](const std::string& t) { return matches_any(t, topics); });
+  auto taps = cairn::bag::make_taps(*participant, robots,
+                                    [&](const std::string& t) { return cairn::bag::topic_wanted(t, topics); });
   if (ros2) {
     for (auto& tap : cairn::bag::make_ros2_taps(*participant, robots)) {
-      if (matches_any(tap->topic(), topics)) taps.push_back(std::move(tap));
+      if (cairn::bag::topic_wanted(tap->topic(), topics)) taps.push_back(std::move(tap));
     }
   }
   cairn::bag::McapWriter writer(file, writer_options);

@@ -64,10 +64,6 @@ int main(int argc, char** argv) {
     log->error("{}", error);
     return 3;
   }
-  const auto wanted = [&](const std::string& topic) {
-    return topics.empty() || std::any_of(topics.begin(), topics.end(),
-                                         [&](const std::string& t) { return topic.find(t) != std::string::npos; });
-  };
   std::map<uint16_t, ChannelPlay> channels;
   auto channel = [&](uint16_t id, const cairn::bag::McapChannel& c,
                      const std::map<uint16_t, cairn::bag::McapSchema>& schemas) -> ChannelPlay& {
@@ -77,7 +73,7 @@ int main(int argc, char** argv) {
     play.topic = c.topic;
     play.type_name = schemas.count(c.schema_id) ? schemas.at(c.schema_id).name : "";
     std::string why;
-    if (!wanted(c.topic)) {
+    if (!cairn::bag::topic_wanted(c.topic, topics)) {
       log->debug("{}: not asked for", c.topic);
     } else if (c.message_encoding != "cdr") {
       log->warn("{}: message encoding \"{}\" is not CDR: not played", c.topic, c.message_encoding);

@@ -194,6 +194,11 @@ const std::string& cairn_idl_text() {
   return text;
 }
 
+bool topic_wanted(const std::string& topic, const std::vector<std::string>& words) {
+  return words.empty() || std::any_of(words.begin(), words.end(),
+                                      [&](const std::string& w) { return topic.find(w) != std::string::npos; });
+}
+
 std::optional<int> robot_of_topic(const std::string& topic) {
   static const std::regex per_robot(R"(cairn/robot(\d{1,4})/.+)");
   std::smatch m;

@@ -72,6 +72,10 @@ class TopicPlayer {
 std::unique_ptr<TopicPlayer> make_player(dds::Participant& participant, const std::string& topic,
                                          const std::string& type_name, std::string* why);
 
+/// The --topics choice of cairn_record and cairn_replay: a topic whose name contains one of `words`
+/// (every topic when there are none).
+bool topic_wanted(const std::string& topic, const std::vector<std::string>& words);
+
 /// The robot of a per-robot topic name ("cairn/robot3/odometry" -> 3), nullopt for a shared topic.
 std::optional<int> robot_of_topic(const std::string& topic);
 
