@@ -176,19 +176,36 @@ const MapView = (() => {
     }
   }
 
+  // The robots' markers are kept and moved, not drawn anew at every update: a marker replaced
+  // under the pointer swallows the operator's click (seen in the browser test under load).
+  const robotMarkers = new Map();  // robot id -> Leaflet marker
   function drawRobots(robots, selected) {
-    layers.robots.clearLayers();
+    const shown = new Set();
     for (const r of robots) {
       if (!r.pose_m) continue;
       const [x, y, yaw] = r.pose_m;
-      const icon = L.divIcon({
-        className: "", iconSize: [26, 26], iconAnchor: [13, 13],
-        html: `<button class="robot-marker${r.id === selected ? " selected" : ""}" style="--yaw:${-yaw}rad;` +
-          `--colour:${robotColour(r.id)}" title="Robot ${r.id}: ${(r.link && r.link.activity) || "?"}">${r.id}</button>`,
-      });
-      L.marker(ll(x, y), { icon, keyboard: false, zIndexOffset: 1000 })
-        .on("click", (e) => { L.DomEvent.stopPropagation(e); handlers.robotClick(r.id); })
-        .addTo(layers.robots);
+      shown.add(r.id);
+      let marker = robotMarkers.get(r.id);
+      if (!marker) {
+        const icon = L.divIcon({ className: "", iconSize: [26, 26], iconAnchor: [13, 13],
+          html: `<button class="robot-marker">${r.id}</button>` });
+        marker = L.marker(ll(x, y), { icon, keyboard: false, zIndexOffset: 1000 })
+          .on("click", (e) => { L.DomEvent.stopPropagation(e); handlers.robotClick(r.id); })
+          .addTo(layers.robots);
+        robotMarkers.set(r.id, marker);
+      }
+      marker.setLatLng(ll(x, y));
+      const button = marker.getElement() && marker.getElement().querySelector("button");
+      if (!button) continue;
+      button.classList.toggle("selected", r.id === selected);
+      button.style.setProperty("--yaw", `${-yaw}rad`);
+      button.style.setProperty("--colour", robotColour(r.id));
+      button.title = `Robot ${r.id}: ${(r.link && r.link.activity) || "?"}`;
+    }
+    for (const [id, marker] of robotMarkers) {
+      if (shown.has(id)) continue;
+      layers.robots.removeLayer(marker);
+      robotMarkers.delete(id);
     }
   }
 
