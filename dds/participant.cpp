@@ -1,5 +1,9 @@
 #include "dds/participant.h"
 
+#include <algorithm>
+
+#include "dds/qos.h"
+
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
@@ -66,24 +70,40 @@ std::unique_ptr<Participant> Participant::create(const ParticipantOptions& optio
     qos.transport().user_transports.push_back(shm);
   }
 
-  // Unicast discovery: loopback plus configured peers.
-  std::vector<std::string> peers = options.initial_peers;
-  peers.insert(peers.begin(), "127.0.0.1");
-  for (const auto& address : peers) {
+  // Unicast discovery: loopback (port left open: the transport probes max_initial_peers_range ids)
+  // plus the configured peers, each probed at the ports of its first few participant ids only.
+  auto& builtin = qos.wire_protocol().builtin;
+  Locator_t loopback;
+  IPLocator::setIPv4(loopback, "127.0.0.1");
+  loopback.kind = LOCATOR_KIND_UDPv4;
+  builtin.initialPeersList.push_back(loopback);
+  for (const auto& address : options.initial_peers) {
     Locator_t locator;
     if (!IPLocator::setIPv4(locator, address)) {
       if (error) *error = "invalid initial peer address '" + address + "'";
       return nullptr;
     }
     locator.kind = LOCATOR_KIND_UDPv4;
-    qos.wire_protocol().builtin.initialPeersList.push_back(locator);
+    for (uint32_t id = 0; id < options.remote_peer_participants; ++id) {
+      locator.port = qos.wire_protocol().port.getUnicastPort(uint32_t(options.domain_id), id);
+      builtin.initialPeersList.push_back(locator);
+    }
   }
+  if (!(options.announcement_period_s > 0) || !(options.lease_duration_s > 2 * options.announcement_period_s)) {
+    if (error) *error = "the participant lease must be longer than two announcement periods";
+    return nullptr;
+  }
+  builtin.discovery_config.leaseDuration_announcementperiod = to_duration(options.announcement_period_s);
+  builtin.discovery_config.leaseDuration = to_duration(options.lease_duration_s);
 
-  if (options.large_data_bytes_per_sec > 0) {
+  if (options.link_budget_bytes_per_sec > 0) {
+    // Fast DDS cuts samples into fragments no larger than a period's bytes: a keyframe cut into
+    // 390-byte pieces (50 ms periods) cost a NACK_FRAG storm; kLinkPeriodBytes keeps it whole.
     auto flow = std::make_shared<eprosima::fastdds::rtps::FlowControllerDescriptor>();
-    flow->name = kLargeDataFlowController;
-    flow->period_ms = 50;
-    flow->max_bytes_per_period = int32_t(options.large_data_bytes_per_sec / 20);
+    flow->name = kLinkFlowController;
+    flow->scheduler = eprosima::fastdds::rtps::FlowControllerSchedulerPolicy::HIGH_PRIORITY;
+    flow->max_bytes_per_period = int32_t(kLinkPeriodBytes);
+    flow->period_ms = std::max<uint64_t>(10, uint64_t(1000.0 * kLinkPeriodBytes / options.link_budget_bytes_per_sec));
     qos.flow_controllers().push_back(flow);
   }
 

@@ -21,19 +21,41 @@ struct ParticipantOptions {
   std::string name = "cairn";
   /// Unicast discovery peers (IPv4). Loopback is always added so same-host processes meet.
   std::vector<std::string> initial_peers;
-  /// How many participant ids per peer discovery probes (processes per host).
+  /// How many participant ids discovery probes on this host (processes per host).
   uint32_t max_initial_peers_range = 32;
+  /// How many participant ids it probes on each remote peer. Every probe is a participant
+  /// announcement (~600 B) sent every announcement period for the whole mission: 32 per peer were
+  /// 19 kB every 3 s per process, more than a 250 kbit/s radio's queue holds (it dropped them and
+  /// the data behind them). Processes a peer holds beyond these are still found: they probe us.
+  uint32_t remote_peer_participants = 4;
+  /// Participant announcement period and lease (Fast DDS defaults 3 s / 20 s). A slow link wants
+  /// fewer announcements; the lease stays several periods so that lost ones do not unmatch a peer.
+  double announcement_period_s = 3.0;
+  double lease_duration_s = 20.0;
   bool use_shared_memory = true;
   uint32_t shm_segment_bytes = 32u << 20;  ///< default 512 KiB is too small for RGB-D frames
-  /// Flow controller for large samples (objects); 0 = unlimited. Set below the link rate.
-  uint32_t large_data_bytes_per_sec = 0;
+  /// This process's share of the radio link in bytes/s; 0 = unlimited. Set, the writers that ask
+  /// for it (QosOptions::link_priority) send through one flow controller at this rate that serves
+  /// the highest priority first (Fast DDS HIGH_PRIORITY scheduler).
+  uint32_t link_budget_bytes_per_sec = 0;
   /// DDS Security: a folder with ca.pem, cert.pem and key.pem (deploy/security/make_certs.sh).
   /// Set, the participant talks only to participants whose certificates the same CA signed
   /// (PKI-DH), and every RTPS message it sends is encrypted (AES-GCM). Empty: no security.
   std::string security_dir;
 };
 
-constexpr const char* kLargeDataFlowController = "cairn_large_data";
+/// Discovery on a slow radio (a process with a link budget, a base told --slow-link): a
+/// participant announcement every 10 s instead of 3, a lease of six announcements.
+constexpr double kSlowLinkAnnouncementPeriod_s = 10.0;
+constexpr double kSlowLinkLeaseDuration_s = 60.0;
+
+constexpr const char* kLinkFlowController = "cairn_link_budget";
+/// Bytes the link flow controller sends per period, which is also the largest piece Fast DDS cuts
+/// a sample into: a keyframe (~1.2 kB) and a status go whole, an object (~10 kB) in four pieces of
+/// two radio frames each. With one frame's worth (1300 B) a period carried one sample at most (a
+/// keyframe and a status never fitted together): four robots on 250 kbit/s fell 45-65 keyframes
+/// behind at real time.
+constexpr uint32_t kLinkPeriodBytes = 2600;
 
 /// Owns the participant, one publisher and one subscriber; registers types and topics once.
 class Participant {

@@ -8,11 +8,11 @@ using namespace eprosima::fastdds::dds;
 
 namespace {
 
-void reliable_common(DataWriterQos& q) {
+void reliable_common(DataWriterQos& q, const QosOptions& options) {
   q.reliability().kind = RELIABLE_RELIABILITY_QOS;
   q.reliability().max_blocking_time = {5, 0};
   // The default 3 s heartbeat makes recovery of lost fragments slow on a lossy link.
-  q.reliable_writer_qos().times.heartbeatPeriod = {0, 200'000'000};
+  q.reliable_writer_qos().times.heartbeatPeriod = to_duration(options.heartbeat_period_s);
   q.reliable_writer_qos().times.nackResponseDelay = {0, 5'000'000};
 }
 
@@ -35,7 +35,7 @@ DataWriterQos writer_qos(TopicKind kind, const QosOptions& options) {
   q.endpoint().history_memory_policy = eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
   switch (kind) {
     case TopicKind::kSensor:
-      reliable_common(q);
+      reliable_common(q, options);
       q.history().kind = KEEP_ALL_HISTORY_QOS;
       // Volatile keep-all: acknowledged samples are dropped only when the history is full, so the
       // limit is the memory a driver holds (RGB-D frames are 384 KB: 2000 of them were 768 MB per
@@ -45,30 +45,29 @@ DataWriterQos writer_qos(TopicKind kind, const QosOptions& options) {
       q.publish_mode().kind = ASYNCHRONOUS_PUBLISH_MODE;
       break;
     case TopicKind::kClock:
-      reliable_common(q);
+      reliable_common(q, options);
       q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
       q.history().kind = KEEP_LAST_HISTORY_QOS;
       q.history().depth = 1;
       break;
     case TopicKind::kKeyframe:
-      reliable_common(q);
+      reliable_common(q, options);
       q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
       q.history().kind = KEEP_ALL_HISTORY_QOS;
       set_limits(q, 4, 100000);
       q.publish_mode().kind = ASYNCHRONOUS_PUBLISH_MODE;
-      // On a rate-limited link a burst (e.g. the flush at the end of a mission) must be paced
-      // below the link rate, or its retransmissions keep the link saturated.
-      if (options.large_data_flow_controlled) q.publish_mode().flow_controller_name = kLargeDataFlowController;
       break;
     case TopicKind::kObject:
-      reliable_common(q);
+      reliable_common(q, options);
       q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
-      q.history().kind = KEEP_LAST_HISTORY_QOS;
-      q.history().depth = 1;
+      // Keep all: every version of an object is delivered; acknowledged ones make room. With keep
+      // last 1 a version replaced while its fragments were still crossing a 250 kbit/s radio was
+      // announced as a GAP, and the base aborted on Fast DDS 2.9's assertion in
+      // DataReaderHistory::update_instance_nts (core dump: the change was this topic's).
+      q.history().kind = KEEP_ALL_HISTORY_QOS;
       // One instance per object: the default max_instances (10) would refuse the 11th object.
-      set_limits(q, kMaxObjectsPerRobot, 1);
+      set_limits(q, kMaxObjectsPerRobot, 100);
       q.publish_mode().kind = ASYNCHRONOUS_PUBLISH_MODE;
-      if (options.large_data_flow_controlled) q.publish_mode().flow_controller_name = kLargeDataFlowController;
       break;
     case TopicKind::kStatus:
       q.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
@@ -80,14 +79,37 @@ DataWriterQos writer_qos(TopicKind kind, const QosOptions& options) {
     case TopicKind::kCorrection:
     case TopicKind::kKeyframePoses:
     case TopicKind::kGoal:
-      reliable_common(q);
+      reliable_common(q, options);
       if (kind != TopicKind::kAck && kind != TopicKind::kCommand) q.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
       q.history().kind = KEEP_LAST_HISTORY_QOS;
       q.history().depth = 1;
       set_limits(q, kMaxRobots, 1);  // one instance per robot
       break;
   }
+  if (options.link_budgeted) {
+    // On a rate-limited link every sample, retransmissions too, is paced below the link rate, the
+    // most urgent first; a burst (the flush at the end of a mission) no longer overflows the
+    // link's queue and keeps it saturated with retransmissions.
+    q.publish_mode().kind = ASYNCHRONOUS_PUBLISH_MODE;
+    q.publish_mode().flow_controller_name = kLinkFlowController;
+    q.properties().properties().emplace_back("fastdds.sfc.priority", std::to_string(link_priority(kind)));
+  }
   return q;
+}
+
+int link_priority(TopicKind kind) {
+  switch (kind) {
+    case TopicKind::kObject:
+      return -10;  // a victim or hazard reaches the team first
+    case TopicKind::kStatus:
+      return -5;  // small: where each robot is and what it does
+    case TopicKind::kKeyframe:
+      return 0;
+    case TopicKind::kKeyframePoses:
+      return 5;  // the newest estimate, when the rest has gone
+    default:
+      return 10;
+  }
 }
 
 DataReaderQos reader_qos(TopicKind kind) {

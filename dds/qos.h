@@ -9,7 +9,7 @@ enum class TopicKind {
   kSensor,         ///< odometry, laser, RGB-D: reliable, keep all (a replay must not drop input)
   kClock,          ///< mission clock: reliable, transient local, keep last 1
   kKeyframe,       ///< reliable, transient local, keep all: the writer history is the outbox
-  kObject,         ///< reliable, transient local, keep last 1 per object, flow-controlled
+  kObject,         ///< reliable, transient local, keep all (every version) per object
   kStatus,         ///< best effort, keep last 1
   kAck,            ///< reliable, keep last 1 per robot
   kCorrection,     ///< reliable, transient local, keep last 1 per robot
@@ -24,8 +24,19 @@ inline eprosima::fastrtps::Duration_t to_duration(double s) {
 }
 
 struct QosOptions {
-  bool large_data_flow_controlled = false;  ///< objects through the participant's flow controller
+  /// Through the participant's link flow controller (ParticipantOptions::link_budget_bytes_per_sec),
+  /// at the kind's priority: objects (a victim) first, then statuses, keyframes, keyframe poses.
+  bool link_budgeted = false;
+  /// How often a reliable writer with unacknowledged samples asks its readers what they miss. The
+  /// 200 ms default repairs losses fast on a LAN; on a slow radio four agents' heartbeats (and the
+  /// base's acknowledgement traffic they provoke) took a third of 250 kbit/s: kSlowLinkHeartbeat_s.
+  double heartbeat_period_s = 0.2;
 };
+
+constexpr double kSlowLinkHeartbeat_s = 1.0;
+
+/// Priority of a kind on a budgeted link, Fast DDS's scale: -10 first .. 10 last.
+int link_priority(TopicKind kind);
 
 eprosima::fastdds::dds::DataWriterQos writer_qos(TopicKind kind, const QosOptions& options = {});
 eprosima::fastdds::dds::DataReaderQos reader_qos(TopicKind kind);

@@ -79,6 +79,27 @@ TEST(LogReplay, AgentReplaysACarmenLogToTheBaseOverDds) {
   EXPECT_GE(summary["robots"][0]["link"]["keyframe_pose_updates"].get<int>(), 1) << summary.dump();
 }
 
+TEST(LogReplay, AnAgentWithNoBaseKeepsItsDataWaitingAndAStopSaysWhatTheBaseLacks) {
+  // No base station on the domain (the radio is cut): the agent must not give up on its own after
+  // its input ended; stopped with SIGTERM it exits 3 and says what was never acknowledged.
+  if (!std::ifstream(kMitLog)) GTEST_SKIP() << "data absent: " << kMitLog;
+  const fs::path dir = fresh_dir("agent_no_base");
+  const std::string log = excerpt(dir, 200);
+  std::string error;
+  const auto lease = dds::DomainLease::claim({}, &error);
+  ASSERT_TRUE(lease) << error;
+  const std::string agent = bin("cairn_agent") + " --robot 0 --domain " + std::to_string(lease->domain_id()) +
+                            " --log " + log + " --log-speed 0";
+  // 12 s: the log's 200 scans take a moment; then it waits, and says so at once and every 10 s.
+  const auto r = run_command("timeout --preserve-status -s TERM 12 " + agent);
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("waiting for the base station: acknowledged by the base: keyframes 0 of"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("stopped before the base station had everything: acknowledged by the base: keyframes 0 of"),
+            std::string::npos)
+      << r.output;
+}
+
 /// The number N in the agent's closing line "done: N keyframes, ...", or -1.
 int agent_keyframes(const std::string& agent_log) {
   const auto at = agent_log.find("done: ");

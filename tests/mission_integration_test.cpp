@@ -276,18 +276,27 @@ TEST(MissionIntegration, TwoRobotsExploreTheOfficeByThemselvesFindEverythingAndC
   EXPECT_GT(summary["exploration"]["salient_spots_received"].get<int>(), 0);
 }
 
-TEST(MissionIntegration, LossyRateLimitedRadioLinkLosesNothing) {
-  // The base station behind an emulated radio (10 % loss each way, 1 Mbit/s): reliable DDS with
-  // the agents' outboxes and the base's acks must still deliver every keyframe and object.
+TEST(MissionIntegration, LossySlowRadioLinkLosesNothing) {
+  // The base station behind an emulated radio (10 % loss each way, 250 kbit/s, an ordinary Wi-Fi
+  // link through rubble): reliable DDS with the agents' outboxes, their link budget and the base's
+  // acks must still deliver every keyframe and object, without drowning the link in overhead.
   if (geteuid() != 0 || !fs::exists("/usr/sbin/nft") || !fs::exists("/usr/sbin/tc")) {
     GTEST_SKIP() << "needs root, nft and tc for the emulated radio link (network namespaces)";
   }
   const MissionRun run =
-      run_mission("tests/worlds/two_robots_meet.yaml", "lossy", "--timeout 400 --link-loss 10 --link-kbit 1000");
+      run_mission("tests/worlds/two_robots_meet.yaml", "lossy", "--timeout 400 --link-loss 10 --link-kbit 250");
   const fs::path& out = run.out;
   const CommandResult& r = run.result;
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("10 % loss, 1000 kbit/s each way"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("10 % loss, 250 kbit/s each way"), std::string::npos) << r.output;
+  std::ifstream results_in(out / "results.json");
+  const nlohmann::json results = nlohmann::json::parse(results_in, nullptr, false);
+  ASSERT_TRUE(results.contains("radio")) << r.output;
+  // The radio did lose packets both ways, and what crossed it stayed within 3x the payload (2.0x
+  // measured; 4.1x before the link budget, mostly discovery probes and fragment repair requests).
+  EXPECT_GT(results["radio"]["to_base"]["lost_packets"].get<int>(), 0) << results["radio"].dump();
+  EXPECT_GT(results["radio"]["to_robots"]["lost_packets"].get<int>(), 0) << results["radio"].dump();
+  EXPECT_LT(results["radio"]["overhead"].get<double>(), 3.0) << results["radio"].dump();
   std::ifstream in(out / "map" / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
   ASSERT_EQ(summary["robots"].size(), 2u);

@@ -72,6 +72,8 @@ int main(int argc, char** argv) {
       "console address to listen on (default 127.0.0.1, this machine only; 0.0.0.0 opens it to the network)");
   bool no_shm = false;
   app.add_flag("--no-shm", no_shm, "UDP only, no shared memory (e.g. behind an emulated radio link)");
+  app.add_flag("--slow-link", options.slow_link,
+               "the robots are behind a slow radio (a few hundred kbit/s): DDS discovery announces every 10 s, not 3");
   app.add_flag("--serve", options.serve_after_finish, "keep the console up after the mission");
   app.add_option(
       "--journal", options.journal_path,

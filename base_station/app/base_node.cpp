@@ -43,6 +43,10 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   po.name = "cairn_base";
   po.initial_peers = options.peers;
   po.use_shared_memory = options.use_shared_memory;
+  if (options.slow_link) {
+    po.announcement_period_s = dds::kSlowLinkAnnouncementPeriod_s;
+    po.lease_duration_s = dds::kSlowLinkLeaseDuration_s;
+  }
   po.security_dir = options.security_dir;
   n->participant_ = dds::Participant::create(po, error);
   if (!n->participant_) return nullptr;
@@ -51,7 +55,9 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
   n->object_in_ = std::make_unique<dds::Reader<dds::ObjectTopic>>(p);
   n->status_in_ = std::make_unique<dds::Reader<dds::StatusTopic>>(p);
   n->keyframe_poses_in_ = std::make_unique<dds::Reader<dds::KeyframePosesTopic>>(p);
-  n->ack_out_ = std::make_unique<dds::Writer<dds::AckTopic>>(p);
+  dds::QosOptions to_robots;  // on a slow radio, fewer heartbeats (dds/qos.h)
+  if (options.slow_link) to_robots.heartbeat_period_s = dds::kSlowLinkHeartbeat_s;
+  n->ack_out_ = std::make_unique<dds::Writer<dds::AckTopic>>(p, to_robots);
   if (options.ros2) {
     n->ros2_out_ = std::make_unique<Ros2Output>(p);
     if (!n->ros2_out_->ok()) {
@@ -59,10 +65,10 @@ std::unique_ptr<BaseNode> BaseNode::create(const BaseNodeOptions& options, const
       return nullptr;
     }
   }
-  n->correction_out_ = std::make_unique<dds::Writer<dds::CorrectionTopic>>(p);
-  n->goal_out_ = std::make_unique<dds::Writer<dds::GoalTopic>>(p);
-  n->command_out_ = std::make_unique<dds::Writer<dds::OperatorCommandTopic>>(p);
-  n->keep_out_out_ = std::make_unique<dds::Writer<dds::KeepOutTopic>>(p);
+  n->correction_out_ = std::make_unique<dds::Writer<dds::CorrectionTopic>>(p, to_robots);
+  n->goal_out_ = std::make_unique<dds::Writer<dds::GoalTopic>>(p, to_robots);
+  n->command_out_ = std::make_unique<dds::Writer<dds::OperatorCommandTopic>>(p, to_robots);
+  n->keep_out_out_ = std::make_unique<dds::Writer<dds::KeepOutTopic>>(p, to_robots);
   if (!n->keyframe_in_->ok() || !n->object_in_->ok() || !n->status_in_->ok() || !n->keyframe_poses_in_->ok() ||
       !n->ack_out_->ok() || !n->correction_out_->ok() || !n->goal_out_->ok() || !n->command_out_->ok() ||
       !n->keep_out_out_->ok()) {

@@ -40,6 +40,7 @@ struct BaseNodeOptions {
   int domain_id = 0;
   std::vector<std::string> peers;  ///< unicast discovery peers (IPv4): the robots
   bool use_shared_memory = true;   ///< false: UDP only, even to processes on this host
+  bool slow_link = false;          ///< the robots are behind a slow radio: announce less often
   std::string security_dir;        ///< DDS Security identity (dds::ParticipantOptions); empty = off
   std::string out_dir = "out";
   int expected_robots = 0;              ///< finish once this many robots reported "finished"; 0 = run until stopped

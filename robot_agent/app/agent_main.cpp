@@ -2,7 +2,10 @@
 // pipeline (robot_agent/core), and publishes keyframes, objects and status to the base station.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <csignal>
 #include <iostream>
 
 #include "common/carmen_log.h"
@@ -12,6 +15,14 @@
 #include "common/multirobot_log.h"
 #include "robot_agent/app/agent_config.h"
 #include "robot_agent/app/agent_node.h"
+
+namespace {
+std::atomic<bool> g_stop{false};
+void on_signal(int) { g_stop = true; }
+
+/// On a budgeted radio the agent sends its loop-closed keyframe poses at most this often (mission s).
+constexpr double kSlowLinkKeyframePosesInterval_s = 20.0;
+}  // namespace
 
 int main(int argc, char** argv) {
   cairn::reexec_with_huge_pages(argv);  // common/huge_pages.h: ~-12 % SLAM CPU
@@ -30,7 +41,11 @@ int main(int argc, char** argv) {
                  "replay a log instead of the sensor topics: CARMEN (.clf/.log, plain or .gz), or a Cairn "
                  "multi-robot log (docs/multirobot_log_format.md; this robot's records are used)");
   app.add_option("--log-speed", input.log_options.speed, "log replay speed, times real time (0 = as fast as possible)");
-  app.add_option("--object-rate-limit", node.large_data_bytes_per_sec, "bytes/s for object clouds (0 = no limit)");
+  double link_budget_kbit = 0;
+  app.add_option("--link-budget-kbit", link_budget_kbit,
+                 "this robot's share of a slow radio, kbit/s: everything it sends is paced below it, a victim or "
+                 "hazard first, then status, keyframes, keyframe poses (0 = no limit)")
+      ->check(CLI::Range(0.0, 1e6));
   bool ros2 = false, no_navigation = false;
   cairn::agent::Ros2InputOptions ros2_options;
   std::vector<double> camera_mount{0.5, 0.0};
@@ -51,8 +66,14 @@ int main(int argc, char** argv) {
   app.add_option("--ros2-idle-end", ros2_options.idle_end_s,
                  "end the input after this many seconds without a scan (a replayed bag; 0 = never)");
   app.add_flag("--no-navigation", no_navigation, "do not steer the robot (its data is recorded: it drove already)");
+  app.add_option("--ack-timeout", node.ack_timeout_s,
+                 "at the end, give up waiting for the base station's acknowledgements after this many seconds and "
+                 "exit 3 naming what it lacks (0 = wait while the process runs; SIGINT/SIGTERM end it the same way)")
+      ->check(CLI::Range(0.0, 1e6));
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
+  node.link_budget_bytes_per_sec = uint32_t(link_budget_kbit * 1000.0 / 8.0);
+  if (node.link_budget_bytes_per_sec > 0) node.status_period_s = std::max(node.status_period_s, 1.0);
   if (ros2) {
     if (!log_path.empty()) {
       std::cerr << "cairn_agent: --ros2 and --log are two inputs: choose one\n";
@@ -73,6 +94,12 @@ int main(int argc, char** argv) {
   cairn::MultiRobotLog multirobot;
   try {
     if (!config_path.empty()) options = cairn::agent::load_agent_options(config_path);
+    if (node.link_budget_bytes_per_sec > 0) {
+      // The loop-closed poses of every keyframe (~28 B each, 14 kB after 500 keyframes): sent less
+      // often on a slow radio, they stay a small share of it.
+      options.keyframe_poses_min_interval_s =
+          std::max(options.keyframe_poses_min_interval_s, kSlowLinkKeyframePosesInterval_s);
+    }
     if (!log_path.empty() && cairn::is_multirobot_log(log_path)) {
       multirobot = cairn::read_multirobot_log(log_path);
       input.robot_log = multirobot.robot(cairn::RobotId(robot));
@@ -109,5 +136,7 @@ int main(int argc, char** argv) {
     log->error("{}", error);
     return 3;
   }
-  return agent->run();
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  return agent->run(&g_stop);
 }

@@ -2,7 +2,9 @@
 // The robot agent's DDS side around its core: sensor readers in, AgentPipeline, keyframe/object/
 // status writers out; acks and corrections from the base station in. Single-threaded: run() polls.
 // Data flow: sensor topics -> dds::from_msg -> AgentPipeline -> dds::to_msg -> keyframe/object.
+#include <atomic>
 #include <chrono>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -32,9 +34,13 @@ struct AgentNodeOptions {
   /// frame gone) is a new session the base keeps apart (base_station/core/robot_sessions.h).
   uint32_t session = 0;
   double status_period_s = 0.5;
-  double ack_timeout_s = 60.0;            ///< how long to wait for the base to store everything at the end
-  uint32_t large_data_bytes_per_sec = 0;  ///< flow controller for objects; 0 = unlimited
-  bool navigate = true;                   ///< drive the robot (cmd_vel); off when replaying a log
+  /// How long to wait at the end for the base to store everything; 0 = as long as the process runs
+  /// (the radio may be cut for minutes: what the robot found is kept and sent when it is back).
+  double ack_timeout_s = 0.0;
+  /// This robot's share of the radio in bytes/s (objects, status, keyframes, keyframe poses in that
+  /// order of priority; dds::ParticipantOptions::link_budget_bytes_per_sec); 0 = unlimited.
+  uint32_t link_budget_bytes_per_sec = 0;
+  bool navigate = true;  ///< drive the robot (cmd_vel); off when replaying a log
   /// Sensors from a ROS 2 robot's drivers (cairn_agent --ros2) instead of Cairn's sensor topics.
   std::optional<Ros2InputOptions> ros2;
   NavigatorOptions navigator;
@@ -55,9 +61,9 @@ class AgentNode {
   static std::unique_ptr<AgentNode> create(RobotId robot, const AgentOptions& core_options,
                                            const AgentNodeOptions& options, const SensorInput& input,
                                            std::string* error);
-  /// Runs until the mission clock says the input ended and the base acknowledged everything.
-  /// Returns the process exit code.
-  int run();
+  /// Runs until the mission clock says the input ended and the base acknowledged everything, or
+  /// `stop` is set. Returns the process exit code: 3 when something was never acknowledged.
+  int run(const std::atomic<bool>* stop = nullptr);
 
  private:
   AgentNode(RobotId robot, const AgentOptions& core_options, const AgentNodeOptions& options);
@@ -65,6 +71,11 @@ class AgentNode {
   void publish(const AgentOutputs& outputs);
   void publish_status(bool finished);
   bool base_has_everything();
+  /// "acknowledged: keyframes 12 of 40, objects 1 of 2" (what the base has of what was sent).
+  std::string delivery_report() const;
+  /// Writes the newest update of each object and the newest keyframe poses once what was written
+  /// before has been acknowledged (why: agent_node.cpp). True when nothing waits.
+  bool send_waiting_updates();
   /// Keyframe, object and keyframe-pose payloads written so far.
   uint64_t bytes_sent() const;
 
@@ -107,6 +118,8 @@ class AgentNode {
   int32_t acked_keyframe_seq_ = -1;
   int acked_object_count_ = 0;
   std::set<int32_t> objects_published_;
+  std::optional<KeyframePoses> waiting_poses_;       ///< newest estimate not written yet
+  std::map<int32_t, ObjectReport> waiting_objects_;  ///< newest update per object not written yet
   int bad_samples_ = 0;
   int ros2_refused_ = 0;  ///< ROS 2 messages refused so far (logged as the count grows)
   struct Probe {

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -27,6 +28,9 @@ namespace fs = std::filesystem;
 using cairn::mission::ChildProcess;
 
 namespace {
+
+/// Share of an emulated radio's rate the robots' payload may use together (--link-kbit).
+constexpr double kLinkPayloadShare = 0.6;
 
 volatile std::sig_atomic_t g_interrupted = 0;
 void on_signal(int) { g_interrupted = 1; }
@@ -84,6 +88,11 @@ int main(int argc, char** argv) {
                  "secret the console's commands need (default: a fresh random one, printed in the console's address)");
   app.add_option("--link-loss", opt.link.loss_pct, "emulated radio: % of packets lost each way (needs root)");
   app.add_option("--link-kbit", opt.link.rate_kbit, "emulated radio: rate limit each way in kbit/s (needs root)");
+  std::vector<double> cut;
+  app.add_option("--link-cut", cut,
+                 "AT_S FOR_S: emulated radio: the link goes down AT_S seconds (wall) into the mission "
+                 "for FOR_S seconds (needs root)")
+      ->expected(2);
   app.add_option("--record", opt.record,
                  "record every DDS topic to this MCAP file (ROS 2 bag storage; cairn_replay plays it back)");
   app.add_flag("--ros2", opt.ros2,
@@ -153,7 +162,11 @@ int main(int argc, char** argv) {
   std::unique_ptr<cairn::mission::NetworkLab> lab;
   std::string console_host = "127.0.0.1";
   std::vector<std::string> base_cmd, agent_extra;
-  if (opt.link.loss_pct > 0 || opt.link.rate_kbit > 0) {
+  if (cut.size() == 2) {
+    opt.link.cut_at_s = cut[0];
+    opt.link.cut_for_s = cut[1];
+  }
+  if (opt.link.loss_pct > 0 || opt.link.rate_kbit > 0 || opt.link.cut_at_s >= 0) {
     std::string error;
     lab = cairn::mission::NetworkLab::create(opt.link, &error);
     if (!lab) {
@@ -164,9 +177,10 @@ int main(int argc, char** argv) {
     console_host = lab->base_side_address();
     agent_extra = {"--peer", lab->base_side_address()};
     if (opt.link.rate_kbit > 0) {
-      // Large samples need a flow controller below the link rate, or they choke the keyframes.
-      agent_extra.push_back("--object-rate-limit");
-      agent_extra.push_back(std::to_string(opt.link.rate_kbit * 1000 / 8 / (2 * robots)));
+      // Each robot sends within an equal share of the shared radio, kept below its rate: the rest
+      // carries discovery, heartbeats, acknowledgements and retransmissions of lost packets.
+      agent_extra.push_back("--link-budget-kbit");
+      agent_extra.push_back(std::to_string(kLinkPayloadShare * opt.link.rate_kbit / robots));
     }
   }
   base_cmd.insert(base_cmd.end(), {(bin / "cairn_base").string(), "--domain", std::to_string(opt.domain), "--out",
@@ -203,6 +217,7 @@ int main(int argc, char** argv) {
   if (opt.serve) base_cmd.push_back("--serve");
   if (opt.ros2) base_cmd.push_back("--ros2");
   if (lab) base_cmd.insert(base_cmd.end(), {"--no-shm", "--bind", "0.0.0.0", "--peer", lab->robots_side_address()});
+  if (lab && opt.link.rate_kbit > 0) base_cmd.push_back("--slow-link");
   base_cmd = secured(base_cmd, "base");
 
   std::cout << "Cairn mission '" << wf.world.name << "': " << robots << " robots, " << wf.world.objects.size()
@@ -271,6 +286,7 @@ int main(int argc, char** argv) {
   }
 
   cairn::mission::ProgressPoller progress(console_host, opt.port, robots);
+  bool link_cut = false;
   const fs::path summary_file = out / "map" / "summary.json";
   while (true) {
     bool failed = false, workers_done = true;
@@ -292,8 +308,23 @@ int main(int argc, char** argv) {
       return 1;
     }
     if (workers_done && base_done) break;
-    const auto line =
-        progress.changed_line(std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
+    if (lab && opt.link.cut_at_s >= 0) {
+      const double t_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      const bool should_cut = t_s >= opt.link.cut_at_s && t_s < opt.link.cut_at_s + opt.link.cut_for_s;
+      std::string error;
+      if (should_cut != link_cut && lab->set_cut(should_cut, &error)) {
+        link_cut = should_cut;
+        std::cout << "[" << int(t_s) << " s] radio link " << (link_cut ? "cut" : "back") << std::endl;
+      } else if (should_cut != link_cut) {
+        std::cerr << "cairn_mission: " << error << "\n";
+      }
+    }
+    std::optional<std::string> line;
+    const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    if (lab)
+      lab->run_inside([&] { line = progress.changed_line(elapsed_s); });
+    else
+      line = progress.changed_line(elapsed_s);
     if (line) std::cout << *line << std::endl;
     std::this_thread::sleep_for(std::chrono::seconds(1));
   }
@@ -305,7 +336,8 @@ int main(int argc, char** argv) {
     std::cout << "recording: " << opt.record << " (" << p->log_path() << ")\n";
   }
 
-  int code = cairn::mission::report(out, wall_s, procs, std::cout);
+  const auto link = lab ? std::optional<cairn::mission::LinkTraffic>(lab->traffic()) : std::nullopt;
+  int code = cairn::mission::report(out, wall_s, procs, link, std::cout);
   if (opt.serve && code == 0) {
     std::cout << "console still up at http://" << console_host << ":" << opt.port << "/#token=" << opt.operator_token
               << " (Ctrl-C to stop)" << std::endl;

@@ -72,8 +72,40 @@ std::optional<std::string> ProgressPoller::changed_line(double wall_s) {
   return l;
 }
 
+namespace {
+
+json to_json(const LinkDirection& d) {
+  return {{"packets", d.packets},
+          {"bytes", d.bytes},
+          {"lost_packets", d.lost_packets},
+          {"lost_bytes", d.lost_bytes},
+          {"queue_dropped_packets", d.queue_dropped_packets}};
+}
+
+/// The radio's share of the summary: what crossed it each way and what it cost over the payload.
+void report_link(const LinkTraffic& link, double payload_bytes, json* results, std::ostream& s) {
+  auto line = [&](const char* way, const LinkDirection& d) {
+    s << "  " << way << ": " << double(d.bytes + d.lost_bytes) / 1024.0 << " KiB in " << d.packets + d.lost_packets
+      << " packets (" << d.lost_packets << " lost on the air, " << d.queue_dropped_packets
+      << " dropped by the rate limit's queue)\n";
+  };
+  s << "radio link:\n";
+  line("robots -> base", link.to_base);
+  line("base -> robots", link.to_robots);
+  const double offered = double(link.to_base.bytes + link.to_base.lost_bytes);
+  const double overhead = payload_bytes > 0 ? offered / payload_bytes : 0.0;
+  s << "  overhead: " << overhead << " x the robots' payload (" << payload_bytes / 1024.0
+    << " KiB of keyframes and objects)\n";
+  (*results)["radio"] = {{"to_base", to_json(link.to_base)},
+                         {"to_robots", to_json(link.to_robots)},
+                         {"payload_bytes", payload_bytes},
+                         {"overhead", overhead}};
+}
+
+}  // namespace
+
 int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr<ChildProcess>>& procs,
-           std::ostream& os) {
+           const std::optional<LinkTraffic>& link, std::ostream& os) {
   json results;
   eval::MissionScore score;
   json summary;
@@ -125,6 +157,12 @@ int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr
                                  {"keyframe_bytes", kf_bytes},
                                  {"object_messages", obj_msgs},
                                  {"object_bytes", obj_bytes}});
+  }
+  if (link) {
+    double payload_bytes = 0;
+    for (const auto& r : results["robots"])
+      payload_bytes += r.value("keyframe_bytes", 0.0) + r.value("object_bytes", 0.0);
+    report_link(*link, payload_bytes, &results, s);
   }
   // Loud, never quiet: robots the base could not place, and what they found, in their own frames.
   const json unlinked = summary.value("unlinked_robots", json::array());

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tools/mission/child_process.h"
+#include "tools/mission/network_lab.h"
 #include "tools/mission/ports.h"
 
 namespace cairn::mission {
@@ -31,7 +32,8 @@ class ProgressPoller {
 
 /// Scores out/map against out/ground_truth, writes results.json and summary.txt into `out`,
 /// prints the summary. Returns 0, or non-zero when results are missing or malformed.
+/// `link`: the emulated radio's counters, when the mission ran behind one.
 int report(const std::filesystem::path& out, double wall_s, const std::vector<std::unique_ptr<ChildProcess>>& procs,
-           std::ostream& os);
+           const std::optional<LinkTraffic>& link, std::ostream& os);
 
 }  // namespace cairn::mission

@@ -1,9 +1,13 @@
 #include "tools/mission/network_lab.h"
 
+#include <fcntl.h>
+#include <sched.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
+#include <thread>
 
 namespace cairn::mission {
 namespace {
@@ -20,7 +24,7 @@ bool shape(const std::string& ns_exec, const std::string& dev, const LinkOptions
   if (o.loss_pct > 0) {
     std::ostringstream rule;
     rule << ns_exec << "nft add rule inet " << table << " out oifname " << dev << " numgen random mod 1000 '<' "
-         << int(o.loss_pct * 10) << " drop";
+         << int(o.loss_pct * 10) << " counter drop";
     if (!run(ns_exec + "nft add table inet " + table, error) ||
         !run(ns_exec + "nft add chain inet " + table + " out '{ type filter hook output priority 0; }'", error) ||
         !run(rule.str(), error)) {
@@ -36,6 +40,36 @@ bool shape(const std::string& ns_exec, const std::string& dev, const LinkOptions
   return true;
 }
 
+/// Standard output of `command` (empty when it fails).
+std::string output_of(const std::string& command) {
+  std::string text;
+  if (FILE* pipe = ::popen((command + " 2>/dev/null").c_str(), "r")) {
+    char buf[4096];
+    for (size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) text.append(buf, n);
+    ::pclose(pipe);
+  }
+  return text;
+}
+
+/// The first number after `key` in `text` (0 when absent).
+uint64_t number_after(const std::string& text, const std::string& key) {
+  const size_t at = text.find(key);
+  return at == std::string::npos ? 0 : std::strtoull(text.c_str() + at + key.size(), nullptr, 10);
+}
+
+/// What left one end of the link: the device's counters, the loss rule's counter, the queue's drops.
+LinkDirection direction(const std::string& ns_exec, const std::string& dev) {
+  LinkDirection d;
+  const std::string stats = "/sys/class/net/" + dev + "/statistics/";
+  d.packets = number_after(output_of(ns_exec + "cat " + stats + "tx_packets"), "");
+  d.bytes = number_after(output_of(ns_exec + "cat " + stats + "tx_bytes"), "");
+  const std::string rule = output_of(ns_exec + "nft list table inet cairn_lab_" + dev);
+  d.lost_packets = number_after(rule, "counter packets ");
+  d.lost_bytes = number_after(rule, " bytes ");
+  d.queue_dropped_packets = number_after(output_of(ns_exec + "tc -s qdisc show dev " + dev), "(dropped ");
+  return d;
+}
+
 }  // namespace
 
 std::unique_ptr<NetworkLab> NetworkLab::create(const LinkOptions& options, std::string* error) {
@@ -47,8 +81,8 @@ std::unique_ptr<NetworkLab> NetworkLab::create(const LinkOptions& options, std::
     *error = "network lab: needs ip, nft and tc (Debian packages iproute2 and nftables)";
     return nullptr;
   }
-  if (options.loss_pct < 0 || options.loss_pct > 90 || options.rate_kbit < 0) {
-    *error = "network lab: loss must be 0..90 % and the rate >= 0 kbit/s";
+  if (options.loss_pct < 0 || options.loss_pct > 90 || options.rate_kbit < 0 || !(options.cut_for_s >= 0)) {
+    *error = "network lab: loss must be 0..90 %, the rate >= 0 kbit/s and a cut >= 0 s";
     return nullptr;
   }
   std::unique_ptr<NetworkLab> lab(new NetworkLab());
@@ -77,8 +111,39 @@ NetworkLab::~NetworkLab() {
   if (netns_.empty()) return;
   std::string ignored;
   run("nft delete table inet cairn_lab_" + veth_host_, &ignored);
+  run("nft delete table inet cairn_cut_" + veth_host_, &ignored);
   run("ip link del " + veth_host_, &ignored);  // removes both ends of the pair
   run("ip netns del " + netns_, &ignored);
+}
+
+void NetworkLab::run_inside(const std::function<void()>& work) const {
+  std::thread([&] {
+    // setns() moves only the calling thread; a thread of its own keeps the launcher where it is.
+    const int fd = ::open(("/var/run/netns/" + netns_).c_str(), O_RDONLY | O_CLOEXEC);
+    const bool inside = fd >= 0 && ::setns(fd, CLONE_NEWNET) == 0;
+    if (fd >= 0) ::close(fd);
+    if (inside) work();
+  }).join();
+}
+
+bool NetworkLab::set_cut(bool cut, std::string* error) {
+  // A table of its own on each side, made to cut and deleted to restore (the loss rules stay).
+  const std::string in_lab = "ip netns exec " + netns_ + " ";
+  for (const auto& [ns_exec, dev] : {std::pair{std::string(), veth_host_}, std::pair{in_lab, veth_lab_}}) {
+    const std::string table = "cairn_cut_" + dev;
+    const bool ok =
+        cut ? run(ns_exec + "nft add table inet " + table, error) &&
+                  run(ns_exec + "nft add chain inet " + table + " out '{ type filter hook output priority -1; }'",
+                      error) &&
+                  run(ns_exec + "nft add rule inet " + table + " out oifname " + dev + " drop", error)
+            : run(ns_exec + "nft delete table inet " + table, error);
+    if (!ok) return false;
+  }
+  return true;
+}
+
+LinkTraffic NetworkLab::traffic() const {
+  return {direction("", veth_host_), direction("ip netns exec " + netns_ + " ", veth_lab_)};
 }
 
 std::string NetworkLab::describe() const {
@@ -86,6 +151,7 @@ std::string NetworkLab::describe() const {
   s << "radio link " << host_address_ << " <-> " << lab_address_ << ": " << options_.loss_pct << " % loss";
   if (options_.rate_kbit > 0) s << ", " << options_.rate_kbit << " kbit/s";
   s << " each way";
+  if (options_.cut_at_s >= 0) s << "; cut from " << options_.cut_at_s << " s for " << options_.cut_for_s << " s";
   return s.str();
 }
 

@@ -3,6 +3,8 @@
 // in its own network namespace, joined to the robots' side by a veth pair whose both ends drop a
 // share of packets (nftables `numgen random`) and are rate-limited (tbf). Needs root, `ip`, `nft`
 // and `tc`. The namespace and its rules are removed when the NetworkLab is destroyed.
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,6 +15,21 @@ struct LinkOptions {
   double loss_pct = 0.0;  ///< packets dropped in each direction, 0..90
   int rate_kbit = 0;      ///< tbf rate per direction; 0 = unlimited
   int latency_ms = 200;   ///< tbf queue bound
+  double cut_at_s = -1;   ///< the link goes down this many seconds into the mission (< 0: never)
+  double cut_for_s = 0;   ///< ... for this long
+};
+
+/// What one side put on the link: packets and bytes that crossed it, and those the emulated radio
+/// lost (the loss rule) or the rate limit's queue dropped.
+struct LinkDirection {
+  uint64_t packets = 0, bytes = 0;
+  uint64_t lost_packets = 0, lost_bytes = 0;
+  uint64_t queue_dropped_packets = 0;
+};
+
+struct LinkTraffic {
+  LinkDirection to_base;    ///< robots' side -> base station
+  LinkDirection to_robots;  ///< base station -> robots' side
 };
 
 class NetworkLab {
@@ -28,6 +45,13 @@ class NetworkLab {
   const std::string& robots_side_address() const { return host_address_; }
   const std::string& base_side_address() const { return lab_address_; }
   std::string describe() const;
+  /// Runs `work` on a thread inside the base station's namespace and waits for it: what the operator
+  /// does at the base (the mission's progress polls of its console) stays off the emulated radio.
+  void run_inside(const std::function<void()>& work) const;
+  /// Drops every packet both ways (true) or lets them pass again (false): a radio out of range.
+  bool set_cut(bool cut, std::string* error);
+  /// The link's counters so far (read from the devices, the loss rules and the queues).
+  LinkTraffic traffic() const;
 
  private:
   NetworkLab() = default;
