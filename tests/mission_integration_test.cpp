@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -56,6 +57,24 @@ Pgm read_pgm(const std::string& path) {
 
 /// Fraction of the merged map's occupied cells that lie within `tolerance_m` of a floor-plan wall.
 /// Runs cairn_mission on `world` (source-relative) into a fresh temporary folder named by `tag`.
+/// The ids objects.csv names each object by, its own and its aliases ("1-0", "0-2", ...).
+std::set<std::string> object_ids_in(const fs::path& csv) {
+  std::set<std::string> ids;
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);  // header: id,class,...,frame,aliases,...
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream fields(line);
+    for (std::string cell; std::getline(fields, cell, ',');) cells.push_back(cell);
+    if (cells.size() < 13) continue;
+    ids.insert(cells[0]);
+    std::stringstream aliases(cells[12]);
+    for (std::string a; std::getline(aliases, a, ';');) ids.insert(a);
+  }
+  return ids;
+}
+
 struct MissionRun {
   fs::path out;
   CommandResult result;
@@ -228,6 +247,11 @@ TEST(MissionIntegration, DemoFloorMergesEveryRobotAndEveryObjectOnceAndSurvivesA
   // A duplicate left by the live merge may be joined in the restarted batch merge (9 against 10 seen).
   EXPECT_NEAR(restored.objects.detected, score.objects.detected, 1) << eval::format_score(restored);
   EXPECT_GE(restored.objects.precision(), 0.75) << eval::format_score(restored);
+  // Every object keeps the id the team knew it by (as its id, or an alias of the object it joined).
+  const std::set<std::string> known = object_ids_in(out / "map" / "objects.csv");
+  const std::set<std::string> after = object_ids_in(again / "objects.csv");
+  ASSERT_FALSE(known.empty());
+  for (const std::string& id : known) EXPECT_TRUE(after.count(id)) << id << " lost its id when the base restarted";
 }
 
 TEST(MissionIntegration, TwoRobotsExploreTheOfficeByThemselvesFindEverythingAndComeHome) {

@@ -169,7 +169,8 @@ TEST(ProcessBadInput, ARobotKnownOnlyFromItsStatusesIsInTheSummary) {
 
 // The operator's commands and verdicts survive a base restart (a command with what the robot last
 // said of it); a damaged command record is named and kept, not fatal.
-TEST(ProcessBadInput, OperatorCommandsVerdictsAlertAcksAndKeepOutAreasSurviveABaseRestartAndADamagedOneIsNamed) {
+TEST(ProcessBadInput,
+     OperatorCommandsVerdictsAlertAcksKeepOutAreasAndObjectIdsSurviveABaseRestartAndADamagedOneIsNamed) {
   cairn_msgs::RobotStatus status;
   status.robot_id(5);
   status.finished(true);
@@ -182,6 +183,8 @@ TEST(ProcessBadInput, OperatorCommandsVerdictsAlertAcksAndKeepOutAreasSurviveABa
   const std::string keep_out =
       R"({"seq": 1, "action": 2, "area": 1, "min_m": [2, 3], "max_m": [4, 5], "stopped": [], "at_ns": 9})";
   const std::string ack = R"({"key": "object:5-3"})";
+  const std::string object_id = R"({"report": [5, 3], "shown": [5, 3], "order": 0})";
+  const std::string bad_object_id = R"({"report": [5], "shown": [5, 3], "order": 1})";
   const std::string dir = folder_with_journal(
       "base_commands",
       {robot5_record(base::JournalKind::kStatus, 0, dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(status)),
@@ -191,7 +194,9 @@ TEST(ProcessBadInput, OperatorCommandsVerdictsAlertAcksAndKeepOutAreasSurviveABa
        robot5_record(base::JournalKind::kSearch, 1, {keep_out.begin(), keep_out.end()}),
        robot5_record(base::JournalKind::kSession, 99, {'{', '"', 'r'}),
        robot5_record(base::JournalKind::kAlertAck, 1, {ack.begin(), ack.end()}),
-       robot5_record(base::JournalKind::kAlertAck, 2, {'{', '}'})});
+       robot5_record(base::JournalKind::kAlertAck, 2, {'{', '}'}),
+       robot5_record(base::JournalKind::kObjectId, 1, {object_id.begin(), object_id.end()}),
+       robot5_record(base::JournalKind::kObjectId, 2, {bad_object_id.begin(), bad_object_id.end()})});
   const auto [r, summary] = run_base_on(dir);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("skipped operator command 8 of robot5"), std::string::npos) << r.output;
@@ -205,9 +210,13 @@ TEST(ProcessBadInput, OperatorCommandsVerdictsAlertAcksAndKeepOutAreasSurviveABa
   EXPECT_NE(r.output.find("skipped alert acknowledgement 2 of robot5: alert acknowledgement: no \"key\" string"),
             std::string::npos)
       << r.output;
-  EXPECT_EQ(summary["journal"]["skipped_records"], 3);
+  EXPECT_NE(r.output.find("skipped object id 2 of robot5: object id record: 'report' is not [robot, seq] of two "
+                          "non-negative integers"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(summary["journal"]["skipped_records"], 4);
   // The damaged records are kept for a later look; robot 5's session (the status's) is journaled.
-  EXPECT_EQ(summary["journal"]["records"], 9);
+  EXPECT_EQ(summary["journal"]["records"], 11);
   EXPECT_EQ(summary["alerts_acknowledged"], nlohmann::json::array({"object:5-3"}));
   ASSERT_EQ(summary["verdicts"].size(), 1u) << summary.dump();
   EXPECT_EQ(summary["verdicts"][0]["object"], "5-3");

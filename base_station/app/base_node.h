@@ -171,6 +171,7 @@ class BaseNode {
   AlertLog alert_log_;           ///< every alert raised, first seen, acknowledged
   std::set<std::string> journaled_alert_acks_;  ///< acknowledgements in the journal (restored or written)
   int64_t last_alert_ack_key_ = 0;              ///< their journal keys: 1, 2, ...
+  int64_t last_object_id_key_ = 0;              ///< journal keys of the object-id facts: 1, 2, ...
   ObjectVerdicts verdicts_;  ///< the operator's verdicts on objects (applied to every merged map shown)
   std::unique_ptr<ConsoleServer> console_;
   std::unique_ptr<Journal> journal_;

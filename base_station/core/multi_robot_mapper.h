@@ -61,6 +61,11 @@ class MultiRobotMapper {
   std::vector<GlobalObject> objects() const;
   /// Objects of robots not linked yet, each in its robot's own frame (robot_frame_objects.h).
   std::vector<GlobalObject> unplaced_objects() const;
+  /// What the object-id registry learnt since the last call (whenever objects were computed), to
+  /// journal.
+  std::vector<ObjectIdRegistry::Entry> take_object_id_entries();
+  /// An object-id fact journaled before a restart; before any object is computed (false: refused).
+  bool restore_object_id(const ObjectIdRegistry::Entry& e) { return object_ids_.restore(e); }
   /// Each unlinked robot's own map (robot_frame_objects.h), redrawn incrementally.
   const std::vector<RobotFrameMap>& robot_frame_maps() const;
   /// Reports whose anchor keyframe has not arrived yet.

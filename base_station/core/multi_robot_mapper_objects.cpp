@@ -76,6 +76,10 @@ std::vector<GlobalObject> MultiRobotMapper::unplaced_objects() const {
   return unplaced_;
 }
 
+std::vector<ObjectIdRegistry::Entry> MultiRobotMapper::take_object_id_entries() {
+  return object_ids_.take_new_entries();
+}
+
 void MultiRobotMapper::refresh_objects() const {
   if (objects_version_ == version_) return;
   // Placed and unplaced together through the registry: an object keeps its id when its robot links.

@@ -60,9 +60,32 @@ void ObjectIdRegistry::assign(std::vector<GlobalObject>* objects) {
     }
     std::sort(o.aliases.begin(), o.aliases.end());
     if (!first_shown_.count(o.id)) first_shown_[o.id] = next_++;
-    for (ObjectId report : o.reports) shown_as_[report] = o.id;
+    for (ObjectId report : o.reports) {
+      auto [it, added] = shown_as_.emplace(report, o.id);
+      if (!added && it->second == o.id) continue;
+      it->second = o.id;
+      new_entries_.push_back({report, o.id, first_shown_.at(o.id)});
+    }
   }
   std::sort(objects->begin(), objects->end(), [](const GlobalObject& a, const GlobalObject& b) { return a.id < b.id; });
+}
+
+std::vector<ObjectIdRegistry::Entry> ObjectIdRegistry::take_new_entries() {
+  std::vector<Entry> out;
+  out.swap(new_entries_);
+  return out;
+}
+
+bool ObjectIdRegistry::restore(const Entry& e) {
+  const auto it = first_shown_.find(e.shown);
+  if (it != first_shown_.end() && it->second != e.order) return false;
+  for (const auto& [id, order] : first_shown_) {
+    if (order == e.order && id != e.shown) return false;
+  }
+  first_shown_[e.shown] = e.order;
+  shown_as_[e.report] = e.shown;
+  next_ = std::max(next_, e.order + 1);
+  return true;
 }
 
 }  // namespace cairn::base

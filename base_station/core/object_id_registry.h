@@ -16,10 +16,25 @@ namespace cairn::base {
 
 class ObjectIdRegistry {
  public:
+  /// One fact the registry learnt: `report` was shown under `shown`, an id first shown as the
+  /// `order`-th. A base that restarts restores these (journaled) before it computes any object,
+  /// so that it shows every victim under the id the team already knows.
+  struct Entry {
+    ObjectId report;
+    ObjectId shown;
+    uint64_t order = 0;
+  };
+
   /// Sets each object's id and aliases (objects in id order on return).
   void assign(std::vector<GlobalObject>* objects);
+  /// Entries learnt since the last call (to journal), oldest first.
+  std::vector<Entry> take_new_entries();
+  /// Takes an entry learnt before a restart. False when it contradicts the order restored so far
+  /// (an id first shown at two places in the order).
+  bool restore(const Entry& e);
 
  private:
+  std::vector<Entry> new_entries_;
   std::map<ObjectId, ObjectId> shown_as_;     ///< report -> the id its object was shown under
   std::map<ObjectId, uint64_t> first_shown_;  ///< shown id -> when it was first shown (order)
   uint64_t next_ = 0;

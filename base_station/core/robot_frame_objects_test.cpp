@@ -82,5 +82,35 @@ TEST(ObjectIdRegistry, AnObjectKeepsTheIdItWasFirstShownUnderWhenItMerges) {
   for (const GlobalObject& o : split) EXPECT_TRUE(o.aliases.empty());
 }
 
+TEST(ObjectIdRegistry, ARestartedBaseShowsAMergedVictimUnderTheIdTheTeamAlreadyKnows) {
+  // Robot 1's victim was shown first as "1-3"; robot 0's report of it came later and merged. A base
+  // restarted from its journal computes the merged object at once: without the journaled facts it
+  // would name it after its smallest report, "0-2".
+  const ObjectId r0{RobotId(0), 2}, r1{RobotId(1), 3};
+  ObjectIdRegistry before;
+  std::vector<GlobalObject> first = {merged_of({r1})};
+  before.assign(&first);
+  std::vector<GlobalObject> merged = {merged_of({r0, r1})};
+  before.assign(&merged);
+  ASSERT_EQ(merged[0].id, r1);
+  const std::vector<ObjectIdRegistry::Entry> journaled = before.take_new_entries();
+  ASSERT_EQ(journaled.size(), 2u);  // r1 shown as r1, then r0 shown as r1
+  EXPECT_TRUE(before.take_new_entries().empty());
+
+  ObjectIdRegistry forgetful;
+  std::vector<GlobalObject> at_once = {merged_of({r0, r1})};
+  forgetful.assign(&at_once);
+  EXPECT_EQ(at_once[0].id, r0);  // what a restart did before the registry was journaled
+
+  ObjectIdRegistry restarted;
+  for (const auto& e : journaled) ASSERT_TRUE(restarted.restore(e));
+  std::vector<GlobalObject> again = {merged_of({r0, r1})};
+  restarted.assign(&again);
+  EXPECT_EQ(again[0].id, r1);
+  EXPECT_TRUE(restarted.take_new_entries().empty());  // nothing new learnt: nothing to journal again
+  // A fact that contradicts the restored order is refused.
+  EXPECT_FALSE(restarted.restore({ObjectId{RobotId(2), 0}, ObjectId{RobotId(2), 0}, journaled.front().order}));
+}
+
 }  // namespace
 }  // namespace cairn::base

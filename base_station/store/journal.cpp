@@ -18,7 +18,7 @@ constexpr const char* kSchema =
     "  kind INTEGER NOT NULL, robot INTEGER NOT NULL, key INTEGER NOT NULL, payload BLOB NOT NULL,"
     "  PRIMARY KEY (kind, robot, key));";
 
-bool known_kind(int64_t kind) { return kind >= 0 && kind <= int64_t(JournalKind::kAlertAck); }
+bool known_kind(int64_t kind) { return kind >= 0 && kind <= int64_t(JournalKind::kObjectId); }
 
 }  // namespace
 
@@ -42,6 +42,8 @@ const char* to_string(JournalKind kind) {
       return "robot session";
     case JournalKind::kAlertAck:
       return "alert acknowledgement";
+    case JournalKind::kObjectId:
+      return "object id";
   }
   return "unknown";
 }

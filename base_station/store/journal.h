@@ -23,7 +23,8 @@ namespace cairn::base {
 /// operator's verdict on an object (JSON), keyed by the object's robot and seq; kSearch: the
 /// operator's pause, resume or keep-out area (JSON), keyed by its sequence number (robot 0);
 /// kSession: a robot's session (JSON, base_station/core/robot_sessions.h), under its base id and
-/// keyed by the session id (restored before everything else).
+/// keyed by the session id (restored before everything else); kObjectId: a fact of the object-id
+/// registry (JSON, base_station/core/object_id_registry.h), keyed 1, 2, ... (restored next).
 enum class JournalKind : int32_t {
   kKeyframe = 0,
   kObject = 1,
@@ -33,7 +34,8 @@ enum class JournalKind : int32_t {
   kVerdict = 5,
   kSearch = 6,
   kSession = 7,
-  kAlertAck = 8
+  kAlertAck = 8,
+  kObjectId = 9
 };
 const char* to_string(JournalKind kind);
 
