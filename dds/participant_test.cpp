@@ -61,8 +61,7 @@ TEST(Participant, AnnouncementsAndLeaseAreSetAndALeaseTooShortIsRefusedByName) {
 }
 
 TEST(Participant, LinkPrioritiesPutAFindFirstAndPoseUpdatesLast) {
-  EXPECT_LT(link_priority(TopicKind::kObject), link_priority(TopicKind::kStatus));
-  EXPECT_LT(link_priority(TopicKind::kStatus), link_priority(TopicKind::kKeyframe));
+  EXPECT_LT(link_priority(TopicKind::kObject), link_priority(TopicKind::kKeyframe));
   EXPECT_LT(link_priority(TopicKind::kKeyframe), link_priority(TopicKind::kKeyframePoses));
   const auto q = writer_qos(TopicKind::kObject, QosOptions{true});
   EXPECT_EQ(q.publish_mode().flow_controller_name, std::string(kLinkFlowController));

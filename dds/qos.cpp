@@ -101,8 +101,6 @@ int link_priority(TopicKind kind) {
   switch (kind) {
     case TopicKind::kObject:
       return -10;  // a victim or hazard reaches the team first
-    case TopicKind::kStatus:
-      return -5;  // small: where each robot is and what it does
     case TopicKind::kKeyframe:
       return 0;
     case TopicKind::kKeyframePoses:

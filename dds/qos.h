@@ -25,7 +25,7 @@ inline eprosima::fastrtps::Duration_t to_duration(double s) {
 
 struct QosOptions {
   /// Through the participant's link flow controller (ParticipantOptions::link_budget_bytes_per_sec),
-  /// at the kind's priority: objects (a victim) first, then statuses, keyframes, keyframe poses.
+  /// at the kind's priority: objects (a victim) first, then keyframes, then keyframe poses.
   bool link_budgeted = false;
   /// How often a reliable writer with unacknowledged samples asks its readers what they miss. The
   /// 200 ms default repairs losses fast on a LAN; on a slow radio four agents' heartbeats (and the

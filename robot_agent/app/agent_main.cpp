@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
   double link_budget_kbit = 0;
   app.add_option("--link-budget-kbit", link_budget_kbit,
                  "this robot's share of a slow radio, kbit/s: everything it sends is paced below it, a victim or "
-                 "hazard first, then status, keyframes, keyframe poses (0 = no limit)")
+                 "hazard first, then keyframes, then keyframe poses (0 = no limit)")
       ->check(CLI::Range(0.0, 1e6));
   bool ros2 = false, no_navigation = false;
   cairn::agent::Ros2InputOptions ros2_options;

@@ -37,7 +37,7 @@ struct AgentNodeOptions {
   /// How long to wait at the end for the base to store everything; 0 = as long as the process runs
   /// (the radio may be cut for minutes: what the robot found is kept and sent when it is back).
   double ack_timeout_s = 0.0;
-  /// This robot's share of the radio in bytes/s (objects, status, keyframes, keyframe poses in that
+  /// This robot's share of the radio in bytes/s (objects, keyframes, keyframe poses in that
   /// order of priority; dds::ParticipantOptions::link_budget_bytes_per_sec); 0 = unlimited.
   uint32_t link_budget_bytes_per_sec = 0;
   bool navigate = true;  ///< drive the robot (cmd_vel); off when replaying a log
