@@ -73,6 +73,7 @@ SimStep Simulator::step() {
   }
   if (options_.enable_laser && due(out.stamp_ns, laser_period_ns_, &next_laser_ns_)) {
     for (RobotState& r : robots_) {
+      if (r.spec.laser_fails_at_s >= 0 && out.stamp_ns >= StampNs(r.spec.laser_fails_at_s * 1e9)) continue;  // broken
       const std::vector<Eigen::Vector2d> others =
           options_.lasers_see_robots ? other_robots_m(r) : std::vector<Eigen::Vector2d>{};
       out.scans.push_back({r.spec.id, laser_.scan(world_.floor_plan, r.T_world_base, out.stamp_ns, r.laser_rng, others,

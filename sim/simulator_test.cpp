@@ -65,6 +65,24 @@ TEST(Simulator, StampsOrderAndRates) {
   EXPECT_EQ(sim.ground_truth(RobotId(0)).size(), size_t(steps));
 }
 
+TEST(Simulator, ABrokenLaserFallsSilentWhileOdometryAndCameraGoOn) {
+  World world = small_world();
+  world.robots[0].laser_fails_at_s = 2.0;  // robot 3
+  Simulator sim(world, fast_options(1));
+  int robot3_scans_after = 0, robot0_scans_after = 0, robot3_odometry_after = 0, robot3_frames_after = 0;
+  while (!sim.done()) {
+    const SimStep s = sim.step();
+    if (s.stamp_ns < 2'000'000'000) continue;
+    for (const auto& r : s.scans) (r.robot == RobotId(3) ? robot3_scans_after : robot0_scans_after)++;
+    for (const auto& r : s.odometry) robot3_odometry_after += r.robot == RobotId(3);
+    for (const auto& r : s.frames) robot3_frames_after += r.robot == RobotId(3);
+  }
+  EXPECT_EQ(robot3_scans_after, 0);
+  EXPECT_GT(robot0_scans_after, 50);
+  EXPECT_GT(robot3_odometry_after, 100);
+  EXPECT_GT(robot3_frames_after, 10);
+}
+
 TEST(Simulator, RobotsReachTheirGoalsAndTheMissionEnds) {
   Simulator sim(small_world(), fast_options(1));
   while (!sim.done()) sim.step();

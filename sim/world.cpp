@@ -144,7 +144,7 @@ std::vector<Eigen::Vector2d> load_waypoints(const YamlConfig& cfg, const std::st
 
 RobotSpec load_robot(const YamlConfig& r, const FloorPlan& plan, double radius_m) {
   RobotSpec spec;
-  r.allow_only({"id", "start", "max_speed_mps", "max_turn_radps", "waypoints"});
+  r.allow_only({"id", "start", "max_speed_mps", "max_turn_radps", "waypoints", "laser_fails_at_s"});
   const int id = r.require<int>("id");
   if (id < 0) r.fail("id", "must be >= 0");
   spec.id = RobotId(id);
@@ -156,6 +156,7 @@ RobotSpec load_robot(const YamlConfig& r, const FloorPlan& plan, double radius_m
   spec.max_speed_mps = positive(r, "max_speed_mps", spec.max_speed_mps, 5);
   spec.max_turn_radps = positive(r, "max_turn_radps", spec.max_turn_radps, 10);
   if (r.has("waypoints")) spec.waypoints_m = load_waypoints(r, "waypoints", plan);
+  if (r.has("laser_fails_at_s")) spec.laser_fails_at_s = non_negative(r, "laser_fails_at_s", 0, 86400);
   return spec;
 }
 

@@ -38,6 +38,9 @@ struct RobotSpec {
   double max_speed_mps = 0.6;
   double max_turn_radps = 1.2;
   std::vector<Eigen::Vector2d> waypoints_m;  ///< world frame, driven in order
+  /// The laser breaks (dust, smoke, a knock) this many seconds into the mission and sends nothing
+  /// from then on; odometry and camera go on. Negative: never.
+  double laser_fails_at_s = -1.0;
 };
 
 struct World {

@@ -287,6 +287,8 @@ TEST_F(BadInput, FuzzedWorldsAreNamedNotCrashedOrRun) {
   expect_error(yaml(good_map_, "id: 0, start: [1, 1, 0], max_speed_mps: 1e300"), "robots[0].max_speed_mps");
   expect_error(yaml(good_map_, "id: 0, start: [1, 1, 0], max_turn_radps: 1e308"), "robots[0].max_turn_radps");
   expect_error(yaml(good_map_, good_robot_) + "sim: {duration_s: 1e20}\n", "sim.duration_s");
+  expect_error(yaml(good_map_, "id: 0, start: [1, 1, 0], laser_fails_at_s: -3"), "robots[0].laser_fails_at_s");
+  expect_error(yaml(good_map_, "id: 0, start: [1, 1, 0], laser_fails_at_s: .nan"), "robots[0].laser_fails_at_s");
   expect_error(yaml(good_map_, good_robot_) + "sensors: {laser: {max_range_m: 1e9}}\n", "sensors.laser.max_range_m");
   expect_error(yaml(good_map_, good_robot_) + "sensors: {camera: {width: 1000000}}\n", "sensors.camera.width");
 }

@@ -12,7 +12,9 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 
+#include "common/se2.h"
 #include "common/trajectory.h"
 #include "dds/domain_lease.h"
 #include "run_command.h"
@@ -241,6 +243,70 @@ TEST(LogReplay, ATeamMemberSpeakingForAnotherRobotIsRefusedAndCounted) {
   EXPECT_EQ(summary["robots"][0]["id"].get<int>(), 1);
   EXPECT_EQ(summary["robots"][0]["keyframes"].get<int>(), sent);
   EXPECT_GE(summary["spoofed_samples"].get<int>(), sent) << summary.dump();
+}
+
+/// Two robots without laser (odometry and identified markers only, as the UTIAS MRCLAM robots):
+/// each drives a loop among five markers; robot 1 starts elsewhere, facing another way.
+std::string laserless_log(const fs::path& dir, std::vector<SE2>* truth_end) {
+  const std::vector<Eigen::Vector2d> markers = {{0, 0}, {6, 0}, {6, 5}, {0, 5}, {3, 2.5}};
+  const std::vector<SE2> starts = {SE2(1, 1, 0), SE2(5, 4, M_PI)};
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n01;
+  std::ostringstream log;
+  log << "CAIRN_MRLOG 1\n";
+  for (int robot = 0; robot < 2; ++robot) {
+    SE2 truth = starts[size_t(robot)], odom;
+    for (int i = 0; i <= 400; ++i) {  // 40 s at 10 Hz: straight 4 m, a half turn, back, a half turn
+      const double t = 0.1 * i;
+      log << "ODOM " << robot << " " << t << " " << odom.x() << " " << odom.y() << " " << odom.yaw() << "\n";
+      for (int m = 0; i % 5 == 0 && m < 5; ++m) {
+        const Eigen::Vector2d q = truth.inverse() * markers[size_t(m)];
+        if (q.norm() > 6.0) continue;
+        log << "LANDMARK " << robot << " " << t << " " << m << " " << q.norm() + 0.02 * n01(rng) << " "
+            << std::atan2(q.y(), q.x()) + 0.01 * n01(rng) << " 0.05 0.02\n";
+      }
+      const int phase = (i / 100) % 2;  // 10 s straight, 10 s turning on a 0.6 m radius
+      const SE2 step = phase == 0 ? SE2(0.04, 0, 0) : SE2(0.019, 0, M_PI / 100);
+      truth = truth * step;
+      odom = odom * SE2(step.x() * (1 + 0.01 * n01(rng)), 0.002 * n01(rng), step.yaw() + 0.002 * n01(rng));
+    }
+    truth_end->push_back(truth);
+  }
+  const fs::path path = dir / "laserless.mrlog";
+  std::ofstream(path) << log.str();
+  return path.string();
+}
+
+TEST(LogReplay, RobotsWithoutLaserArePlacedByOdometryAndMarkers) {
+  // Neither robot has a laser: each agent makes keyframes from odometry alone, with the markers it
+  // saw; the base places robot 1 (start unknown) on the markers both saw.
+  const fs::path dir = fresh_dir("laserless");
+  std::vector<SE2> truth_end;
+  const std::string log = laserless_log(dir, &truth_end);
+  std::string error;
+  const auto lease = dds::DomainLease::claim({}, &error);
+  ASSERT_TRUE(lease) << error;
+  const std::string domain = std::to_string(lease->domain_id());
+  const std::string base = bin("cairn_base") + " --domain " + domain + " --out " + (dir / "map").string() +
+                           " --robots 2 --start 0,1,1,0 --port 0";
+  const std::string agent = bin("cairn_agent") + " --domain " + domain + " --log " + log + " --log-speed 0 --robot ";
+  const auto r =
+      run_command("(" + base + " > " + (dir / "base.log").string() + " 2>&1 & pb=$!; " + agent + "0 & p0=$!; " + agent +
+                  "1; s1=$?; wait $p0; s0=$?; wait $pb; sb=$?; exit $((s0 + s1 + sb)))");
+  ASSERT_EQ(r.exit_code, 0) << r.output << read_text(dir / "base.log");
+  EXPECT_NE(r.output.find("laser silent"), std::string::npos) << r.output;
+  const nlohmann::json summary = nlohmann::json::parse(read_text(dir / "map" / "summary.json"));
+  ASSERT_EQ(summary["robots"].size(), 2u) << summary.dump();
+  for (int robot = 0; robot < 2; ++robot) {
+    EXPECT_TRUE(summary["robots"][robot]["linked"].get<bool>()) << "robot " << robot << ": " << summary.dump();
+    EXPECT_GE(summary["robots"][robot]["keyframes"].get<int>(), 20) << summary.dump();
+    const Trajectory t =
+        read_trajectory_csv((dir / "map" / ("trajectory_robot" + std::to_string(robot) + ".csv")).string());
+    ASSERT_FALSE(t.empty()) << "robot " << robot;
+    EXPECT_LT((t.back().pose.translation() - truth_end[size_t(robot)].translation()).norm(), 0.5)
+        << "robot " << robot << " ends at " << t.back().pose.x() << ", " << t.back().pose.y();
+  }
+  EXPECT_EQ(summary["landmarks"].size(), 5u) << summary.dump();
 }
 
 TEST(LogReplay, TruncatedLogIsRefusedWithItsLineNumber) {

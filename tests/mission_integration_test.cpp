@@ -300,6 +300,39 @@ TEST(MissionIntegration, TwoRobotsExploreTheOfficeByThemselvesFindEverythingAndC
   EXPECT_GT(summary["exploration"]["salient_spots_received"].get<int>(), 0);
 }
 
+TEST(MissionIntegration, ARobotWhoseLaserBreaksGoesHomeByOdometryAndItsDataReachesTheMap) {
+  // Robot 1's laser dies 40 s into the exploration. It must not be dropped: keyframes from odometry
+  // alone reach the base (its merged trajectory goes on past 40 s, near the truth), it drives home
+  // blind by the map it has, and the mission ends because both robots said they are done.
+  const std::string world = "tests/worlds/laser_breaks.yaml";
+  const MissionRun run = run_mission(world, "laser_breaks", "--timeout 600 --entry-hints 1,20");
+  const fs::path& out = run.out;
+  const CommandResult& r = run.result;
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream agent_log(out / "logs" / "agent1.log");
+  const std::string agent1((std::istreambuf_iterator<char>(agent_log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(agent1.find("laser silent"), std::string::npos) << agent1.substr(0, 2000);
+  std::ifstream summary_in(out / "map" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(summary_in, nullptr, false);
+  ASSERT_FALSE(summary.is_discarded());
+  ASSERT_EQ(summary["robots"].size(), 2u);
+  for (const auto& robot : summary["robots"]) {
+    EXPECT_EQ(robot["keyframes"], robot["link"]["keyframes_sent"]) << robot.dump();
+    EXPECT_TRUE(robot["link"]["finished"].get<bool>()) << robot.dump();
+  }
+  const Trajectory merged = read_trajectory_csv((out / "map" / "trajectory_robot1.csv").string());
+  const Trajectory truth = read_trajectory_csv((out / "ground_truth" / "gt_robot1.csv").string());
+  ASSERT_FALSE(merged.empty());
+  ASSERT_FALSE(truth.empty());
+  EXPECT_GT(ns_to_sec(merged.back().stamp_ns), 45.0) << "keyframes made after the laser died reached the map";
+  // Dead reckoning drifts with the odometry (5 cm per metre), so a metre is allowed here.
+  const auto truth_at_end = interpolate_pose(truth, merged.back().stamp_ns, kNsPerSec);
+  ASSERT_TRUE(truth_at_end);
+  EXPECT_LT((merged.back().pose.translation() - truth_at_end->translation()).norm(), 1.0);
+  // Home: back where it entered, give or take the home area and the drift.
+  EXPECT_LT((truth.back().pose.translation() - truth.front().pose.translation()).norm(), 3.5);
+}
+
 TEST(MissionIntegration, LossySlowRadioLinkLosesNothing) {
   // The base station behind an emulated radio (10 % loss each way, 250 kbit/s, an ordinary Wi-Fi
   // link through rubble): reliable DDS with the agents' outboxes, their link budget and the base's

@@ -29,6 +29,7 @@ nlohmann::json BaseNode::link_stats() const {
     const bool battery_known = link.has_status && link.last_status.battery_pct() >= 0.f;  // negative: not known
     j["battery_pct"] = battery_known ? nlohmann::json(link.last_status.battery_pct()) : nlohmann::json();
     j["collision_risk"] = link.has_status && link.last_status.collision_risk();  // the robot's optical flow
+    j["laser_lost"] = link.has_status && link.last_status.laser_lost();
     const double age_s = link.last_heard_s < 0 ? -1.0 : now_s() - link.last_heard_s;
     j["last_heard_age_s"] = age_s;
     // What the console shows: the link's state and the bytes received from the robot.

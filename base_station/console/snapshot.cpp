@@ -170,6 +170,13 @@ nlohmann::json alerts_json(const MergedMap& merged, const nlohmann::json& link_s
                         {"stamp_s", ns_to_sec(r.last_stamp_ns)},
                         {"text", "Robot " + id + " out of contact for " + std::to_string(int(age_s)) + " s"}});
     }
+    if (link.value("laser_lost", false)) {
+      alerts.push_back({{"key", "laser:" + id},
+                        {"level", "critical"},
+                        {"robot", r.id.value},
+                        {"stamp_s", ns_to_sec(r.last_stamp_ns)},
+                        {"text", "Robot " + id + ": laser lost, placed by odometry alone; going home by its map"}});
+    }
     if (link.value("collision_risk", false)) {
       alerts.push_back({{"key", "collision:" + id},
                         {"level", "warning"},

@@ -26,6 +26,28 @@ TEST(AgentConfig, ReadsKeyframerAndSwitches) {
   EXPECT_FALSE(o.enable_objects);
 }
 
+TEST(AgentConfig, ReadsTheOdometryNoiseForARobotWithoutLaser) {
+  const AgentOptions o = load_agent_options(
+      write_file("agent_odo.yaml",
+                 "odometry: {laser_timeout_s: 2.5, translation_variance_m2_per_m: 0.01, rotation_variance_rad2_per_m: "
+                 "0.001, rotation_variance_rad2_per_rad: 0.004, dead_reckon_without_laser: true}\n"));
+  EXPECT_TRUE(o.dead_reckon_without_laser);
+  EXPECT_DOUBLE_EQ(o.dead_reckoning.laser_timeout_s, 2.5);
+  EXPECT_DOUBLE_EQ(o.dead_reckoning.translation_variance_m2_per_m, 0.01);
+  EXPECT_DOUBLE_EQ(o.dead_reckoning.rotation_variance_rad2_per_m, 0.001);
+  EXPECT_DOUBLE_EQ(o.dead_reckoning.rotation_variance_rad2_per_rad, 0.004);
+  for (const std::string bad : {"laser_timeout_s: 0", "translation_variance_m2_per_m: -0.1",
+                                "rotation_variance_rad2_per_rad: .nan", "rotation_variance_rad2_per_m: 5"}) {
+    try {
+      load_agent_options(write_file("agent_odo_bad.yaml", "odometry: {" + bad + "}\n"));
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      const std::string key = "odometry." + bad.substr(0, bad.find(':'));
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(AgentConfig, BadValuesNameTheKey) {
   const auto path = write_file("agent_bad.yaml", "keyframer: {min_distance_m: -1}\n");
   try {

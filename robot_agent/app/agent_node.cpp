@@ -35,8 +35,11 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
     n->log_source_ = std::make_unique<LogSource>(*input.log, input.log_options);
   }
   if (input.robot_log) {
-    if (input.robot_log->scans.empty()) {
-      *error = "the multi-robot log holds no laser scans for " + to_string(robot);
+    // A robot without laser is replayed from its odometry alone (AgentOptions::dead_reckon_without_laser).
+    const bool dead_reckons = core_options.dead_reckon_without_laser && core_options.use_odometry;
+    if (input.robot_log->scans.empty() && (input.robot_log->odometry.empty() || !dead_reckons)) {
+      *error = "the multi-robot log holds no laser scans for " + to_string(robot) +
+               (input.robot_log->odometry.empty() ? " and no odometry" : " (and dead reckoning is off)");
       return nullptr;
     }
     n->log_source_ = std::make_unique<LogSource>(*input.robot_log, input.log_options);
@@ -237,6 +240,7 @@ void AgentNode::publish_status(bool finished) {
     last_stalled_scans_ = s.scans_odometry_stalled;
   }
   st.collision_risk(s.collision_risk >= 0.5f);  // optical-flow time-to-contact test (objects/optical_flow.h)
+  st.laser_lost(pipeline_.laser_lost());
   st.finished(finished);
   dds::set_nav_status(nav_status(), &st);
   if (probe_.base_ns != 0) {

@@ -94,6 +94,12 @@ void AgentNode::apply_operator_action() {
 void AgentNode::heard_from_base() { behaviour_.on_contact(last_scan_ns_, pose_.translation()); }
 
 void AgentNode::drive(const AgentOutputs& outputs) {
+  if (pipeline_.laser_lost() && !behaviour_.laser_lost()) {
+    behaviour_.on_laser_lost();
+    log_->warn(
+        "laser silent: poses and keyframes from odometry alone; it explores no further and goes home by the "
+        "map it has");
+  }
   if (!options_.navigate || outputs.scans.empty()) return;
   VelocityCommand command;
   for (const PosedScan& ps : outputs.scans) {

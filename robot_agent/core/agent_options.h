@@ -1,5 +1,6 @@
 #pragma once
 // All options of the robot agent's algorithm core, one struct per component, with defaults.
+#include "robot_agent/core/dead_reckoning.h"
 #include "robot_agent/core/keyframer.h"
 #include "robot_agent/core/local_slam.h"
 #include "robot_agent/core/objects/object_detector.h"
@@ -21,6 +22,11 @@ struct AgentOptions {
   /// processed anyway (extrapolating the last odometry), so a dead odometry topic cannot stall the
   /// agent. Only reached when odometry is missing or far behind.
   int max_pending_scans = 100;
+  /// The laser silent for dead_reckoning.laser_timeout_s while odometry goes on (or a robot without
+  /// one): poses from odometry alone, keyframes without scans with odometry-grown covariances, so
+  /// that the robot's landmarks and finds still reach the base. false: the agent waits for scans.
+  bool dead_reckon_without_laser = true;
+  DeadReckoningOptions dead_reckoning;
   bool enable_objects = true;
   /// Beams at least this bright (LaserScan::intensities) hit a teammate's retro-reflective tape:
   /// left out of SLAM and keyframes (teammates move). 0: every beam is used.

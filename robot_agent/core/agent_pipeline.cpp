@@ -27,12 +27,14 @@ AgentPipeline::AgentPipeline(RobotId robot, const AgentOptions& options)
       detector_(options.detector),
       tracker_(robot, options.tracker),
       optical_flow_(options.optical_flow),
-      saliency_pool_(options.saliency_map) {}
+      saliency_pool_(options.saliency_map),
+      dead_reckoning_(options.dead_reckoning) {}
 
 void AgentPipeline::add_odometry(const OdometryReading& odometry) {
   ++stats_.odometry_received;
   if (!options_.use_odometry) return;
   if (!odometry_.empty() && odometry.stamp_ns < odometry_.back().stamp_ns) return;  // out of order
+  if (first_odometry_ns_ < 0) first_odometry_ns_ = odometry.stamp_ns;
   odometry_.push_back(odometry);
 }
 
@@ -97,6 +99,10 @@ void AgentPipeline::process_scan(AgentOutputs* out) {
   if (options_.use_odometry && (odometry_.empty() || odometry_.back().stamp_ns < scan.stamp_ns)) {
     ++stats_.scans_without_odometry;
   }
+  if (laser_lost_) {
+    laser_lost_ = false;  // back: the local SLAM goes on from its last pose and the odometry since
+    ++stats_.laser_recoveries;
+  }
   const LocalSlamResult r = local_slam_.add_scan(slam_scan, odometry_at(scan.stamp_ns));
   any_scan_processed_ = true;
   last_scan_stamp_ns_ = scan.stamp_ns;
@@ -128,25 +134,29 @@ void AgentPipeline::process_scan(AgentOutputs* out) {
   }
   if (!r.matched()) return;
   trajectory_.push_back({scan.stamp_ns, r.pose});
-  if (auto kf = keyframer_.add(slam_scan, r.pose, r.covariance)) {
-    attach_landmarks(&*kf);  // agent_pipeline_landmarks.cpp
-    kf->salient = saliency_pool_.take(kf->T_local_base);
-    stats_.salient_points += int(kf->salient.size());
+  if (auto kf = keyframer_.add(slam_scan, r.pose, r.covariance)) emit_keyframe(std::move(*kf), out);
+}
+
+void AgentPipeline::emit_keyframe(Keyframe kf, AgentOutputs* out) {
+  attach_landmarks(&kf);  // agent_pipeline_landmarks.cpp
+  kf.salient = saliency_pool_.take(kf.T_local_base);
+  stats_.salient_points += int(kf.salient.size());
+  if (!kf.scan.ranges_m.empty()) {
     // Place descriptor for the base's place recognition (common/scan_context.h, default options on
-    // both sides), from this keyframe and the last descriptor_keyframes - 1 ones.
+    // both sides), from this keyframe and the last descriptor_keyframes - 1 ones with scans.
     const ScanContextOptions scan_context;
     std::vector<const Keyframe*> recent;
     for (const Keyframe& k : recent_keyframes_) recent.push_back(&k);
-    kf->place_descriptor = compute_keyframe_scan_context(*kf, recent, scan_context);
-    recent_keyframes_.push_back(*kf);
+    kf.place_descriptor = compute_keyframe_scan_context(kf, recent, scan_context);
+    recent_keyframes_.push_back(kf);
     recent_keyframes_.back().place_descriptor.clear();
     recent_keyframes_.back().salient.clear();
     while (int(recent_keyframes_.size()) > scan_context.descriptor_keyframes - 1) recent_keyframes_.pop_front();
-    anchors_.push_back(Anchor{kf->id.seq, kf->T_local_base});
-    anchor_stamps_ns_.push_back(kf->stamp_ns);
-    out->keyframes.push_back(std::move(*kf));
-    ++stats_.keyframes;
   }
+  anchors_.push_back(Anchor{kf.id.seq, kf.T_local_base});
+  anchor_stamps_ns_.push_back(kf.stamp_ns);
+  out->keyframes.push_back(std::move(kf));
+  ++stats_.keyframes;
 }
 
 void AgentPipeline::process_rgbd(AgentOutputs* out) {
@@ -177,6 +187,8 @@ AgentOutputs AgentPipeline::process(bool flush) {
       process_rgbd(&out);
     } else if (scan_ready(flush)) {
       process_scan(&out);
+    } else if (dead_reckoning_ready()) {
+      dead_reckoning_step(&out);  // agent_pipeline_dead_reckoning.cpp
     } else {
       break;
     }

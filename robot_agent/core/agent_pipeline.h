@@ -3,7 +3,9 @@
 // keyframes and object reports out. Single-threaded and deterministic: topics may interleave
 // arbitrarily, readings are buffered and processed in stamp order (a scan at t once odometry with
 // stamp >= t is present; an RGB-D frame at t once a scan with stamp >= t has been processed), so
-// the outputs do not depend on arrival order. No clocks, no I/O, no threads.
+// the outputs do not depend on arrival order, as long as odometry runs less than
+// dead_reckoning.laser_timeout_s ahead of the laser: beyond, the laser counts as lost (poses from
+// odometry alone, agent_pipeline_dead_reckoning.cpp). No clocks, no I/O, no threads.
 #include <deque>
 #include <optional>
 #include <vector>
@@ -24,7 +26,7 @@ namespace cairn::agent {
 
 /// A processed scan at its tracked pose in the local frame (what navigation maps and steers by).
 struct PosedScan {
-  LaserScan scan;
+  LaserScan scan;  ///< no beams: a pose from odometry alone while the laser is lost
   SE2 T_local_base;
 };
 
@@ -68,6 +70,10 @@ struct AgentStats {
   int keyframe_pose_updates = 0;   ///< AgentOutputs::keyframe_poses emitted
   int salient_points = 0;          ///< sent with keyframes (Keyframe::salient)
   int teammate_beams = 0;          ///< on a teammate's reflector: left out of SLAM and keyframes
+  int laser_losses = 0;            ///< times the laser fell silent while odometry went on
+  int laser_recoveries = 0;        ///< ... and came back
+  int dead_reckoned_poses = 0;     ///< poses from odometry alone (AgentOptions::dead_reckon_without_laser)
+  int keyframes_without_scan = 0;  ///< of `keyframes`, cut from those poses
 };
 
 /// A copy of `scan` whose beams at least `min_intensity` bright (a teammate's reflective tape) read
@@ -97,12 +103,18 @@ class AgentPipeline {
   SE2 pose_at(StampNs stamp_ns) const;
   const LocalSlam& local_slam() const { return local_slam_; }
   RobotId robot() const { return robot_; }
+  /// The laser is silent and poses come from odometry alone (agent_pipeline_dead_reckoning.cpp).
+  bool laser_lost() const { return laser_lost_; }
 
  private:
   bool scan_ready(bool flush) const;
   bool rgbd_ready(bool flush) const;
   void process_scan(AgentOutputs* out);
   void process_rgbd(AgentOutputs* out);
+  /// A new keyframe out: landmarks, salient spots and (with a scan) the place descriptor attached.
+  void emit_keyframe(Keyframe kf, AgentOutputs* out);
+  bool dead_reckoning_ready() const;
+  void dead_reckoning_step(AgentOutputs* out);
   std::optional<SE2> odometry_at(StampNs stamp_ns) const;
   Anchor anchor_at(StampNs stamp_ns) const;
   void attach_landmarks(Keyframe* kf);
@@ -121,8 +133,12 @@ class AgentPipeline {
   std::deque<LaserScan> scans_;
   std::deque<RgbdFrame> frames_;
   std::deque<LandmarkObservation> landmarks_;  ///< waiting for a keyframe at or after their stamp
-  bool any_scan_processed_ = false;
-  StampNs last_scan_stamp_ns_ = 0;
+  bool any_scan_processed_ = false;            ///< or a dead-reckoned pose
+  StampNs last_scan_stamp_ns_ = 0;             ///< of the newest processed scan or dead-reckoned pose
+  DeadReckoning dead_reckoning_;
+  bool laser_lost_ = false;
+  StampNs first_odometry_ns_ = -1;
+  StampNs next_dead_reckoning_ns_ = 0;     ///< the next dead-reckoned pose's stamp (laser lost)
   Trajectory trajectory_;                  ///< matched poses
   Trajectory tracked_;                     ///< every processed scan's pose (matched or predicted)
   std::vector<Anchor> anchors_;            ///< emitted keyframes' poses, by seq

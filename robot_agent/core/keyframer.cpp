@@ -25,6 +25,40 @@ bool Keyframer::should_emit(StampNs stamp_ns, const SE2& pose) const {
 
 std::optional<Keyframe> Keyframer::add(const LaserScan& scan, const SE2& T_local_base, const Covariance3& covariance) {
   if (!should_emit(scan.stamp_ns, T_local_base)) return std::nullopt;
+  Covariance3 edge = Covariance3::Zero();
+  if (last_) {
+    // Both ends were matched against the local map independently; express both in the prev frame.
+    const SE2 d = last_->T_local_base.between(T_local_base);
+    Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
+    rot.topLeftCorner<2, 2>() = last_->T_local_base.rotation().transpose();
+    edge += rot * (last_match_covariance_ + covariance) * rot.transpose();
+    const double dist_m = d.translation().norm(), angle_rad = std::abs(d.yaw());
+    edge(0, 0) += options_.edge_translation_floor_m2 + options_.edge_translation_variance_per_m * dist_m;
+    edge(1, 1) += options_.edge_translation_floor_m2 + options_.edge_translation_variance_per_m * dist_m;
+    edge(2, 2) += options_.edge_rotation_floor_rad2 + options_.edge_rotation_variance_per_rad * angle_rad;
+  }
+  Keyframe kf = emit(scan, T_local_base, last_ ? edge : covariance);
+  last_match_covariance_ = covariance;
+  return kf;
+}
+
+std::optional<Keyframe> Keyframer::add_dead_reckoned(StampNs stamp_ns, const SE2& T_local_base,
+                                                     const Covariance3& odometry_covariance) {
+  if (!should_emit(stamp_ns, T_local_base)) return std::nullopt;
+  LaserScan no_scan;
+  no_scan.stamp_ns = stamp_ns;
+  Covariance3 edge = odometry_covariance;
+  if (last_) {
+    Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
+    rot.topLeftCorner<2, 2>() = last_->T_local_base.rotation().transpose();
+    edge += rot * last_match_covariance_ * rot.transpose();
+  }
+  Keyframe kf = emit(no_scan, T_local_base, edge);
+  last_match_covariance_ = Covariance3::Zero();  // nothing was matched
+  return kf;
+}
+
+Keyframe Keyframer::emit(const LaserScan& scan, const SE2& T_local_base, const Covariance3& edge_covariance) {
   Keyframe kf;
   kf.id = KeyframeId{robot_, next_seq_++};
   kf.stamp_ns = scan.stamp_ns;
@@ -32,23 +66,12 @@ std::optional<Keyframe> Keyframer::add(const LaserScan& scan, const SE2& T_local
   kf.scan = scan;  // laser at the base origin: the scan is already in the base frame
   if (!last_) {
     kf.T_prev_this = SE2();
-    kf.covariance = covariance;
+    kf.covariance = edge_covariance;
   } else {
     kf.T_prev_this = last_->T_local_base.between(T_local_base);
-    Covariance3 edge = Covariance3::Zero();
-    // Both ends were matched against the local map independently; express both in the prev frame.
-    const Eigen::Matrix2d R_prev_local = last_->T_local_base.rotation().transpose();
-    Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();
-    rot.topLeftCorner<2, 2>() = R_prev_local;
-    edge += rot * (last_match_covariance_ + covariance) * rot.transpose();
-    const double dist_m = kf.T_prev_this.translation().norm(), angle_rad = std::abs(kf.T_prev_this.yaw());
-    edge(0, 0) += options_.edge_translation_floor_m2 + options_.edge_translation_variance_per_m * dist_m;
-    edge(1, 1) += options_.edge_translation_floor_m2 + options_.edge_translation_variance_per_m * dist_m;
-    edge(2, 2) += options_.edge_rotation_floor_rad2 + options_.edge_rotation_variance_per_rad * angle_rad;
-    kf.edge_covariance = 0.5 * (edge + edge.transpose());
+    kf.edge_covariance = 0.5 * (edge_covariance + edge_covariance.transpose());
     kf.covariance = compose_covariance(last_->T_local_base, last_->covariance, kf.T_prev_this, kf.edge_covariance);
   }
-  last_match_covariance_ = covariance;
   last_ = kf;
   return kf;
 }

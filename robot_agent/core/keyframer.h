@@ -32,6 +32,11 @@ class Keyframer {
 
   /// Offers a matched scan; returns a keyframe when a threshold is crossed (always for the first).
   std::optional<Keyframe> add(const LaserScan& scan, const SE2& T_local_base, const Covariance3& covariance);
+  /// Offers a pose from wheel odometry alone (the laser is silent): a keyframe without scan when a
+  /// threshold is crossed, its edge covariance `odometry_covariance` (the odometry increment's since
+  /// the last keyframe, in that keyframe's frame) plus the last match covariance, if any.
+  std::optional<Keyframe> add_dead_reckoned(StampNs stamp_ns, const SE2& T_local_base,
+                                            const Covariance3& odometry_covariance);
 
   bool has_keyframe() const { return last_.has_value(); }
   /// The latest emitted keyframe (requires has_keyframe()).
@@ -40,6 +45,9 @@ class Keyframer {
 
  private:
   bool should_emit(StampNs stamp_ns, const SE2& pose) const;
+  /// The next keyframe at `T_local_base`: its pose covariance is the last one's composed with
+  /// `edge_covariance` (for the first keyframe, `edge_covariance` is its pose covariance).
+  Keyframe emit(const LaserScan& scan, const SE2& T_local_base, const Covariance3& edge_covariance);
 
   RobotId robot_;
   KeyframerOptions options_;

@@ -42,17 +42,18 @@ void SimCommands::poll() {
   }
 }
 
-void SimCommands::wait_for_answers(StampNs stamp_ns, double timeout_s) {
+void SimCommands::wait_for_answers(StampNs stamp_ns, const std::vector<RobotId>& scanned, double timeout_s) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   while (true) {
     poll();
     bool all = true;
-    for (const auto& [robot, c] : latest_) all = all && (silent_[robot] || c.stamp_ns >= stamp_ns);
+    for (RobotId robot : scanned) all = all && (silent_[robot] || latest_[robot].stamp_ns >= stamp_ns);
     if (all) return;
     if (std::chrono::steady_clock::now() >= end) break;
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
-  for (auto& [robot, c] : latest_) {
+  for (RobotId robot : scanned) {
+    StampedCommand& c = latest_[robot];
     if (silent_[robot] || c.stamp_ns >= stamp_ns) continue;
     log_->warn("{}'s agent did not answer the scan at {:.1f} s within {} s: it stands still until it does",
                to_string(robot), ns_to_sec(stamp_ns), timeout_s);

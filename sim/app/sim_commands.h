@@ -21,8 +21,10 @@ class SimCommands {
                                              std::string* error);
   /// Takes every command that arrived (the newest per robot is kept).
   void poll();
-  /// Polls until every responsive robot's newest command has stamp >= stamp_ns, or timeout_s.
-  void wait_for_answers(StampNs stamp_ns, double timeout_s);
+  /// Polls until the newest command of every responsive robot of `scanned` (those whose laser
+  /// scanned at stamp_ns: a robot with a broken laser is not waited for) has stamp >= stamp_ns, or
+  /// timeout_s.
+  void wait_for_answers(StampNs stamp_ns, const std::vector<RobotId>& scanned, double timeout_s);
   /// The newest valid command of `robot` (zero, not done, before the first one).
   const StampedCommand& latest(RobotId robot) const { return latest_.at(robot); }
   int bad_commands() const { return bad_; }

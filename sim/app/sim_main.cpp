@@ -93,7 +93,9 @@ int main(int argc, char** argv) {
     }
     if (commands) {
       if (speed <= 0 && !step.scans.empty()) {
-        commands->wait_for_answers(step.stamp_ns, answer_timeout_s);
+        std::vector<cairn::RobotId> scanned;
+        for (const auto& s : step.scans) scanned.push_back(s.robot);
+        commands->wait_for_answers(step.stamp_ns, scanned, answer_timeout_s);
       } else {
         commands->poll();
       }

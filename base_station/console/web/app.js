@@ -95,7 +95,9 @@ function renderRobots(robots) {
       el("td", { class: link.state === "lost" ? "bad" : "", text: linkText }),
       el("td", { text: link.last_heard_age_s === undefined || link.last_heard_age_s < 0 ? "–" : `${link.last_heard_age_s.toFixed(1)} s ago` }),
       el("td", { text: link.battery_pct === null || link.battery_pct === undefined ? "not reported" : `${link.battery_pct.toFixed(0)} %` }),
-      el("td", { class: link.collision_risk ? "bad" : "", text: link.collision_risk ? "risk ahead" : "clear" }),
+      el("td", { class: link.collision_risk || link.laser_lost ? "bad" : "",
+        title: link.laser_lost ? "its laser is silent: placed by odometry alone, going home by the map it has" : "",
+        text: [link.laser_lost ? "laser lost" : "", link.collision_risk ? "risk ahead" : ""].filter(Boolean).join(" · ") || "clear" }),
     ]);
   });
   replaceRows(document.getElementById("robots"), rows, "No robots yet", 13);

@@ -19,7 +19,7 @@ function fmtTime(seconds) {
 
 function fmtBytes(n) {
   if (n === undefined || n === null) return "–";
-  if (n < 1024) return `${n} B`;
+  if (n < 1024) return `${Math.round(n)} B`;  // rates are fractional
   if (n < 1024 * 1024) return `${(n / 1024).toFixed(1)} kB`;
   return `${(n / 1024 / 1024).toFixed(1)} MB`;
 }

@@ -10,6 +10,7 @@ void MissionBehaviour::on_contact(StampNs now_ns, const Eigen::Vector2d& positio
 
 void MissionBehaviour::on_base_goal(const BaseGoal& goal, StampNs now_ns, const Eigen::Vector2d& position_m) {
   on_contact(now_ns, position_m);
+  if (laser_lost_ && goal.kind != GoalKind::kHome) return;                         // it explores no further
   if (goal.goal_id == base_goal_.goal_id && goal.kind == base_goal_.kind) return;  // the same goal, sent again
   base_goal_ = goal;
   base_goal_pending_ = goal.has_goal && goal.kind != GoalKind::kOwn;
@@ -32,6 +33,7 @@ std::optional<DriveTarget> MissionBehaviour::update(StampNs now_ns, const Eigen:
     const bool in_contact = !out_of_contact(now_ns);
     const bool lost = last_contact_ns_ >= 0 && ns_to_sec(now_ns - last_contact_ns_) > options_.return_after_s;
     if (base_goal_pending_ && in_contact) return choose(now_ns, own_frontier);  // the base's newer goal first
+    if (laser_lost_ && target_->activity != RobotActivity::kGoingHome) return choose(now_ns, own_frontier);
     if (lost && target_->activity != RobotActivity::kReturningToContact &&
         target_->activity != RobotActivity::kGoingHome) {
       return choose(now_ns, own_frontier);
@@ -94,6 +96,10 @@ std::optional<DriveTarget> MissionBehaviour::choose(StampNs now_ns, const OwnFro
     const DriveTarget retry = *home_retry_;
     home_retry_.reset();
     return set(retry, "trying home again");
+  }
+  if (laser_lost_) {
+    return set({0, GoalKind::kOwn, RobotActivity::kGoingHome, Eigen::Vector2d::Zero(), options_.home_tolerance_m},
+               "laser lost: it cannot see obstacles any more, home by the map it has");
   }
   const bool lost = last_contact_ns_ >= 0 && ns_to_sec(now_ns - last_contact_ns_) > options_.return_after_s;
   if (lost) {

@@ -9,7 +9,9 @@
 //     (failed ones are blacklisted on board); none left: go home;
 //   - no word for return_after_s: back to where it last heard the base, then wait there;
 //   - kHome, or nothing left on its own map: drive to where it entered (its frame's origin); reached
-//     (or failed max_home_attempts times): its mission is over ("done").
+//     (or failed max_home_attempts times): its mission is over ("done");
+//   - its laser lost (on_laser_lost): it cannot see obstacles any more, so it explores no further
+//     and drives home by the map it has; the base's goals other than home no longer count.
 // Pure: message time in, decisions out; the caller passes the own-frontier search in.
 #include <Eigen/Core>
 #include <cstdint>
@@ -65,6 +67,9 @@ class MissionBehaviour {
   void on_base_goal(const BaseGoal& goal, StampNs now_ns, const Eigen::Vector2d& position_m);
   /// Any message from the base: the link works at `position_m`.
   void on_contact(StampNs now_ns, const Eigen::Vector2d& position_m);
+  /// The laser is lost for good: home by the map it has, whatever the base says but "home".
+  void on_laser_lost() { laser_lost_ = true; }
+  bool laser_lost() const { return laser_lost_; }
 
   /// One decision at a processed scan, the robot at `position_m`. `nav` is the state of the target
   /// last returned (kIdle when none). Returns a new target to drive when it changes; nullopt: keep
@@ -96,6 +101,7 @@ class MissionBehaviour {
   std::optional<DriveTarget> home_retry_;  ///< a failed drive home, tried again at home_retry_at_ns_
   StampNs home_retry_at_ns_ = 0;
   bool waiting_at_contact_point_ = false;
+  bool laser_lost_ = false;
   std::string reason_;
 };
 

@@ -138,3 +138,28 @@ TEST(MissionBehaviour, TheSameGoalSentAgainChangesNothing) {
 
 }  // namespace
 }  // namespace cairn::agent
+
+namespace cairn::agent {
+namespace {
+
+TEST(MissionBehaviour, ALaserLostTurnsItHomeAndTheBasesExplorationGoalsNoLongerCount) {
+  MissionBehaviour b;
+  b.on_base_goal({7, GoalKind::kExplore, true, {5, 2}}, at(1), kHere);
+  ASSERT_TRUE(b.update(at(1), kFar, NavState::kIdle, frontiers({{9, 9}})));
+  b.on_laser_lost();
+  auto t = b.update(at(2), kFar, NavState::kDriving, frontiers({{9, 9}}));
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->activity, RobotActivity::kGoingHome);
+  EXPECT_EQ(t->position_m, Eigen::Vector2d::Zero());
+  b.on_base_goal({8, GoalKind::kExplore, true, {6, 2}}, at(3), kHere);  // ignored
+  EXPECT_FALSE(b.update(at(3), kFar, NavState::kDriving, frontiers({{9, 9}})));
+  EXPECT_EQ(b.activity(), RobotActivity::kGoingHome);
+  EXPECT_FALSE(b.update(at(9), Eigen::Vector2d(0.5, 0), NavState::kReached, frontiers({{9, 9}})));
+  EXPECT_TRUE(b.done());
+  b.on_base_goal({9, GoalKind::kExplore, true, {6, 2}}, at(10), kHere);  // still ignored: it stays home
+  EXPECT_FALSE(b.update(at(10), Eigen::Vector2d(0.5, 0), NavState::kIdle, frontiers({{9, 9}})));
+  EXPECT_TRUE(b.done());
+}
+
+}  // namespace
+}  // namespace cairn::agent
