@@ -150,8 +150,9 @@ class AgentNode {
   DriveTarget reported_goal_;  ///< the newest goal driven, and its state (also once ended)
   NavState reported_state_ = NavState::kIdle;
   RobotActivity last_activity_ = RobotActivity::kWaiting;
-  int last_rate_scans_ = 0;     ///< for the scan rate in the status message
-  int last_stalled_scans_ = 0;  ///< AgentStats::scans_odometry_stalled at the last warning
+  int last_rate_scans_ = 0;        ///< for the scan rate in the status message
+  int last_stalled_scans_ = 0;     ///< AgentStats::scans_odometry_stalled at the last warning
+  int last_laser_recoveries_ = 0;  ///< AgentStats::laser_recoveries at the last log line
   double last_rate_time_s_ = 0.0;
 };
 

@@ -100,6 +100,12 @@ void AgentNode::drive(const AgentOutputs& outputs) {
         "laser silent: poses and keyframes from odometry alone; it explores no further and goes home by the "
         "map it has");
   }
+  if (const int back = pipeline_.stats().laser_recoveries; back > last_laser_recoveries_) {
+    last_laser_recoveries_ = back;
+    log_->warn(
+        "laser back: scan matching again; still going home (a laser that failed once is not trusted to explore; "
+        "the operator can send the robot out again)");
+  }
   if (!options_.navigate || outputs.scans.empty()) return;
   VelocityCommand command;
   for (const PosedScan& ps : outputs.scans) {
