@@ -51,6 +51,15 @@ class Fields {
     }
     return v;
   }
+  /// A time in seconds, as a stamp (refused beyond kMaxStampSec or NaN).
+  StampNs stamp(const char* what) {
+    const double t_s = number(what);
+    if (!stamp_sec_in_range(t_s)) {
+      throw InputError(where_ + ": " + type_ + " " + what + " must be a time within +-9e9 s, got " +
+                       std::to_string(t_s));
+    }
+    return sec_to_ns(t_s);
+  }
   int count(const char* what, int max) {
     const double v = number(what);
     if (v < 0 || v > max || v != std::floor(v)) {
@@ -90,7 +99,7 @@ CarmenScan read_flaser(Fields& f, const CarmenReadOptions& o) {
   s.scan.range_max_m = o.no_return_range_m;
   s.T_world_laser = f.pose("x y theta");
   s.T_odom_laser = f.pose("odom_x odom_y odom_theta");
-  s.stamp_ns = sec_to_ns(f.number("ipc_timestamp"));
+  s.stamp_ns = f.stamp("ipc_timestamp");
   return s;
 }
 
@@ -114,7 +123,7 @@ CarmenScan read_robotlaser(Fields& f, const CarmenReadOptions& o) {
   for (const char* what : {"laser_tv", "laser_rv", "forward_safety_dist", "side_safety_dist", "turn_axis"}) {
     f.number(what);
   }
-  s.stamp_ns = sec_to_ns(f.number("ipc_timestamp"));
+  s.stamp_ns = f.stamp("ipc_timestamp");
   return s;
 }
 
@@ -149,7 +158,7 @@ CarmenLog read_carmen_log(const std::string& path, const CarmenReadOptions& opti
       o.linear_mps = f.number("tv");
       o.angular_radps = f.number("rv");
       f.number("accel");
-      o.stamp_ns = sec_to_ns(f.number("ipc_timestamp"));
+      o.stamp_ns = f.stamp("ipc_timestamp");
       log.odometry.push_back(o);
       ++log.stats.odometry_records;
     } else {

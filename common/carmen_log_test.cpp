@@ -59,6 +59,10 @@ TEST(CarmenLog, MalformedAndTruncatedLinesNameTheLine) {
   expect_error("FLASER 180 1.0 2.0\n", "bad.clf:1: FLASER record ends before range (truncated?)");
   expect_error("FLASER -3\n", "num_readings must be a whole number");
   expect_error("ODOM 1 2 nan 0 0 0 1 h 1\n", "bad.clf:1: ODOM x y theta is not finite");
+  // Found by the sanitized fuzz run: a huge timestamp overflowed the nanosecond stamp (UB).
+  expect_error("ODOM 0 0 0 0 0 0 0666666666666666666666666666666666666666666666666666666666666666 h 1\n",
+               "bad.clf:1: ODOM ipc_timestamp must be a time within +-9e9 s");
+  expect_error("ODOM 0 0 0 0 0 0 nan h 1\n", "ODOM ipc_timestamp must be a time");
   EXPECT_THROW(read_carmen_log("/nonexistent/log.clf"), InputError);
 }
 

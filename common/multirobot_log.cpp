@@ -51,7 +51,11 @@ class Record {
     }
     return int(v);
   }
-  StampNs stamp() { return sec_to_ns(finite("t_s")); }
+  StampNs stamp() {
+    const double t_s = finite("t_s");
+    if (!stamp_sec_in_range(t_s)) fail("field t_s must be a time within +-9e9 s, got " + std::to_string(t_s));
+    return sec_to_ns(t_s);
+  }
   void end() {
     std::string extra;
     if (ss_ >> extra) fail("has unexpected trailing field '" + extra + "'");

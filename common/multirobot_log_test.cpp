@@ -128,6 +128,9 @@ TEST(MultiRobotLog, BadInputNamesFileLineAndField) {
   expect_error(h + "LANDMARK 0 1 3 -2 0.1 0.05 0.02\n", "LANDMARK field range_m must be >= 0");
   expect_error(h + "LANDMARK 0 1 -3 2 0.1 0.05 0.02\n", "LANDMARK field id must be a whole number");
   expect_error(h + "LANDMARK 0 nan 3 2 0.1 0.05 0.02\n", "LANDMARK field t_s must be finite");
+  // Found by the sanitized fuzz run: a huge time overflowed the nanosecond stamp (UB).
+  expect_error(h + "LANDMARK 0 2.2e100 3 2 0.1 0.05 0.02\n", "LANDMARK field t_s must be a time within +-9e9 s");
+  expect_error(h + "ODOM 0 -1e10 0 0 0\n", "test.mrlog:2: ODOM field t_s must be a time within");
   expect_error(h + "MARKER 1 0 0\nMARKER 1 2 2\n", "test.mrlog:3: MARKER marker 1 is defined twice");
 }
 

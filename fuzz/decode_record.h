@@ -6,7 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "base_station/console/alert_log.h"
 #include "base_station/console/command_api.h"
+#include "base_station/core/object_id_registry.h"
 #include "base_station/core/robot_sessions.h"
 #include "base_station/core/search_controls.h"
 #include "base_station/store/journal.h"
@@ -56,6 +58,15 @@ inline void decode_journal_payload(base::JournalKind kind, const std::vector<uin
       break;
     case JournalKind::kSession:
       (void)base::session_record_from_json(text, &error);
+      break;
+    case JournalKind::kAlertAck:
+      (void)base::alert_ack_from_json(text, &error);
+      break;
+    case JournalKind::kObjectId:
+      if (const auto entry = base::object_id_record_from_json(payload, &error)) {
+        base::ObjectIdRegistry registry;
+        (void)registry.restore(*entry);
+      }
       break;
     case JournalKind::kSearch:
       if (const auto record = base::search_record_from_json(text, &error)) {

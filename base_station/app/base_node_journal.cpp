@@ -27,35 +27,6 @@ bool replay(const JournalRecord& r, Take&& take, std::string* error) {
   return true;
 }
 
-/// {"report": [robot, seq], "shown": [robot, seq], "order": n}
-std::vector<uint8_t> object_id_to_json(const ObjectIdRegistry::Entry& e) {
-  const nlohmann::json j = {{"report", {e.report.robot.value, e.report.seq}},
-                            {"shown", {e.shown.robot.value, e.shown.seq}},
-                            {"order", e.order}};
-  const std::string text = j.dump();
-  return {text.begin(), text.end()};
-}
-
-std::optional<ObjectIdRegistry::Entry> object_id_from_json(const std::vector<uint8_t>& payload, std::string* error) {
-  const nlohmann::json j = nlohmann::json::parse(payload.begin(), payload.end(), nullptr, false);
-  auto id = [&](const char* key) -> std::optional<ObjectId> {
-    if (!j.is_object() || !j.contains(key) || !j[key].is_array() || j[key].size() != 2 ||
-        !j[key][0].is_number_integer() || !j[key][1].is_number_integer() || j[key][0].get<int64_t>() < 0 ||
-        j[key][1].get<int64_t>() < 0) {
-      *error = std::string("object id record: '") + key + "' is not [robot, seq] of two non-negative integers";
-      return std::nullopt;
-    }
-    return ObjectId{RobotId(j[key][0].get<int32_t>()), j[key][1].get<int32_t>()};
-  };
-  const auto report = id("report"), shown = report ? id("shown") : std::nullopt;
-  if (!shown) return std::nullopt;
-  if (!j.contains("order") || !j["order"].is_number_unsigned()) {
-    *error = "object id record: 'order' is not a non-negative integer";
-    return std::nullopt;
-  }
-  return ObjectIdRegistry::Entry{*report, *shown, j["order"].get<uint64_t>()};
-}
-
 }  // namespace
 
 bool BaseNode::open_journal(std::string* error) {
@@ -110,7 +81,7 @@ void BaseNode::restore(const JournalContents& contents) {
     if (r.kind != JournalKind::kObjectId) continue;
     last_object_id_key_ = std::max(last_object_id_key_, r.key);  // a damaged record's key is not reused
     std::string why;
-    const auto e = object_id_from_json(r.payload, &why);
+    const auto e = object_id_record_from_json(r.payload, &why);
     if (e && mapper_.restore_object_id(*e))
       ++restored_records_;
     else
@@ -176,7 +147,7 @@ void BaseNode::flush_journal() {
   // What the object-id registry learnt when the objects were last computed (for the console or an
   // export): a restarted base shows every victim under the id the team already knows.
   for (const ObjectIdRegistry::Entry& e : mapper_.take_object_id_entries()) {
-    journal(JournalKind::kObjectId, 0, ++last_object_id_key_, object_id_to_json(e));
+    journal(JournalKind::kObjectId, 0, ++last_object_id_key_, object_id_record_to_json(e));
   }
   // Statuses arrive twice a second per robot and are never acknowledged: they ride along with the
   // next batch of samples instead of costing a commit (an fsync) each, except a robot's first one

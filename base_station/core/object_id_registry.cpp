@@ -1,5 +1,7 @@
 #include "base_station/core/object_id_registry.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <optional>
 
@@ -86,6 +88,35 @@ bool ObjectIdRegistry::restore(const Entry& e) {
   shown_as_[e.report] = e.shown;
   next_ = std::max(next_, e.order + 1);
   return true;
+}
+
+std::vector<uint8_t> object_id_record_to_json(const ObjectIdRegistry::Entry& e) {
+  const nlohmann::json j = {{"report", {e.report.robot.value, e.report.seq}},
+                            {"shown", {e.shown.robot.value, e.shown.seq}},
+                            {"order", e.order}};
+  const std::string text = j.dump();
+  return {text.begin(), text.end()};
+}
+
+std::optional<ObjectIdRegistry::Entry> object_id_record_from_json(const std::vector<uint8_t>& payload,
+                                                                  std::string* error) {
+  const nlohmann::json j = nlohmann::json::parse(payload.begin(), payload.end(), nullptr, false);
+  auto id = [&](const char* key) -> std::optional<ObjectId> {
+    if (!j.is_object() || !j.contains(key) || !j[key].is_array() || j[key].size() != 2 ||
+        !j[key][0].is_number_integer() || !j[key][1].is_number_integer() || j[key][0].get<int64_t>() < 0 ||
+        j[key][1].get<int64_t>() < 0) {
+      *error = std::string("object id record: '") + key + "' is not [robot, seq] of two non-negative integers";
+      return std::nullopt;
+    }
+    return ObjectId{RobotId(j[key][0].get<int32_t>()), j[key][1].get<int32_t>()};
+  };
+  const auto report = id("report"), shown = report ? id("shown") : std::nullopt;
+  if (!shown) return std::nullopt;
+  if (!j.contains("order") || !j["order"].is_number_unsigned()) {
+    *error = "object id record: 'order' is not a non-negative integer";
+    return std::nullopt;
+  }
+  return ObjectIdRegistry::Entry{*report, *shown, j["order"].get<uint64_t>()};
 }
 
 }  // namespace cairn::base

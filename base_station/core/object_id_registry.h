@@ -6,7 +6,9 @@
 // no longer merge keeps the old id for one part and gives the other its own smallest report id.
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "base_station/core/global_object.h"
@@ -39,5 +41,11 @@ class ObjectIdRegistry {
   std::map<ObjectId, uint64_t> first_shown_;  ///< shown id -> when it was first shown (order)
   uint64_t next_ = 0;
 };
+
+/// The journal's record of an entry (JSON {"report": [robot, seq], "shown": [robot, seq], "order": n}),
+/// and back; nullopt with `error` naming what is wrong.
+std::vector<uint8_t> object_id_record_to_json(const ObjectIdRegistry::Entry& e);
+std::optional<ObjectIdRegistry::Entry> object_id_record_from_json(const std::vector<uint8_t>& payload,
+                                                                  std::string* error);
 
 }  // namespace cairn::base

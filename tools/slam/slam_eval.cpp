@@ -86,8 +86,10 @@ std::vector<Relation> read_relations(const std::string& path) {
     if (line.empty() || line[0] == '#') continue;
     std::istringstream ss(line);
     double t1, t2, x, y, z, roll, pitch, yaw;
-    if (!(ss >> t1 >> t2 >> x >> y >> z >> roll >> pitch >> yaw) || !std::isfinite(x + y + yaw + t1 + t2)) {
-      throw InputError(path + ":" + std::to_string(line_no) + ": expected 't1 t2 x y z roll pitch yaw'");
+    if (!(ss >> t1 >> t2 >> x >> y >> z >> roll >> pitch >> yaw) || !std::isfinite(x + y + yaw + t1 + t2) ||
+        !stamp_sec_in_range(t1) || !stamp_sec_in_range(t2)) {
+      throw InputError(path + ":" + std::to_string(line_no) +
+                       ": expected 't1 t2 x y z roll pitch yaw' (finite; times within +-9e9 s)");
     }
     out.push_back({t1, t2, SE2(x, y, yaw)});
   }
