@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "base_station/store/journal.h"
 #include "cairn_msgsPubSubTypes.h"
@@ -64,9 +65,13 @@ TEST(Ros2Bag, TheCsailLogAsARos2BagGivesTheKeyframesOfTheLogItself) {
   // The bag on ROS 2 topics (rt/robot0/scan, rt/robot0/odom), at twenty times real time, with
   // cairn_record --ros2 taking the ROS 2 topics down as they go by.
   const fs::path rerecorded = dir / "rerecorded.mcap";
+  // At 20x over DDS the scan and odom topics may arrive a second of log time (50 ms of wall time)
+  // apart: with the default 1 s the agent would take the laser for lost (dead reckoning) now and then.
+  const fs::path config = dir / "agent.yaml";
+  std::ofstream(config) << "odometry: {laser_timeout_s: 20}\n";
   const CommandResult b = run_command(
-      "(" + base("ros2") + " & timeout 300 " + bin("cairn_agent") + " --robot 0 --domain " + domain +
-      " --ros2 --ros2-namespace robot0 --ros2-reliable --ros2-idle-end 3 --no-navigation > " +
+      "(" + base("ros2") + " & timeout 300 " + bin("cairn_agent") + " --robot 0 --domain " + domain + " --config " +
+      config.string() + " --ros2 --ros2-namespace robot0 --ros2-reliable --ros2-idle-end 3 --no-navigation > " +
       (dir / "agent.log").string() + " 2>&1 & timeout 300 " + bin("cairn_record") + " --domain " + domain +
       " --robots 1 --ros2 --topics /robot0/ --out " + rerecorded.string() + " > " + (dir / "record.log").string() +
       " 2>&1 & rec=$!; timeout 300 " + bin("cairn_replay") + " " + bag.string() + " --domain " + domain +

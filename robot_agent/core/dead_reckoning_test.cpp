@@ -63,8 +63,8 @@ TEST(DeadReckoning, ItsCovarianceIsWhatTheOdometryNoiseProduces) {
   for (const Eigen::Vector3d& e : errors) empirical += e * e.transpose() / double(runs);
   const Covariance3& c = predicted.covariance_since_keyframe();
   for (int i = 0; i < 3; ++i) {
-    EXPECT_NEAR(empirical(i, i) / c(i, i), 1.0, 0.12) << "variance " << i << ": predicted " << c(i, i)
-                                                       << ", spread of the drives " << empirical(i, i);
+    EXPECT_NEAR(empirical(i, i) / c(i, i), 1.0, 0.12)
+        << "variance " << i << ": predicted " << c(i, i) << ", spread of the drives " << empirical(i, i);
   }
   // Heading error makes the lateral error: the x-yaw / y-yaw correlation is real and predicted.
   const double corr_pred = c(1, 2) / std::sqrt(c(1, 1) * c(2, 2));
