@@ -100,7 +100,9 @@ void AgentNode::drive(const AgentOutputs& outputs) {
         "laser silent: poses and keyframes from odometry alone; it explores no further and goes home by the "
         "map it has");
   }
-  if (const int back = pipeline_.stats().laser_recoveries; back > last_laser_recoveries_) {
+  // A scan that ends dead reckoning is among this call's processed scans: no stats copy on idle polls.
+  if (const int back = outputs.scans.empty() ? last_laser_recoveries_ : pipeline_.stats().laser_recoveries;
+      back > last_laser_recoveries_) {
     last_laser_recoveries_ = back;
     log_->warn(
         "laser back: scan matching again; still going home (a laser that failed once is not trusted to explore; "
