@@ -1,6 +1,8 @@
 #pragma once
 // Options of the base station's MultiRobotMapper, with defaults that suit the simulator and
 // indoor rescue scenes.
+#include <cmath>
+
 #include "base_station/core/global_map_renderer.h"
 #include "base_station/core/global_object.h"
 #include "base_station/core/keyframe_loop_closer.h"
@@ -78,9 +80,14 @@ struct MapperOptions {
   double min_link_spread_m = 2.0;
   /// Entry hints (MultiRobotMapper::set_entry_hint): an inter-robot closure whose implied start of
   /// the hinted robot is off the hint by more than this chi-square (3 dof, 99 %: 11.34; sigmas from
-  /// the hint) is refused before PCM. A clique that agrees with a hint needs no min_link_spread_m
-  /// (the hint pins the rotation); it still needs min_link_clique closures and the map check.
+  /// the hint) is refused before PCM. A clique that agrees with a hint at least as tight as the two
+  /// bounds below needs no min_link_spread_m (the hint pins the rotation and rules out look-alike
+  /// places metres away); it still needs min_link_clique closures and the map check. A looser hint
+  /// (1 m / 20 deg) lets the chi-square pass a look-alike 3 m and 60 deg off, which a clique from one
+  /// spot cannot tell apart: it only narrows the search (a robot was linked 1.5 m off under load).
   double entry_hint_chi2 = 11.34;
+  double hint_replaces_spread_max_sigma_xy_m = 0.5;
+  double hint_replaces_spread_max_sigma_yaw_rad = 10.0 * M_PI / 180.0;
   /// Map-level check of every link hypothesis (map_consistency.h) over all keyframes seen so far;
   /// a refuted clique's closures are dropped. Also applied to an inter-robot closure into an
   /// already linked pair when it disagrees with the current estimate by more than the gate below.

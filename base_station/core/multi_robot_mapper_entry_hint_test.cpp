@@ -50,6 +50,16 @@ TEST(EntryHint, ARightHintLinksARobotWhoseClosuresAreTooLocalOtherwise) {
   EXPECT_LT(placement_error_m(with, p0, p1), 0.1);
 }
 
+TEST(EntryHint, ALooseHintDoesNotStandInForTheSpreadOfTheClosures) {
+  // 1 m / 20 deg: its chi-square gate passes look-alike places metres off, so the closures from
+  // one spot wait for closures from elsewhere as without a hint.
+  std::vector<SE2> p0, p1;
+  const MultiRobotMapper probe = two_robots(1, std::nullopt, &p0, &p1);
+  const MultiRobotMapper loose = two_robots(4, EntryHint{true_start(p0, p1), 1.0, 20 * kDeg}, &p0, &p1);
+  EXPECT_FALSE(loose.linked(RobotId(1)));
+  EXPECT_GT(loose.link_stats().deferred_spread, 0);
+}
+
 TEST(EntryHint, AHintWrongByMoreThanItsSigmaNeverCausesAWrongLink) {
   std::vector<SE2> p0, p1;
   // 3 m and 30 deg wrong, sigma 0.5 m: the true closures contradict it.

@@ -168,8 +168,8 @@ bool RobotLinker::try_link_pair(MapperData* data, RobotId ra, RobotId rb, std::v
     if (int(clique.size()) < options_.min_link_clique) return false;
     std::vector<LoopClosure> members;
     for (size_t i : clique) members.push_back((*candidates)[i]);
-    // A clique that agrees with an entry hint needs no spread: the hint pins the link's rotation.
-    const bool hinted = hint_chi2(*data, members.front()).has_value();
+    // A clique that agrees with a tight entry hint needs no spread: the hint pins the link's rotation.
+    const bool hinted = hint_chi2(*data, members.front()).has_value() && hint_is_tight(*data, members.front());
     const std::string deficit = hinted ? std::string() : spread_deficit(*data, members);
     if (!deficit.empty()) {  // maybe right, but too local to tell aliasing apart: wait
       if (last_verdict_[key] != deficit) {

@@ -105,6 +105,9 @@ class RobotLinker {
   /// the start it implies for an unplaced hinted robot, from the other robot's placement (or hint,
   /// variances added), against that robot's hint. nullopt when no hint applies.
   std::optional<double> hint_chi2(const MapperData& data, const LoopClosure& c) const;
+  /// Whether every unplaced hinted robot of closure c has a hint within
+  /// MapperOptions::hint_replaces_spread_max_sigma_* (robot_linker_checks.cpp).
+  bool hint_is_tight(const MapperData& data, const LoopClosure& c) const;
   /// Re-solves the own frame of each unlinked robot whose accepted intra-robot closures changed.
   void refresh_own_frames(MapperData* data) const;
   void link_robot_pairs(MapperData* data, LinkUpdate* update);
