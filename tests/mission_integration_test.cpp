@@ -305,7 +305,12 @@ TEST(MissionIntegration, ARobotWhoseLaserBreaksGoesHomeByOdometryAndItsDataReach
   // alone reach the base (its merged trajectory goes on past 40 s, near the truth), it drives home
   // blind by the map it has, and the mission ends because both robots said they are done.
   const std::string world = "tests/worlds/laser_breaks.yaml";
-  const MissionRun run = run_mission(world, "laser_breaks", "--timeout 600 --entry-hints 1,20");
+  // A tight entry hint, as the team has at a single door (the demo's 0.5 m / 10 deg): what is tested
+  // here is the robot without laser. With a loose one (1 m / 20 deg) robot 1, whose 40 s of scans
+  // cover a few metres by its start, was once linked 6 m / 21 deg off in CI through five aliased
+  // closures that passed the hint gate, the spread rule and the map check (robot 0 had not mapped
+  // that place yet): a linking weakness of its own (docs/benchmarks.md "Entry hints").
+  const MissionRun run = run_mission(world, "laser_breaks", "--timeout 600 --entry-hints 0.5,10");
   const fs::path& out = run.out;
   const CommandResult& r = run.result;
   ASSERT_EQ(r.exit_code, 0) << r.output;
