@@ -1,8 +1,9 @@
 // The agent replays a recorded CARMEN log (instead of the simulator's topics) to a real base
 // station over DDS; a truncated log is refused with its line number; a base station killed after
 // acknowledging a robot's data rebuilds the map from its journal once restarted, with the robot
-// long gone; an agent killed and restarted is a new session the base keeps apart; with DDS\n// Security, a team
-// member's samples claiming another robot's id are refused.
+// long gone; an agent killed and restarted is a new session the base keeps apart, and with its
+// outbox it resends what the killed run never delivered; with DDS Security, a team member's
+// samples claiming another robot's id are refused.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -204,6 +205,48 @@ TEST(LogReplay, AnAgentKilledAndRestartedIsANewSessionAndNothingIsDroppedOrOverw
   ASSERT_EQ(summary["restarts"].size(), 1u) << summary.dump();
   EXPECT_EQ(summary["refused_overwrites"].get<int>(), 0) << summary.dump();
   EXPECT_EQ(summary["rejected_samples"].get<int>(), 0) << summary.dump();
+}
+
+TEST(LogReplay, AnAgentRebootedOutOfRadioRangeResendsWhatItHadFromItsOutbox) {
+  if (!std::ifstream(kMitLog)) GTEST_SKIP() << "data absent: " << kMitLog;
+  const fs::path dir = fresh_dir("agent_outbox");
+  const std::string log = excerpt(dir, 400);
+  std::string error;
+  const auto lease = dds::DomainLease::claim({}, &error);
+  ASSERT_TRUE(lease) << error;
+  const std::string domain = std::to_string(lease->domain_id());
+  // Run A has no base to talk to (out of radio range) and is killed after 8 s of the log at 4x: all
+  // it made is unacknowledged. Run B, with the same outbox and a base in reach, must deliver A's
+  // keyframes as A's session (before its own) and then its own.
+  const std::string agent = bin("cairn_agent") + " --robot 0 --domain " + domain + " --log " + log + " --outbox " +
+                            (dir / "outbox.sqlite").string();
+  const std::string base = bin("cairn_base") + " --domain " + domain + " --out " + (dir / "map").string() +
+                           " --robots 1 --start 0,0,0,0 --port 0";
+  const auto r = run_command("(" + agent + " --log-speed 4 > " + (dir / "agent_a.log").string() +
+                             " 2>&1 & a=$!; sleep 8; kill -9 $a; wait $a; " + base + " > " +
+                             (dir / "base.log").string() + " 2>&1 & base=$!; " + agent + " > " +
+                             (dir / "agent_b.log").string() + " 2>&1; status=$?; wait $base; exit $status)");
+  const std::string agent_b = read_text(dir / "agent_b.log");
+  ASSERT_EQ(r.exit_code, 0) << r.output << agent_b << read_text(dir / "base.log");
+  const auto at = agent_b.find("left undelivered");
+  ASSERT_NE(at, std::string::npos) << agent_b;
+  const auto upto = agent_b.find("up to keyframe ", at);
+  ASSERT_NE(upto, std::string::npos) << agent_b;
+  const int a_keyframes = std::atoi(agent_b.c_str() + upto + 15) + 1;
+  EXPECT_GE(a_keyframes, 10) << agent_b;
+  EXPECT_NE(agent_b.find("the base has all it left"), std::string::npos) << agent_b;
+
+  const nlohmann::json summary = nlohmann::json::parse(read_text(dir / "map" / "summary.json"));
+  ASSERT_EQ(summary["robots"].size(), 2u) << summary.dump();  // without the outbox: B's alone
+  const nlohmann::json& first = summary["robots"][0];
+  const nlohmann::json& second = summary["robots"][1];
+  EXPECT_EQ(first["label"], "robot0") << summary.dump();  // A: the session that ran first
+  EXPECT_EQ(first["keyframes"].get<int>(), a_keyframes) << summary.dump();
+  EXPECT_EQ(first["missing_keyframes"].get<int>(), 0) << summary.dump();
+  EXPECT_EQ(second["label"], "robot0 session 2") << summary.dump();
+  EXPECT_EQ(second["keyframes"].get<int>(), agent_keyframes(agent_b)) << summary.dump();
+  EXPECT_EQ(second["missing_keyframes"].get<int>(), 0) << summary.dump();
+  EXPECT_EQ(summary["refused_overwrites"].get<int>(), 0) << summary.dump();
 }
 
 TEST(LogReplay, ATeamMemberSpeakingForAnotherRobotIsRefusedAndCounted) {

@@ -91,13 +91,23 @@ void BaseNode::publish_acks_and_corrections() {
   const bool all_journaled = unjournaled_.empty();  // an ack promises the sample survives a restart
   for (const RobotSummary& r : mapper_.robots()) {
     cairn_msgs::Ack ack;
-    if (!address(r.id, &ack)) continue;  // a session that ended: the robot runs a newer one
+    const bool current = address(r.id, &ack);
     if (all_journaled) {
       ack.keyframe_seq(contiguous_seq(mapper_, r.id));
       ack.object_count(r.objects);
-      ack.probe_ns(uint64_t(dds::reception_clock_ns()));  // the robot echoes it: the link's round trip
-      ack_out_->write(ack);
+      // A session that ended (the robot runs a newer one) is acked when what it holds grew and
+      // every 5 s (acks are volatile: one written before the restarted agent's reader matched is
+      // never delivered): the restarted agent resends that session's outbox
+      // (robot_agent/app/outbox.h) and deletes what the base has. Acks are keyed by session.
+      const EndedSessionAck held{ack.keyframe_seq(), ack.object_count(), now_s()};
+      const auto last = ended_session_acks_.find(r.id);
+      if (current || last == ended_session_acks_.end() || last->second.keyframe_seq != held.keyframe_seq ||
+          last->second.objects != held.objects || held.written_s - last->second.written_s >= 5.0) {
+        if (current) ack.probe_ns(uint64_t(dds::reception_clock_ns()));  // echoed: the link's round trip
+        if (ack_out_->write(ack) && !current) ended_session_acks_[r.id] = held;
+      }
     }
+    if (!current) continue;  // corrections, goals and keep-out areas only for the session running
     cairn_msgs::Correction c;
     address(r.id, &c);
     c.linked(r.linked);

@@ -158,7 +158,13 @@ class BaseNode {
   std::unique_ptr<dds::Reader<dds::StatusTopic>> status_in_;
   std::unique_ptr<dds::Reader<dds::KeyframePosesTopic>> keyframe_poses_in_;
   std::unique_ptr<dds::Writer<dds::AckTopic>> ack_out_;
-  std::unique_ptr<Ros2Output> ros2_out_;  ///< with --ros2
+  struct EndedSessionAck {
+    int32_t keyframe_seq = -1;
+    int32_t objects = 0;
+    double written_s = 0;  ///< now_s() when written
+  };
+  std::map<RobotId, EndedSessionAck> ended_session_acks_;  ///< the newest ack written to each ended session
+  std::unique_ptr<Ros2Output> ros2_out_;                   ///< with --ros2
   void publish_ros2();
   std::unique_ptr<dds::Writer<dds::CorrectionTopic>> correction_out_;
   std::unique_ptr<dds::Writer<dds::GoalTopic>> goal_out_;

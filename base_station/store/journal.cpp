@@ -1,22 +1,12 @@
 #include "base_station/store/journal.h"
 
-#include <sqlite3.h>
+#include "common/sqlite_file.h"
 
 namespace cairn::base {
 
 namespace {
 
-/// Finalizes a prepared statement on scope exit.
-struct Statement {
-  sqlite3_stmt* stmt = nullptr;
-  ~Statement() { sqlite3_finalize(stmt); }
-};
-
-constexpr const char* kSchema =
-    "CREATE TABLE IF NOT EXISTS cairn_journal_meta (format_version INTEGER NOT NULL);"
-    "CREATE TABLE IF NOT EXISTS records ("
-    "  kind INTEGER NOT NULL, robot INTEGER NOT NULL, key INTEGER NOT NULL, payload BLOB NOT NULL,"
-    "  PRIMARY KEY (kind, robot, key));";
+using Statement = SqliteStatement;
 
 bool known_kind(int64_t kind) { return kind >= 0 && kind <= int64_t(JournalKind::kObjectId); }
 
@@ -49,46 +39,23 @@ const char* to_string(JournalKind kind) {
 }
 
 bool Journal::exec(const char* sql, std::string* error) const {
-  char* message = nullptr;
-  if (sqlite3_exec(db_, sql, nullptr, nullptr, &message) == SQLITE_OK) return true;
-  if (error) *error = "journal " + path_ + ": " + (message ? message : sqlite3_errmsg(db_));
-  sqlite3_free(message);
-  return false;
+  return sqlite_exec(db_, sql, "journal " + path_, error);
 }
 
 std::unique_ptr<Journal> Journal::open(const std::string& path, const JournalOptions& options, std::string* error) {
-  sqlite3* db = nullptr;
-  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) {
-    if (error) *error = "journal " + path + ": " + (db ? sqlite3_errmsg(db) : "cannot open");
-    sqlite3_close(db);
-    return nullptr;
-  }
+  SqliteFileOptions file;
+  file.what = "journal";
+  file.tables = {"cairn_journal_meta", "records"};
+  file.schema =
+      "CREATE TABLE IF NOT EXISTS cairn_journal_meta (format_version INTEGER NOT NULL);"
+      "CREATE TABLE IF NOT EXISTS records ("
+      "  kind INTEGER NOT NULL, robot INTEGER NOT NULL, key INTEGER NOT NULL, payload BLOB NOT NULL,"
+      "  PRIMARY KEY (kind, robot, key));";
+  file.sync_full = options.sync_full;
+  file.busy_timeout_ms = options.busy_timeout_ms;
+  sqlite3* db = open_sqlite_file(path, file, error);
+  if (!db) return nullptr;
   std::unique_ptr<Journal> j(new Journal(db, path));
-  sqlite3_busy_timeout(db, options.busy_timeout_ms);
-  // Read before anything is written: a file that is not a database fails here, untouched.
-  if (!j->exec("PRAGMA schema_version;", error)) return nullptr;
-  // Another application's database is refused rather than given our tables.
-  {
-    Statement s;
-    sqlite3_prepare_v2(db,
-                       "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' "
-                       "AND name NOT IN ('cairn_journal_meta', 'records')",
-                       -1, &s.stmt, nullptr);
-    if (!s.stmt || sqlite3_step(s.stmt) != SQLITE_ROW) {
-      if (error) *error = "journal " + path + ": " + sqlite3_errmsg(db);
-      return nullptr;
-    }
-    if (sqlite3_column_int64(s.stmt, 0) > 0) {
-      if (error) *error = "journal " + path + ": a SQLite database but not a Cairn journal (it has other tables)";
-      return nullptr;
-    }
-  }
-  if (!j->exec(options.sync_full ? "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;"
-                                 : "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;",
-               error) ||
-      !j->exec(kSchema, error)) {
-    return nullptr;
-  }
   Statement version;
   sqlite3_prepare_v2(db, "SELECT format_version FROM cairn_journal_meta", -1, &version.stmt, nullptr);
   const int step = version.stmt ? sqlite3_step(version.stmt) : SQLITE_ERROR;

@@ -70,6 +70,10 @@ int main(int argc, char** argv) {
                  "at the end, give up waiting for the base station's acknowledgements after this many seconds and "
                  "exit 3 naming what it lacks (0 = wait while the process runs; SIGINT/SIGTERM end it the same way)")
       ->check(CLI::Range(0.0, 1e6));
+  app.add_option("--outbox", node.outbox_path,
+                 "keep what this robot produces in this SQLite file until the base acknowledges it; restarted with "
+                 "the same file (a crash, a power cut), the agent first resends what the earlier run left undelivered "
+                 "(one file per robot; a new file for a new mission)");
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
   node.link_budget_bytes_per_sec = uint32_t(link_budget_kbit * 1000.0 / 8.0);

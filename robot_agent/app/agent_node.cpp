@@ -54,6 +54,7 @@ std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& 
     po.announcement_period_s = dds::kSlowLinkAnnouncementPeriod_s;
     po.lease_duration_s = dds::kSlowLinkLeaseDuration_s;
   }
+  if (!options.outbox_path.empty() && !n->open_outbox(error)) return nullptr;
   n->participant_ = dds::Participant::create(po, error);
   if (!n->participant_) return nullptr;
   auto& p = *n->participant_;
@@ -156,16 +157,35 @@ bool AgentNode::poll_inputs() {
     if (for_me(k)) take_keep_out(k);
   }
   for (const auto& [a, writer, received_ns] : ack_in_->take_all_from_writers()) {
-    if (!for_me(a)) continue;  // what an earlier session sent is not this one's
+    heard_any_ack_ = true;
+    if (!for_me(a)) {  // another robot's, or an earlier session's this run resends from the outbox
+      take_earlier_ack(a);
+      continue;
+    }
     heard_from_base();
     acked_keyframe_seq_ = std::max(acked_keyframe_seq_, a.keyframe_seq());
     acked_object_count_ = std::max(acked_object_count_, int(a.object_count()));
+    note_own_ack();
     if (a.probe_ns() != 0) probe_ = {a.probe_ns(), received_ns};  // echoed in the next status
   }
   return any;
 }
 
 void AgentNode::publish(const AgentOutputs& outputs) {
+  keep(outputs);  // on disk first: a crash from here on loses nothing
+  if (!own_session_may_speak()) {
+    if (!outputs.empty()) {
+      held_outputs_.push_back(outputs);
+      held_outputs_.back().scans.clear();  // only what is sent is held
+    }
+    return;
+  }
+  for (const AgentOutputs& held : held_outputs_) write_outputs(held);
+  held_outputs_.clear();
+  write_outputs(outputs);
+}
+
+void AgentNode::write_outputs(const AgentOutputs& outputs) {
   for (const auto& kf : outputs.keyframes) {
     if (!keyframe_out_->write(with_session(dds::to_msg(kf)))) {
       log_->error("keyframe {} could not be queued (history full)", kf.id.seq);
@@ -255,13 +275,14 @@ uint64_t AgentNode::bytes_sent() const {
 }
 
 bool AgentNode::base_has_everything() {
-  return acked_keyframe_seq_ >= last_keyframe_seq_ && acked_object_count_ >= int(objects_published_.size());
+  return held_outputs_.empty() && earlier_.empty() && acked_keyframe_seq_ >= last_keyframe_seq_ &&
+         acked_object_count_ >= int(objects_published_.size());
 }
 
 std::string AgentNode::delivery_report() const {
   return "acknowledged by the base: keyframes " + std::to_string(acked_keyframe_seq_ + 1) + " of " +
          std::to_string(last_keyframe_seq_ + 1) + ", objects " + std::to_string(acked_object_count_) + " of " +
-         std::to_string(objects_published_.size());
+         std::to_string(objects_published_.size()) + earlier_report();
 }
 
 int AgentNode::run(const std::atomic<bool>* stop) {
@@ -285,8 +306,10 @@ int AgentNode::run(const std::atomic<bool>* stop) {
       flushed = true;
       flush_time = Clock::now();
       const AgentStats s = pipeline_.stats();
+      size_t held = 0;  // made but not written yet: an earlier session goes first
+      for (const AgentOutputs& h : held_outputs_) held += h.keyframes.size();
       log_->info("input ended: {} scans matched, {} keyframes, {} objects; waiting for the base to store them",
-                 s.scans_matched, last_keyframe_seq_ + 1, objects_published_.size());
+                 s.scans_matched, last_keyframe_seq_ + 1 + int(held), objects_published_.size());
     } else if (!flushed) {
       const AgentOutputs outputs = pipeline_.process(false);
       publish(outputs);
@@ -295,7 +318,9 @@ int AgentNode::run(const std::atomic<bool>* stop) {
     // A command's new state goes out at once: the operator waits for it (not for the next period).
     const bool command_news =
         operator_.report().seq != published_command_.seq || operator_.report().state != published_command_.state;
-    if (Clock::now() >= next_status || command_news) {
+    resend_earlier();
+    if (!held_outputs_.empty() && own_session_may_speak()) publish({});  // what was held goes now
+    if ((Clock::now() >= next_status || command_news) && own_session_may_speak()) {
       publish_status(false);
       next_status = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                        std::chrono::duration<double>(options_.status_period_s));
@@ -322,6 +347,7 @@ int AgentNode::run(const std::atomic<bool>* stop) {
   // (best effort, as for a lost link the base keeps the previous estimate).
   if (!keyframe_poses_out_->wait_for_acknowledgments(2.0))
     log_->warn("final keyframe poses not acknowledged within 2 s");
+  forget_own_session();
   // Status is best effort: say "finished" ten times over 2 s so the base hears it (30 % loss: all
   // ten lost one time in 170 000).
   for (int i = 0; i < 10; ++i) {

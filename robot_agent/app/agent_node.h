@@ -4,6 +4,7 @@
 // Data flow: sensor topics -> dds::from_msg -> AgentPipeline -> dds::to_msg -> keyframe/object.
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -15,6 +16,7 @@
 #include "common/logging.h"
 #include "dds/endpoints.h"
 #include "robot_agent/app/log_source.h"
+#include "robot_agent/app/outbox.h"
 #include "robot_agent/app/ros2_input.h"
 #include "robot_agent/core/agent_pipeline.h"
 #include "robot_agent/core/navigation/breadcrumbs.h"
@@ -34,6 +36,10 @@ struct AgentNodeOptions {
   /// frame gone) is a new session the base keeps apart (base_station/core/robot_sessions.h).
   uint32_t session = 0;
   double status_period_s = 0.5;
+  /// The outbox on disk (SQLite, robot_agent/app/outbox.h): what this run produces is kept there
+  /// until the base acknowledges it, and what an earlier run left (a crash, a power cut) is resent
+  /// first under its own session. Empty: no outbox (what is unacknowledged dies with the process).
+  std::string outbox_path;
   /// How long to wait at the end for the base to store everything; 0 = as long as the process runs
   /// (the radio may be cut for minutes: what the robot found is kept and sent when it is back).
   double ack_timeout_s = 0.0;
@@ -78,6 +84,32 @@ class AgentNode {
   bool send_waiting_updates();
   /// Keyframe, object and keyframe-pose payloads written so far.
   uint64_t bytes_sent() const;
+  /// Writes this run's outputs (publish() holds them back while an earlier session goes first).
+  void write_outputs(const AgentOutputs& outputs);
+
+  // The outbox (agent_node_outbox.cpp).
+  struct EarlierSession {
+    OutboxSession held;               ///< what an earlier run left unacknowledged
+    size_t written = 0;               ///< held.items written so far
+    double written_at_s = -1;         ///< when the last of them was written (run time)
+    bool heard = false;               ///< the base acknowledged this session at least once
+    int32_t acked_keyframe_seq = -1;  ///< the newest ack for it
+    int32_t acked_objects = 0;
+  };
+  bool open_outbox(std::string* error);
+  void keep(const AgentOutputs& outputs);  ///< into the outbox before anything is written
+  /// True once the base has heard every earlier session: before, this run sends nothing.
+  bool own_session_may_speak();
+  void resend_earlier();
+  void take_earlier_ack(const cairn_msgs::Ack& a);
+  void note_own_ack();        ///< acknowledged keyframes leave the outbox
+  void forget_own_session();  ///< the base has everything: the outbox forgets this run
+  std::string earlier_report() const;
+  std::unique_ptr<Outbox> outbox_;
+  std::deque<EarlierSession> earlier_;
+  std::vector<AgentOutputs> held_outputs_;  ///< this run's, while an earlier session goes first
+  int32_t outbox_acked_seq_ = -1;
+  bool heard_any_ack_ = false;
 
   /// True for a sample from the base meant for this robot's running session.
   template <typename Msg>

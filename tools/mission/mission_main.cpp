@@ -250,8 +250,14 @@ int main(int argc, char** argv) {
     procs.push_back(std::make_unique<ChildProcess>(
         "agent" + id,
         [&] {
-          std::vector<std::string> cmd{(bin / "cairn_agent").string(), "--robot", id, "--domain",
-                                       std::to_string(opt.domain)};
+          // Each robot's outbox lives with this mission's logs (removed at the start of a mission).
+          std::vector<std::string> cmd{(bin / "cairn_agent").string(),
+                                       "--robot",
+                                       id,
+                                       "--domain",
+                                       std::to_string(opt.domain),
+                                       "--outbox",
+                                       (out / ("logs/outbox_robot" + id + ".sqlite")).string()};
           cmd.insert(cmd.end(), agent_extra.begin(), agent_extra.end());
           return secured(cmd, "robot" + id);
         }(),
