@@ -1,6 +1,7 @@
 #include "base_station/core/mapper_data.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <climits>
 #include <cmath>
 
@@ -105,7 +106,11 @@ PoseGraphEdge chain_edge(const MapperData& data, const Keyframe& prev, const Key
                          bool* gap) {
   PoseGraphEdge edge{prev.id, kf.id, {}, {}, EdgeKind::kOdometry};
   const int steps = kf.id.seq - prev.id.seq;
-  const auto info = information_of(kf.edge_covariance);
+  Covariance3 covariance = kf.edge_covariance;  // diagonal raised to the floor: stays positive definite
+  const double min_xy = options.chain_edge_min_sigma_xy_m * options.chain_edge_min_sigma_xy_m;
+  const double min_yaw = options.chain_edge_min_sigma_yaw_rad * options.chain_edge_min_sigma_yaw_rad;
+  for (int i = 0; i < 3; ++i) covariance(i, i) = std::max(covariance(i, i), i < 2 ? min_xy : min_yaw);
+  const auto info = information_of(covariance);
   *gap = steps != 1 || !info;
   if (!*gap) {
     const auto a = data.agent_poses.find(prev.id), b = data.agent_poses.find(kf.id);

@@ -64,6 +64,12 @@ struct MapperOptions {
   /// keyframe by the difference of their local poses, with this uncertainty per missing step.
   double gap_sigma_xy_m_per_step = 0.05;
   double gap_sigma_yaw_rad_per_step = 0.02;
+  /// No chain edge is taken as surer than this (its covariance's diagonal raised to it): an agent's
+  /// edge of a robot turning in place on odometry alone came with 1e-18 m^2 (information 4e17), and
+  /// the pose graph could no longer converge after a link: in CI a robot whose five inter-robot
+  /// closures were right was left 6 m off. Matched edges carry the agent's 1 cm / 0.57 deg floor.
+  double chain_edge_min_sigma_xy_m = 0.01;
+  double chain_edge_min_sigma_yaw_rad = 0.01;
 
   /// Automatic merging: place recognition + verification (keyframe_loop_closer.h), PCM on each robot
   /// pair's inter-robot closures before the pair is first linked (pcm.h).

@@ -341,3 +341,32 @@ TEST(MultiRobotMapper, AfterLoopClosuresUpdatesReachTheFullSolveOptimum) {
 
 }  // namespace
 }  // namespace cairn::base
+
+namespace cairn::base {
+namespace {
+
+TEST(ChainEdge, AnEdgeSurerThanTheFloorIsTakenAtTheFloor) {
+  // An agent's odometry-only edge of a robot turning in place: next to no variance along. Taken as
+  // given it was information 4e17, and the graph could no longer converge after a link.
+  Keyframe prev, kf;
+  prev.id = KeyframeId{RobotId(1), 4};
+  kf.id = KeyframeId{RobotId(1), 5};
+  kf.T_prev_this = SE2(0, 0, -0.45);
+  kf.edge_covariance = Covariance3::Zero();
+  kf.edge_covariance(0, 0) = kf.edge_covariance(1, 1) = 2.5e-18;
+  kf.edge_covariance(2, 2) = 1e-3;
+  const MapperOptions options;
+  bool gap = true;
+  const PoseGraphEdge e = chain_edge(MapperData(), prev, kf, options, &gap);
+  EXPECT_FALSE(gap);
+  const double max_xy = 1.0 / (options.chain_edge_min_sigma_xy_m * options.chain_edge_min_sigma_xy_m);
+  EXPECT_NEAR(e.information(0, 0), max_xy, 1e-6 * max_xy);
+  EXPECT_NEAR(e.information(1, 1), max_xy, 1e-6 * max_xy);
+  EXPECT_NEAR(e.information(2, 2), 1e3, 1e-6);  // above the floor: as measured
+  // An edge already looser than the floor is left as it is.
+  kf.edge_covariance = Covariance3::Identity() * 0.01;
+  EXPECT_NEAR(chain_edge(MapperData(), prev, kf, options, &gap).information(0, 0), 100.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace cairn::base

@@ -72,11 +72,13 @@ TEST(AgentPipelineDeadReckoning, ASilentLaserStillGivesKeyframesFromOdometryUnti
     EXPECT_TRUE(kf.place_descriptor.empty());
     checked += !kf.landmarks.empty();
     if (d.keyframes[i - 1].scan.ranges_m.empty()) {
-      // Between two odometry-only keyframes the edge is the odometry noise model's: along the way,
-      // variance per metre driven (the lateral part also grows with the heading's).
+      // Between two odometry-only keyframes the edge is the odometry noise model's (along the way,
+      // variance per metre driven; the lateral part also grows with the heading's) plus the
+      // matched edges' floor.
       const double along_m = kf.T_prev_this.translation().norm();
       const DeadReckoningOptions o;
-      EXPECT_NEAR(kf.edge_covariance(0, 0), o.translation_variance_m2_per_m * along_m,
+      const double floor_m2 = KeyframerOptions().edge_translation_floor_m2;
+      EXPECT_NEAR(kf.edge_covariance(0, 0), o.translation_variance_m2_per_m * along_m + floor_m2,
                   0.1 * o.translation_variance_m2_per_m * along_m);
       EXPECT_GE(kf.edge_covariance(1, 1), o.translation_variance_m2_per_m * along_m);
       EXPECT_GE(kf.edge_covariance(2, 2), o.rotation_variance_rad2_per_m * along_m);

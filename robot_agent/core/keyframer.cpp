@@ -53,6 +53,12 @@ std::optional<Keyframe> Keyframer::add_dead_reckoned(StampNs stamp_ns, const SE2
     rot.topLeftCorner<2, 2>() = last_->T_local_base.rotation().transpose();
     edge += rot * last_match_covariance_ * rot.transpose();
   }
+  // The matched edges' floors: wheels are never surer than that (turning in place they slip), and a
+  // robot turning in place got 1e-18 m^2 along (nothing driven), information 4e17 at the base, whose
+  // pose graph then could not converge after linking it (CI: a robot left 6 m off).
+  edge(0, 0) += options_.edge_translation_floor_m2;
+  edge(1, 1) += options_.edge_translation_floor_m2;
+  edge(2, 2) += options_.edge_rotation_floor_rad2;
   Keyframe kf = emit(no_scan, T_local_base, edge);
   last_match_covariance_ = Covariance3::Zero();  // nothing was matched
   return kf;

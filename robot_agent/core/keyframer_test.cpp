@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+
 namespace cairn::agent {
 namespace {
 
@@ -36,6 +38,28 @@ TEST(Keyframer, DistanceAngleAndTimeThresholds) {
   // Covariances grow along the chain and stay symmetric positive definite.
   EXPECT_GT(k3->covariance(0, 0), k1->covariance(0, 0));
   EXPECT_GT(k1->edge_covariance.llt().matrixL().determinant(), 0.0);
+}
+
+TEST(Keyframer, ADeadReckonedTurnInPlaceIsNoSurerThanAMatchedEdge) {
+  // Turning in place on odometry alone: nothing driven, so the noise model gives (next to) no
+  // variance along; the edge still carries the matched edges' floors (at the base, 1e-18 m^2 was
+  // information 4e17 and its pose graph could not converge).
+  Keyframer kf(RobotId(1));
+  ASSERT_TRUE(kf.add(scan_at(0.0), SE2(1, 2, 0), Covariance3::Identity() * 1e-4));
+  Covariance3 odometry = Covariance3::Zero();
+  odometry(0, 0) = odometry(1, 1) = 1e-18;
+  odometry(2, 2) = 1e-3;
+  const auto turned = kf.add_dead_reckoned(sec_to_ns(1.0), SE2(1, 2, 0.45), odometry);
+  ASSERT_TRUE(turned);
+  const KeyframerOptions o;
+  EXPECT_GE(turned->edge_covariance(0, 0), o.edge_translation_floor_m2);
+  EXPECT_GE(turned->edge_covariance(1, 1), o.edge_translation_floor_m2);
+  EXPECT_GE(turned->edge_covariance(2, 2), 1e-3 + o.edge_rotation_floor_rad2 - 1e-12);
+  // Parked: no motion at all, still a finite, positive definite edge.
+  const auto parked = kf.add_dead_reckoned(sec_to_ns(6.5), SE2(1, 2, 0.45), Covariance3::Zero());
+  ASSERT_TRUE(parked);
+  EXPECT_EQ(parked->edge_covariance.llt().info(), Eigen::Success);
+  EXPECT_GE(parked->edge_covariance(0, 0), o.edge_translation_floor_m2);
 }
 
 TEST(Keyframer, ComposeCovarianceRotatesTheSecond) {
