@@ -46,6 +46,14 @@ double non_negative(const YamlConfig& cfg, const std::string& key, double defaul
   return v;
 }
 
+/// A value in [min, max].
+double in_range(const YamlConfig& cfg, const std::string& key, double default_value, double min, double max) {
+  const double v = cfg.get<double>(key, default_value);
+  if (!(v >= min) || !(v <= max))
+    cfg.fail(key, "must be in [" + shortest(min) + ", " + shortest(max) + "] (got " + shortest(v) + ")");
+  return v;
+}
+
 int positive_int(const YamlConfig& cfg, const std::string& key, int default_value, int max) {
   const int v = cfg.get<int>(key, default_value);
   if (v <= 0 || v > max)
@@ -142,6 +150,29 @@ std::vector<Eigen::Vector2d> load_waypoints(const YamlConfig& cfg, const std::st
   return out;
 }
 
+/// The `radio:` section (sim/radio_model.h); antennas default to the robots' starts.
+RadioOptions load_radio(const YamlConfig& root, const World& world) {
+  RadioOptions r;
+  if (root.has("radio")) {
+    const YamlConfig c = root["radio"];
+    c.allow_only({"antennas_m", "tx_power_dbm", "loss_at_1m_db", "path_loss_exponent", "wall_loss_db",
+                  "sensitivity_dbm", "hysteresis_db", "reconnect_s", "period_s"});
+    if (c.has("antennas_m")) r.antennas_m = load_waypoints(c, "antennas_m", world.floor_plan);
+    r.tx_power_dbm = in_range(c, "tx_power_dbm", r.tx_power_dbm, -30, 40);
+    r.loss_at_1m_db = in_range(c, "loss_at_1m_db", r.loss_at_1m_db, 0, 100);
+    r.path_loss_exponent = in_range(c, "path_loss_exponent", r.path_loss_exponent, 1, 6);
+    r.wall_loss_db = in_range(c, "wall_loss_db", r.wall_loss_db, 0, 60);
+    r.sensitivity_dbm = in_range(c, "sensitivity_dbm", r.sensitivity_dbm, -130, 0);
+    r.hysteresis_db = in_range(c, "hysteresis_db", r.hysteresis_db, 0, 30);
+    r.reconnect_s = in_range(c, "reconnect_s", r.reconnect_s, 0, 600);
+    r.period_s = in_range(c, "period_s", r.period_s, 0.05, 60);
+  }
+  if (r.antennas_m.empty()) {
+    for (const RobotSpec& robot : world.robots) r.antennas_m.push_back(robot.T_world_start.translation());
+  }
+  return r;
+}
+
 RobotSpec load_robot(const YamlConfig& r, const FloorPlan& plan, double radius_m) {
   RobotSpec spec;
   r.allow_only({"id", "start", "max_speed_mps", "max_turn_radps", "waypoints", "laser_fails_at_s"});
@@ -223,7 +254,7 @@ FloorPlan load_floor_plan_image(const std::string& image_path, double resolution
 
 WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& options) {
   const YamlConfig root = YamlConfig::load(yaml_path);
-  root.allow_only({"name", "map", "sim", "sensors", "robots", "objects"});
+  root.allow_only({"name", "map", "sim", "sensors", "robots", "objects", "radio"});
   WorldFile out;
   World& world = out.world;
   world.name = root.get<std::string>("name", std::filesystem::path(yaml_path).stem().string());
@@ -254,6 +285,7 @@ WorldFile load_world_file(const std::string& yaml_path, const WorldLoadOptions& 
     }
   }
   if (world.robots.empty()) root.fail("robots", "must list at least one robot");
+  world.radio = load_radio(root, world);
   // Waypoints written in the world file drive the robots unless `sim: {drive: commands}` says not.
   const bool any_waypoints =
       std::any_of(world.robots.begin(), world.robots.end(), [](const RobotSpec& r) { return !r.waypoints_m.empty(); });

@@ -12,6 +12,7 @@
 #include "common/ids.h"
 #include "common/se2.h"
 #include "sim/floor_plan.h"
+#include "sim/radio_model.h"
 #include "sim/sim_options.h"
 
 namespace cairn::sim {
@@ -49,6 +50,7 @@ struct World {
   double wall_height_m = 2.0;
   std::vector<RobotSpec> robots;
   std::vector<WorldObject> objects;
+  RadioOptions radio;  ///< the simulated radio (used when the mission turns it on)
 };
 
 /// A world file holds both the World and the simulator settings (sections `sim` and `sensors`).

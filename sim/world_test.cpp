@@ -279,6 +279,21 @@ TEST_F(BadInput, RoutesFileErrorsNameTheFileAndKey) {
   EXPECT_THROW(load_world_file(world, missing), InputError);
 }
 
+TEST_F(BadInput, TheRadioSectionIsCheckedAndItsAntennasDefaultToTheRobotsStarts) {
+  const WorldFile plain = load_world_file(write(yaml(good_map_, good_robot_)));
+  ASSERT_EQ(plain.world.radio.antennas_m.size(), 1u);
+  EXPECT_TRUE(plain.world.radio.antennas_m[0].isApprox(Eigen::Vector2d(1, 1)));
+  const WorldFile set = load_world_file(
+      write(yaml(good_map_, good_robot_) + "radio: {antennas_m: [[0.5, 3.5], [3.5, 0.5]], wall_loss_db: 7}\n"));
+  ASSERT_EQ(set.world.radio.antennas_m.size(), 2u);
+  EXPECT_DOUBLE_EQ(set.world.radio.wall_loss_db, 7.0);
+  expect_error(yaml(good_map_, good_robot_) + "radio: {antennas_m: [[2.2, 2.0]]}\n", "radio.antennas_m[0]");  // wall
+  expect_error(yaml(good_map_, good_robot_) + "radio: {sensitivity_dbm: 10}\n", "radio.sensitivity_dbm");
+  expect_error(yaml(good_map_, good_robot_) + "radio: {period_s: .nan}\n", "radio.period_s");
+  expect_error(yaml(good_map_, good_robot_) + "radio: {path_loss_exponent: 1e300}\n", "radio.path_loss_exponent");
+  expect_error(yaml(good_map_, good_robot_) + "radio: {antenna: [1, 1]}\n", "antenna");
+}
+
 // Found by fuzzing world files: each aborted or hung every binary that reads worlds.
 TEST_F(BadInput, FuzzedWorldsAreNamedNotCrashedOrRun) {
   expect_error("name: x\n[k]: 1\n", "not a plain name");  // threw an uncaught yaml-cpp exception

@@ -1,9 +1,12 @@
 // cairn_sim: runs a simulated mission and publishes each robot's sensors on DDS, as robot drivers
 // would. Data flow: World (YAML + floor plan) -> sim::Simulator::step() -> SimPublisher -> DDS.
 // At the end it writes ground truth and announces the end of the mission on the clock topic.
+// With --radio FILE it also evaluates each robot's radio link (sim/radio_model.h) at the robots'
+// true positions and appends it to FILE, for the mission tool to cut and restore the links.
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <fstream>
 #include <thread>
 
 #include "common/errors.h"
@@ -14,9 +17,29 @@
 #include "sim/simulator.h"
 #include "sim/world.h"
 
+namespace {
+
+/// Appends every robot's link when the radio's period is due; logs each cut and restore.
+void write_radio(const cairn::sim::Simulator& sim, cairn::sim::RadioLinks& radio, std::ofstream& out,
+                 spdlog::logger& log) {
+  std::vector<std::pair<cairn::RobotId, Eigen::Vector2d>> robots_m;
+  for (cairn::RobotId robot : sim.robot_ids()) robots_m.push_back({robot, sim.true_pose(robot).translation()});
+  for (const cairn::sim::RadioSample& s : radio.update(sim.now_ns(), robots_m)) {
+    out << cairn::ns_to_sec(s.stamp_ns) << ',' << s.robot.value << ',' << s.reading.received_dbm << ','
+        << s.reading.walls << ',' << (s.up ? 1 : 0) << '\n';
+    if (s.changed) {
+      log.info("radio link of robot {} {} at t = {:.1f} s ({:.0f} dBm, {} walls)", s.robot.value, s.up ? "back" : "cut",
+               cairn::ns_to_sec(s.stamp_ns), s.reading.received_dbm, s.reading.walls);
+    }
+  }
+  out.flush();
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"Cairn multi-robot simulator"};
-  std::string world_path, routes_path, out_dir, log_level = "info";
+  std::string world_path, routes_path, out_dir, radio_path, log_level = "info";
   cairn::dds::ParticipantOptions participant;
   double speed = 0.0, wait_agents_s = 30.0, duration_s = 0.0, answer_timeout_s = 10.0;
   int64_t seed = -1;
@@ -38,6 +61,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 16));
   app.add_option("--answer-timeout", answer_timeout_s,
                  "lock-step (--speed 0, command mode): seconds to wait for an agent's command answering a scan");
+  app.add_option("--radio", radio_path,
+                 "CSV file to append each robot's simulated radio link to (t_s,robot,received_dbm,walls,up), every "
+                 "radio.period_s of the world");
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
   cairn::set_log_level(log_level);
@@ -81,8 +107,19 @@ int main(int argc, char** argv) {
     return 4;
   }
 
+  std::ofstream radio_out;
+  cairn::sim::RadioLinks radio(sim.world().floor_plan, sim.world().radio);
+  if (!radio_path.empty()) {
+    radio_out.open(radio_path, std::ios::trunc);
+    if (!(radio_out << "t_s,robot,received_dbm,walls,up\n" << std::flush)) {
+      log->error("cannot write the radio links to '{}'", radio_path);
+      return 2;
+    }
+  }
+
   const auto wall_start = std::chrono::steady_clock::now();
   while (!sim.done()) {
+    if (radio_out.is_open()) write_radio(sim, radio, radio_out, *log);
     const cairn::sim::SimStep step = sim.step();
     if (!publisher->publish(step, &error)) {
       log->error("publishing at t={:.2f} s failed: {}", cairn::ns_to_sec(step.stamp_ns), error);

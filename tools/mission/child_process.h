@@ -16,6 +16,7 @@ class ChildProcess {
   ChildProcess& operator=(const ChildProcess&) = delete;
 
   bool started() const { return pid_ > 0; }
+  pid_t pid() const { return pid_; }
   /// Non-blocking: true once the process has exited (then exit_code() and peak_rss_kb() are set).
   bool poll();
   void terminate();  ///< SIGTERM

@@ -23,6 +23,7 @@
 #include "tools/mission/child_process.h"
 #include "tools/mission/mission_report.h"
 #include "tools/mission/network_lab.h"
+#include "tools/mission/radio_follower.h"
 
 namespace fs = std::filesystem;
 using cairn::mission::ChildProcess;
@@ -48,6 +49,7 @@ struct Options {
   bool secure = false;
   double timeout_s = 900;
   cairn::mission::LinkOptions link;  ///< emulated radio between robots and base (needs root)
+  bool radio_model = false;          ///< each robot's link cut where walls and distance say (needs root)
   /// "SIGMA_XY_M,SIGMA_YAW_DEG": the team's rough guess of where every other robot entered.
   std::string entry_hints;
   std::string operator_token;  ///< the console's commands need it (default: a fresh one)
@@ -93,6 +95,9 @@ int main(int argc, char** argv) {
                  "AT_S FOR_S: emulated radio: the link goes down AT_S seconds (wall) into the mission "
                  "for FOR_S seconds (needs root)")
       ->expected(2);
+  app.add_flag("--radio-model", opt.radio_model,
+               "emulated radio: each robot's link is cut while walls and distance put it out of range of the "
+               "team's antennas (the world's radio: section, sim/radio_model.h; needs root)");
   app.add_option("--record", opt.record,
                  "record every DDS topic to this MCAP file (ROS 2 bag storage; cairn_replay plays it back)");
   app.add_flag("--ros2", opt.ros2,
@@ -139,6 +144,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path bin = fs::canonical("/proc/self/exe").parent_path();
+  const fs::path radio_csv = out / "logs" / "radio.csv";
   const int robots = int(wf.world.robots.size());
 
   // --secure: one identity per process, signed by a CA made for this mission alone.
@@ -166,7 +172,7 @@ int main(int argc, char** argv) {
     opt.link.cut_at_s = cut[0];
     opt.link.cut_for_s = cut[1];
   }
-  if (opt.link.loss_pct > 0 || opt.link.rate_kbit > 0 || opt.link.cut_at_s >= 0) {
+  if (opt.link.loss_pct > 0 || opt.link.rate_kbit > 0 || opt.link.cut_at_s >= 0 || opt.radio_model) {
     std::string error;
     lab = cairn::mission::NetworkLab::create(opt.link, &error);
     if (!lab) {
@@ -277,6 +283,8 @@ int main(int argc, char** argv) {
                                                                                     std::to_string(opt.speed)};
                                                        if (!opt.routes.empty())
                                                          cmd.insert(cmd.end(), {"--routes", opt.routes});
+                                                       if (opt.radio_model)
+                                                         cmd.insert(cmd.end(), {"--radio", radio_csv.string()});
                                                        // The recorder subscribes too (not behind a radio).
                                                        if (!opt.record.empty() && !lab)
                                                          cmd.insert(cmd.end(), {"--subscribers", "2"});
@@ -293,6 +301,15 @@ int main(int argc, char** argv) {
 
   cairn::mission::ProgressPoller progress(console_host, opt.port, robots);
   bool link_cut = false;
+  // The simulated radio: the simulator says where each robot is out of range, this cuts its agent.
+  cairn::mission::RadioFollower radio(radio_csv.string(), [&](int robot, bool cut_link, std::string* error) {
+    for (const auto& p : procs) {
+      if (p->name() == "agent" + std::to_string(robot)) return lab->set_process_cut(robot, p->pid(), cut_link, error);
+    }
+    *error = "no agent for robot " + std::to_string(robot);
+    return false;
+  });
+  double progress_at_s = -1;
   const fs::path summary_file = out / "map" / "summary.json";
   while (true) {
     bool failed = false, workers_done = true;
@@ -327,12 +344,19 @@ int main(int argc, char** argv) {
     }
     std::optional<std::string> line;
     const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-    if (lab)
-      lab->run_inside([&] { line = progress.changed_line(elapsed_s); });
-    else
-      line = progress.changed_line(elapsed_s);
+    if (opt.radio_model) {
+      for (const std::string& change : radio.poll())
+        std::cout << cairn::mission::wall_stamp(elapsed_s) << change << std::endl;
+    }
+    if (elapsed_s - progress_at_s >= 1.0) {  // progress once a second; the radio four times a second
+      progress_at_s = elapsed_s;
+      if (lab)
+        lab->run_inside([&] { line = progress.changed_line(elapsed_s); });
+      else
+        line = progress.changed_line(elapsed_s);
+    }
     if (line) std::cout << *line << std::endl;
-    std::this_thread::sleep_for(std::chrono::seconds(1));
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   for (const auto& p : procs) {

@@ -5,12 +5,14 @@
 #include "common/trajectory.h"
 #include "tools/eval/mission_eval.h"
 #include "tools/mission/exploration_report.h"
+#include "tools/mission/radio_follower.h"
 
 #include <httplib.h>
 
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -43,9 +45,15 @@ double simulated_time_s(const fs::path& gt_dir) {
 
 }  // namespace
 
-std::string ProgressPoller::line(double wall_s) const {
+std::string wall_stamp(double wall_s) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(1) << "[" << std::setw(6) << wall_s << " s] ";
+  return s.str();
+}
+
+std::string ProgressPoller::line(double wall_s) const {
+  std::ostringstream s;
+  s << wall_stamp(wall_s) << std::fixed << std::setprecision(1);
   httplib::Client cli(host_, port_);
   cli.set_connection_timeout(0, 300'000);
   cli.set_read_timeout(1, 0);
@@ -100,6 +108,34 @@ void report_link(const LinkTraffic& link, double payload_bytes, json* results, s
                          {"to_robots", to_json(link.to_robots)},
                          {"payload_bytes", payload_bytes},
                          {"overhead", overhead}};
+}
+
+/// The simulated radio's share (logs/radio.csv, written with --radio-model): how often and how long
+/// each robot was out of range of the team's antennas.
+void report_radio_model(const fs::path& csv_path, const std::map<int, uint64_t>& dropped, json* results,
+                        std::ostream& s) {
+  std::ifstream csv(csv_path);
+  if (!csv) return;
+  json links = json::array();
+  s << "radio model (walls and distance):\n";
+  for (const RadioLinkSummary& r : summarize_radio(csv)) {
+    s << "  robot " << r.robot << ": ";
+    if (r.cuts == 0)
+      s << "always in range";
+    else
+      s << "out of range " << r.cuts << " time(s), " << r.out_of_range_s << " s in all, first at " << r.first_cut_s
+        << " s";
+    const auto it = dropped.find(r.robot);
+    const uint64_t packets = it == dropped.end() ? 0 : it->second;
+    s << " (weakest " << r.lowest_dbm << " dBm; " << packets << " packets dropped out of range)\n";
+    links.push_back({{"robot", r.robot},
+                     {"cuts", r.cuts},
+                     {"out_of_range_s", r.out_of_range_s},
+                     {"first_cut_s", r.first_cut_s},
+                     {"lowest_dbm", r.lowest_dbm},
+                     {"dropped_packets", packets}});
+  }
+  (*results)["radio_model"] = links;
 }
 
 }  // namespace
@@ -163,6 +199,7 @@ int report(const fs::path& out, double wall_s, const std::vector<std::unique_ptr
     for (const auto& r : results["robots"])
       payload_bytes += r.value("keyframe_bytes", 0.0) + r.value("object_bytes", 0.0);
     report_link(*link, payload_bytes, &results, s);
+    report_radio_model(out / "logs" / "radio.csv", link->out_of_range_packets, &results, s);
   }
   // Loud, never quiet: robots the base could not place, and what they found, in their own frames.
   const json unlinked = summary.value("unlinked_robots", json::array());

@@ -14,6 +14,9 @@
 
 namespace cairn::mission {
 
+/// "[  12.3 s] ": how the mission's terminal lines start (seconds of wall time since the start).
+std::string wall_stamp(double wall_s);
+
 /// Polls http://<host>:<port>/api/status and /api/robots for one progress line.
 class ProgressPoller {
  public:

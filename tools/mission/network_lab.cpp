@@ -4,10 +4,15 @@
 #include <sched.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <set>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 namespace cairn::mission {
 namespace {
@@ -112,6 +117,8 @@ NetworkLab::~NetworkLab() {
   std::string ignored;
   run("nft delete table inet cairn_lab_" + veth_host_, &ignored);
   run("nft delete table inet cairn_cut_" + veth_host_, &ignored);
+  for (int robot : robots_cut_)
+    run("nft delete table inet cairn_radio" + std::to_string(robot) + "_" + veth_host_, &ignored);
   run("ip link del " + veth_host_, &ignored);  // removes both ends of the pair
   run("ip netns del " + netns_, &ignored);
 }
@@ -142,8 +149,87 @@ bool NetworkLab::set_cut(bool cut, std::string* error) {
   return true;
 }
 
+bool NetworkLab::set_process_cut(int robot, int pid, bool cut, std::string* error) {
+  const std::string in_lab = "ip netns exec " + netns_ + " ";
+  const std::string tag = "cairn_radio" + std::to_string(robot) + "_";
+  std::string ports;
+  if (cut) {
+    for (int port : exclusive_udp_ports(pid)) ports += (ports.empty() ? "" : ", ") + std::to_string(port);
+    if (ports.empty()) {
+      if (error)
+        *error = "network lab: robot " + std::to_string(robot) + "'s process " + std::to_string(pid) +
+                 " has no UDP socket of its own";
+      return false;
+    }
+  }
+  // Its packets leave the robots' side from its ports and the base's side towards them.
+  for (const auto& [ns_exec, dev, match] : {std::tuple{std::string(), veth_host_, std::string("udp sport")},
+                                            std::tuple{in_lab, veth_lab_, std::string("udp dport")}}) {
+    const std::string table = tag + dev;
+    if (cut) {
+      run(ns_exec + "nft delete table inet " + table, nullptr);  // a cut with old ports, if any
+      if (!run(ns_exec + "nft add table inet " + table, error) ||
+          !run(ns_exec + "nft add chain inet " + table + " out '{ type filter hook output priority -1; }'", error) ||
+          !run(ns_exec + "nft add rule inet " + table + " out oifname " + dev + " " + match + " '{ " + ports +
+                   " }' counter drop",
+               error)) {
+        return false;
+      }
+    } else {
+      const uint64_t dropped = number_after(output_of(ns_exec + "nft list table inet " + table), "counter packets ");
+      if (!run(ns_exec + "nft delete table inet " + table, error)) return false;
+      out_of_range_packets_[robot] += dropped;
+    }
+  }
+  if (cut && std::find(robots_cut_.begin(), robots_cut_.end(), robot) == robots_cut_.end())
+    robots_cut_.push_back(robot);
+  return true;
+}
+
+std::vector<int> exclusive_udp_ports(int pid) {
+  // The process's socket inodes, from its open files ("socket:[12345]").
+  std::set<unsigned long> inodes;
+  std::error_code ec;
+  for (const auto& fd : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ec)) {
+    const std::string target = std::filesystem::read_symlink(fd.path(), ec).string();
+    if (!ec && target.rfind("socket:[", 0) == 0) inodes.insert(std::stoul(target.substr(8)));
+  }
+  // Every UDP socket of its namespace: "sl local_address(hex ip:hex port) ... inode".
+  std::map<int, int> sockets_on_port;
+  std::set<int> own;
+  std::istringstream table(output_of("cat /proc/" + std::to_string(pid) + "/net/udp"));
+  std::string line;
+  std::getline(table, line);  // the header
+  while (std::getline(table, line)) {
+    std::istringstream f(line);
+    std::string sl, local, remote, state, queues, timer, retransmits, uid, timeout;
+    unsigned long inode = 0;
+    if (!(f >> sl >> local >> remote >> state >> queues >> timer >> retransmits >> uid >> timeout >> inode)) continue;
+    const size_t colon = local.find(':');
+    if (colon == std::string::npos) continue;
+    const int port = int(std::strtol(local.c_str() + colon + 1, nullptr, 16));
+    ++sockets_on_port[port];
+    if (inodes.count(inode)) own.insert(port);
+  }
+  std::vector<int> out;
+  for (int port : own) {
+    if (sockets_on_port[port] == 1) out.push_back(port);
+  }
+  return out;
+}
+
 LinkTraffic NetworkLab::traffic() const {
-  return {direction("", veth_host_), direction("ip netns exec " + netns_ + " ", veth_lab_)};
+  const std::string in_lab = "ip netns exec " + netns_ + " ";
+  LinkTraffic t{direction("", veth_host_), direction(in_lab, veth_lab_), out_of_range_packets_};
+  for (int robot : robots_cut_) {
+    t.out_of_range_packets[robot] += 0;  // a robot cut once, even if nothing was dropped
+    // Cuts still in force: their tables' counters.
+    const std::string tag = "cairn_radio" + std::to_string(robot) + "_";
+    t.out_of_range_packets[robot] +=
+        number_after(output_of("nft list table inet " + tag + veth_host_), "counter packets ") +
+        number_after(output_of(in_lab + "nft list table inet " + tag + veth_lab_), "counter packets ");
+  }
+  return t;
 }
 
 std::string NetworkLab::describe() const {

@@ -5,6 +5,7 @@
 // and `tc`. The namespace and its rules are removed when the NetworkLab is destroyed.
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,6 +31,8 @@ struct LinkDirection {
 struct LinkTraffic {
   LinkDirection to_base;    ///< robots' side -> base station
   LinkDirection to_robots;  ///< base station -> robots' side
+  /// Packets dropped (both ways) while a robot was out of range (set_process_cut), by robot id.
+  std::map<int, uint64_t> out_of_range_packets;
 };
 
 class NetworkLab {
@@ -50,6 +53,10 @@ class NetworkLab {
   void run_inside(const std::function<void()>& work) const;
   /// Drops every packet both ways (true) or lets them pass again (false): a radio out of range.
   bool set_cut(bool cut, std::string* error);
+  /// Drops (true) or lets pass again (false) one process's traffic both ways: a robot out of range.
+  /// The process stays in the robots' namespace (a namespace of its own would cost the shared
+  /// memory its sensor topics travel on); its UDP ports, read from /proc, pick its packets out.
+  bool set_process_cut(int robot, int pid, bool cut, std::string* error);
   /// The link's counters so far (read from the devices, the loss rules and the queues).
   LinkTraffic traffic() const;
 
@@ -57,6 +64,13 @@ class NetworkLab {
   NetworkLab() = default;
   std::string netns_, veth_host_, veth_lab_, host_address_, lab_address_;
   LinkOptions options_;
+  /// Packets a robot's cut dropped, both ways, counted when its cut was lifted (see traffic()).
+  std::map<int, uint64_t> out_of_range_packets_;
+  std::vector<int> robots_cut_;  ///< robots whose tables set_process_cut made
 };
+
+/// The UDP ports of a process's sockets that no other socket shares (a port bound by several, like
+/// DDS's multicast discovery port, would cut others too). Empty when the process is gone.
+std::vector<int> exclusive_udp_ports(int pid);
 
 }  // namespace cairn::mission
