@@ -89,6 +89,7 @@ TEST(RadioMission, ARobotOutOfRangeBehindWallsIsCutAndDeliversEverythingOnceBack
   EXPECT_GT(links[1]["out_of_range_s"].get<double>(), 5.0) << links.dump();
   EXPECT_GT(links[1]["dropped_packets"].get<int>(), 0) << "the cut did not drop robot 1's packets: " << links.dump();
   expect_everything_delivered(out);
+  EXPECT_GT(fs::file_size(out / "radio.png"), 10000u) << "the radio's picture";
   const eval::MissionScore score = eval::evaluate_mission((out / "ground_truth").string(), (out / "map").string());
   EXPECT_GE(score.objects.recall(), 0.75) << eval::format_score(score);
 }

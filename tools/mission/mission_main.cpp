@@ -24,6 +24,7 @@
 #include "tools/mission/mission_report.h"
 #include "tools/mission/network_lab.h"
 #include "tools/mission/radio_follower.h"
+#include "tools/mission/radio_map.h"
 
 namespace fs = std::filesystem;
 using cairn::mission::ChildProcess;
@@ -367,6 +368,9 @@ int main(int argc, char** argv) {
   }
 
   const auto link = lab ? std::optional<cairn::mission::LinkTraffic>(lab->traffic()) : std::nullopt;
+  if (opt.radio_model && !cairn::mission::write_radio_map(wf.world, radio_csv.string(), (out / "ground_truth").string(),
+                                                          (out / "radio.png").string()))
+    std::cerr << "cairn_mission: cannot write " << (out / "radio.png") << "\n";
   int code = cairn::mission::report(out, wall_s, procs, link, std::cout);
   if (opt.serve && code == 0) {
     std::cout << "console still up at http://" << console_host << ":" << opt.port << "/#token=" << opt.operator_token
