@@ -14,7 +14,7 @@
 namespace cairn::mission {
 namespace {
 
-constexpr double kCellM = 0.25;  ///< the coverage is evaluated on this grid
+constexpr double kCellM = 0.25;   ///< the coverage is evaluated on this grid
 constexpr int kMinWidthPx = 800;  ///< small worlds are drawn larger, so that the legend fits
 
 /// Each robot's link state changes: (t_s, up), in time order.
@@ -57,8 +57,8 @@ bool write_radio_map(const sim::World& world, const std::string& radio_csv, cons
   const int cell_px = int(kCellM * kPixelsPerM);
   for (int y = 0; y < height; y += cell_px) {
     for (int x = 0; x < width; x += cell_px) {
-      const Eigen::Vector2d p_m = plan.origin_m() + Eigen::Vector2d(x + 0.5 * cell_px, height - y - 0.5 * cell_px) /
-                                                        kPixelsPerM;
+      const Eigen::Vector2d p_m =
+          plan.origin_m() + Eigen::Vector2d(x + 0.5 * cell_px, height - y - 0.5 * cell_px) / kPixelsPerM;
       const double margin_db = sim::radio_reading(plan, world.radio, p_m).received_dbm - world.radio.sensitivity_dbm;
       img(cv::Rect(x, y, std::min(cell_px, width - x), std::min(cell_px, height - y))) = margin_colour(margin_db);
     }
