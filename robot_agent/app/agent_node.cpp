@@ -172,40 +172,42 @@ bool AgentNode::poll_inputs() {
 }
 
 void AgentNode::publish(const AgentOutputs& outputs) {
-  keep(outputs);  // on disk first: a crash from here on loses nothing
+  OutgoingSamples samples;
+  for (const auto& kf : outputs.keyframes) samples.keyframes.push_back(with_session(dds::to_msg(kf)));
+  for (const auto& obj : outputs.objects) samples.objects.push_back(with_session(dds::to_msg(obj)));
+  if (outputs.keyframe_poses) samples.keyframe_poses = with_session(dds::to_msg(*outputs.keyframe_poses));
+  keep(samples);  // on disk first: a crash from here on loses nothing
   if (!own_session_may_speak()) {
-    if (!outputs.empty()) {
-      held_outputs_.push_back(outputs);
-      held_outputs_.back().scans.clear();  // only what is sent is held
-    }
+    if (!samples.empty()) held_outputs_.push_back(std::move(samples));
     return;
   }
-  for (const AgentOutputs& held : held_outputs_) write_outputs(held);
+  for (const OutgoingSamples& held : held_outputs_) write_outputs(held);
   held_outputs_.clear();
-  write_outputs(outputs);
+  write_outputs(samples);
 }
 
-void AgentNode::write_outputs(const AgentOutputs& outputs) {
-  for (const auto& kf : outputs.keyframes) {
-    if (!keyframe_out_->write(with_session(dds::to_msg(kf)))) {
-      log_->error("keyframe {} could not be queued (history full)", kf.id.seq);
+void AgentNode::write_outputs(const OutgoingSamples& samples) {
+  for (const auto& kf : samples.keyframes) {
+    if (!keyframe_out_->write(kf)) {
+      log_->error("keyframe {} could not be queued (history full)", kf.seq());
       continue;
     }
-    last_keyframe_seq_ = kf.id.seq;
+    last_keyframe_seq_ = kf.seq();
   }
-  if (outputs.keyframe_poses) waiting_poses_ = outputs.keyframe_poses;  // a newer estimate replaces a waiting one
-  for (const auto& obj : outputs.objects) {
-    if (objects_published_.count(obj.id.seq)) {
-      waiting_objects_[obj.id.seq] = obj;  // an update: the newest replaces one not written yet
+  if (samples.keyframe_poses) waiting_poses_ = samples.keyframe_poses;  // a newer estimate replaces a waiting one
+  for (const auto& obj : samples.objects) {
+    if (objects_published_.count(obj.object_seq())) {
+      waiting_objects_[obj.object_seq()] = obj;  // an update: the newest replaces one not written yet
       continue;
     }
     // A new find goes at once (ahead of everything on a budgeted link: dds::link_priority).
-    if (!object_out_->write(with_session(dds::to_msg(obj)))) {
-      log_->error("object {} could not be queued", obj.id.seq);
+    if (!object_out_->write(obj)) {
+      log_->error("object {} could not be queued", obj.object_seq());
       continue;
     }
-    objects_published_.insert(obj.id.seq);
-    log_->info("object {} ({}) confirmed after {} observations", obj.id.seq, obj.class_name, obj.observations);
+    objects_published_.insert(obj.object_seq());
+    log_->info("object {} ({}) confirmed after {} observations", obj.object_seq(), obj.class_name(),
+               obj.observations());
   }
   send_waiting_updates();
 }
@@ -219,13 +221,13 @@ bool AgentNode::send_waiting_updates() {
   // that then aborted the base's reader (DataReaderHistory::update_instance_nts; core dump).
   if (!waiting_objects_.empty() && object_out_->wait_for_acknowledgments(0.0)) {
     for (const auto& [seq, obj] : waiting_objects_) {
-      if (!object_out_->write(with_session(dds::to_msg(obj)))) log_->error("object {} could not be queued", seq);
+      if (!object_out_->write(obj)) log_->error("object {} could not be queued", seq);
     }
     waiting_objects_.clear();
   }
   if (waiting_poses_ && keyframe_poses_out_->wait_for_acknowledgments(0.0)) {
-    if (!keyframe_poses_out_->write(with_session(dds::to_msg(*waiting_poses_)))) {
-      log_->warn("keyframe poses ({} keyframes) could not be queued", waiting_poses_->poses.size());
+    if (!keyframe_poses_out_->write(*waiting_poses_)) {
+      log_->warn("keyframe poses ({} keyframes) could not be queued", waiting_poses_->seqs().size());
     }
     waiting_poses_.reset();
   }
@@ -307,7 +309,7 @@ int AgentNode::run(const std::atomic<bool>* stop) {
       flush_time = Clock::now();
       const AgentStats s = pipeline_.stats();
       size_t held = 0;  // made but not written yet: an earlier session goes first
-      for (const AgentOutputs& h : held_outputs_) held += h.keyframes.size();
+      for (const OutgoingSamples& h : held_outputs_) held += h.keyframes.size();
       log_->info("input ended: {} scans matched, {} keyframes, {} objects; waiting for the base to store them",
                  s.scans_matched, last_keyframe_seq_ + 1 + int(held), objects_published_.size());
     } else if (!flushed) {

@@ -27,6 +27,15 @@
 
 namespace cairn::agent {
 
+/// What one publish() sends, converted to DDS samples once (with this run's session): the outbox
+/// keeps these samples' bytes and the writers write them (a keyframe's scan is compressed once).
+struct OutgoingSamples {
+  std::vector<cairn_msgs::Keyframe> keyframes;
+  std::vector<cairn_msgs::ObjectReport> objects;
+  std::optional<cairn_msgs::KeyframePoses> keyframe_poses;
+  bool empty() const { return keyframes.empty() && objects.empty() && !keyframe_poses; }
+};
+
 struct AgentNodeOptions {
   int domain_id = 0;
   std::vector<std::string> peers;  ///< unicast discovery peers (IPv4), e.g. the base station
@@ -85,7 +94,7 @@ class AgentNode {
   /// Keyframe, object and keyframe-pose payloads written so far.
   uint64_t bytes_sent() const;
   /// Writes this run's outputs (publish() holds them back while an earlier session goes first).
-  void write_outputs(const AgentOutputs& outputs);
+  void write_outputs(const OutgoingSamples& samples);
 
   // The outbox (agent_node_outbox.cpp).
   struct EarlierSession {
@@ -97,7 +106,7 @@ class AgentNode {
     int32_t acked_objects = 0;
   };
   bool open_outbox(std::string* error);
-  void keep(const AgentOutputs& outputs);  ///< into the outbox before anything is written
+  void keep(const OutgoingSamples& samples);  ///< into the outbox before anything is written
   /// True once the base has heard every earlier session: before, this run sends nothing.
   bool own_session_may_speak();
   void resend_earlier();
@@ -107,7 +116,7 @@ class AgentNode {
   std::string earlier_report() const;
   std::unique_ptr<Outbox> outbox_;
   std::deque<EarlierSession> earlier_;
-  std::vector<AgentOutputs> held_outputs_;  ///< this run's, while an earlier session goes first
+  std::vector<OutgoingSamples> held_outputs_;  ///< this run's, while an earlier session goes first
   int32_t outbox_acked_seq_ = -1;
   bool heard_any_ack_ = false;
 
@@ -150,8 +159,8 @@ class AgentNode {
   int32_t acked_keyframe_seq_ = -1;
   int acked_object_count_ = 0;
   std::set<int32_t> objects_published_;
-  std::optional<KeyframePoses> waiting_poses_;       ///< newest estimate not written yet
-  std::map<int32_t, ObjectReport> waiting_objects_;  ///< newest update per object not written yet
+  std::optional<cairn_msgs::KeyframePoses> waiting_poses_;       ///< newest estimate not written yet
+  std::map<int32_t, cairn_msgs::ObjectReport> waiting_objects_;  ///< newest update per object not written yet
   int bad_samples_ = 0;
   int ros2_refused_ = 0;  ///< ROS 2 messages refused so far (logged as the count grows)
   struct Probe {

@@ -35,18 +35,16 @@ bool AgentNode::open_outbox(std::string* error) {
   return true;
 }
 
-void AgentNode::keep(const AgentOutputs& outputs) {
+void AgentNode::keep(const OutgoingSamples& samples) {
   if (!outbox_) return;
   std::vector<OutboxItem> items;
-  for (const auto& kf : outputs.keyframes)
+  for (const auto& kf : samples.keyframes)
+    items.push_back({OutboxKind::kKeyframe, kf.seq(), dds::to_cdr<dds::KeyframeTopic::PubSub>(kf)});
+  for (const auto& obj : samples.objects)
+    items.push_back({OutboxKind::kObject, obj.object_seq(), dds::to_cdr<dds::ObjectTopic::PubSub>(obj)});
+  if (samples.keyframe_poses)
     items.push_back(
-        {OutboxKind::kKeyframe, kf.id.seq, dds::to_cdr<dds::KeyframeTopic::PubSub>(with_session(dds::to_msg(kf)))});
-  for (const auto& obj : outputs.objects)
-    items.push_back(
-        {OutboxKind::kObject, obj.id.seq, dds::to_cdr<dds::ObjectTopic::PubSub>(with_session(dds::to_msg(obj)))});
-  if (outputs.keyframe_poses)
-    items.push_back({OutboxKind::kKeyframePoses, 0,
-                     dds::to_cdr<dds::KeyframePosesTopic::PubSub>(with_session(dds::to_msg(*outputs.keyframe_poses)))});
+        {OutboxKind::kKeyframePoses, 0, dds::to_cdr<dds::KeyframePosesTopic::PubSub>(*samples.keyframe_poses)});
   std::string error;
   if (!outbox_->put(session_, items, &error))
     CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::err, 5.0, "not kept on disk (a reboot would lose it): {}", error);
