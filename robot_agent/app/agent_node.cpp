@@ -19,7 +19,9 @@ AgentNode::AgentNode(RobotId robot, const AgentOptions& core_options, const Agen
       log_(make_logger("agent", robot)),
       navigator_(options.navigator),
       behaviour_(options.behaviour),
-      own_options_(options.own_exploration) {}
+      own_options_(options.own_exploration) {
+  laser_timeout_s_ = core_options.dead_reckoning.laser_timeout_s;
+}
 
 std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& core_options,
                                              const AgentNodeOptions& options, const SensorInput& input,
@@ -122,6 +124,7 @@ bool AgentNode::poll_inputs() {
   };
   for (const auto& m : odometry_in_->take_all()) {
     any = true;
+    if (!first_odometry_arrival_) first_odometry_arrival_ = Clock::now();
     auto o = dds::check_robot(m.robot_id(), robot_, &error) ? dds::from_msg(m, &error) : std::nullopt;
     if (o)
       pipeline_.add_odometry(*o);
@@ -130,11 +133,19 @@ bool AgentNode::poll_inputs() {
   }
   for (const auto& m : laser_in_->take_all()) {
     any = true;
+    any_scan_arrived_ = true;
     auto s = dds::check_robot(m.robot_id(), robot_, &error) ? dds::from_msg(m, &error) : std::nullopt;
     if (s)
       pipeline_.add_scan(*s);
     else
       reject("laser_scan");
+  }
+  if (!log_source_ && !ros2_in_) {
+    // Cairn's sensor topics: odometry stamps can run far ahead of a first scan that is only late.
+    pipeline_.set_no_scan_since_start(
+        any_scan_arrived_ ||
+        (first_odometry_arrival_ &&
+         std::chrono::duration<double>(Clock::now() - *first_odometry_arrival_).count() >= laser_timeout_s_));
   }
   for (const auto& m : rgbd_in_->take_all()) {
     any = true;
