@@ -23,6 +23,14 @@ bool run(const std::string& command, std::string* error) {
   return rc == 0;
 }
 
+/// A table of its own holding one drop rule on the output hook, ahead of the loss rules (priority -1),
+/// made to cut and deleted to restore; `rule` is what precedes "drop".
+bool add_drop_table(const std::string& ns_exec, const std::string& table, const std::string& rule, std::string* error) {
+  return run(ns_exec + "nft add table inet " + table, error) &&
+         run(ns_exec + "nft add chain inet " + table + " out '{ type filter hook output priority -1; }'", error) &&
+         run(ns_exec + "nft add rule inet " + table + " out " + rule + " drop", error);
+}
+
 /// nftables drop rule and tbf qdisc on one interface, run in `ns_exec` (empty = this namespace).
 bool shape(const std::string& ns_exec, const std::string& dev, const LinkOptions& o, std::string* error) {
   const std::string table = "cairn_lab_" + dev;
@@ -134,16 +142,12 @@ void NetworkLab::run_inside(const std::function<void()>& work) const {
 }
 
 bool NetworkLab::set_cut(bool cut, std::string* error) {
-  // A table of its own on each side, made to cut and deleted to restore (the loss rules stay).
+  // A drop table on each side (the loss rules stay).
   const std::string in_lab = "ip netns exec " + netns_ + " ";
   for (const auto& [ns_exec, dev] : {std::pair{std::string(), veth_host_}, std::pair{in_lab, veth_lab_}}) {
     const std::string table = "cairn_cut_" + dev;
-    const bool ok =
-        cut ? run(ns_exec + "nft add table inet " + table, error) &&
-                  run(ns_exec + "nft add chain inet " + table + " out '{ type filter hook output priority -1; }'",
-                      error) &&
-                  run(ns_exec + "nft add rule inet " + table + " out oifname " + dev + " drop", error)
-            : run(ns_exec + "nft delete table inet " + table, error);
+    const bool ok = cut ? add_drop_table(ns_exec, table, "oifname " + dev, error)
+                        : run(ns_exec + "nft delete table inet " + table, error);
     if (!ok) return false;
   }
   return true;
@@ -168,13 +172,8 @@ bool NetworkLab::set_process_cut(int robot, int pid, bool cut, std::string* erro
     const std::string table = tag + dev;
     if (cut) {
       run(ns_exec + "nft delete table inet " + table, nullptr);  // a cut with old ports, if any
-      if (!run(ns_exec + "nft add table inet " + table, error) ||
-          !run(ns_exec + "nft add chain inet " + table + " out '{ type filter hook output priority -1; }'", error) ||
-          !run(ns_exec + "nft add rule inet " + table + " out oifname " + dev + " " + match + " '{ " + ports +
-                   " }' counter drop",
-               error)) {
+      if (!add_drop_table(ns_exec, table, "oifname " + dev + " " + match + " '{ " + ports + " }' counter", error))
         return false;
-      }
     } else {
       const uint64_t dropped = number_after(output_of(ns_exec + "nft list table inet " + table), "counter packets ");
       if (!run(ns_exec + "nft delete table inet " + table, error)) return false;
@@ -222,7 +221,6 @@ LinkTraffic NetworkLab::traffic() const {
   const std::string in_lab = "ip netns exec " + netns_ + " ";
   LinkTraffic t{direction("", veth_host_), direction(in_lab, veth_lab_), out_of_range_packets_};
   for (int robot : robots_cut_) {
-    t.out_of_range_packets[robot] += 0;  // a robot cut once, even if nothing was dropped
     // Cuts still in force: their tables' counters.
     const std::string tag = "cairn_radio" + std::to_string(robot) + "_";
     t.out_of_range_packets[robot] +=

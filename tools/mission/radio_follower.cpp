@@ -7,17 +7,7 @@
 #include <sstream>
 
 namespace cairn::mission {
-namespace {
-
-struct RadioRow {
-  double t_s = 0;
-  int robot = -1;
-  double dbm = 0;
-  int walls = 0;
-  bool up = true;
-};
-
-std::optional<RadioRow> parse_row(const std::string& line) {
+std::optional<RadioRow> parse_radio_row(const std::string& line) {
   RadioRow r;
   int up = 0;
   char c1 = 0, c2 = 0, c3 = 0, c4 = 0;
@@ -30,15 +20,13 @@ std::optional<RadioRow> parse_row(const std::string& line) {
   return r;
 }
 
-}  // namespace
-
 std::vector<RadioLinkSummary> summarize_radio(std::istream& csv, int* malformed) {
   std::map<int, RadioLinkSummary> by_robot;
   std::map<int, RadioRow> last;
   std::string line;
   bool header = true;
   while (std::getline(csv, line)) {
-    const auto row = parse_row(line);
+    const auto row = parse_radio_row(line);
     if (!row) {
       if (!header && malformed) ++*malformed;
       header = false;
@@ -80,7 +68,7 @@ std::vector<std::string> RadioFollower::poll() {
     }
     const std::string line = partial_ + chunk;
     partial_.clear();
-    const auto row = parse_row(line);
+    const auto row = parse_radio_row(line);
     if (!row) continue;
     const auto it = up_.find(row->robot);
     const bool was_up = it == up_.end() || it->second;

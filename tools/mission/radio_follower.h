@@ -7,10 +7,22 @@
 #include <functional>
 #include <istream>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace cairn::mission {
+
+/// One line of the radio CSV (t_s,robot,received_dbm,walls,up).
+struct RadioRow {
+  double t_s = 0;
+  int robot = -1;
+  double dbm = 0;
+  int walls = 0;
+  bool up = true;
+};
+/// nullopt for the header or a damaged line.
+std::optional<RadioRow> parse_radio_row(const std::string& line);
 
 /// One robot's link over a mission, from the radio CSV.
 struct RadioLinkSummary {

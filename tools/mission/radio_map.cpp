@@ -6,10 +6,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <map>
 #include <vector>
+
+#include "common/errors.h"
+#include "common/trajectory.h"
+#include "tools/mission/radio_follower.h"
 
 namespace cairn::mission {
 namespace {
@@ -17,16 +20,13 @@ namespace {
 constexpr double kCellM = 0.25;   ///< the coverage is evaluated on this grid
 constexpr int kMinWidthPx = 800;  ///< small worlds are drawn larger, so that the legend fits
 
-/// Each robot's link state changes: (t_s, up), in time order.
+/// Each robot's link state at every radio reading: (t_s, up), in time order.
 std::map<int, std::vector<std::pair<double, bool>>> read_link_states(const std::string& csv) {
   std::map<int, std::vector<std::pair<double, bool>>> states;
   std::ifstream in(csv);
   std::string line;
   while (std::getline(in, line)) {
-    double t_s = 0, dbm = 0;
-    int robot = 0, walls = 0, up = 0;
-    if (std::sscanf(line.c_str(), "%lf,%d,%lf,%d,%d", &t_s, &robot, &dbm, &walls, &up) != 5) continue;
-    states[robot].push_back({t_s, up == 1});
+    if (const auto row = parse_radio_row(line)) states[row->robot].push_back({row->t_s, row->up});
   }
   return states;
 }
@@ -72,20 +72,20 @@ bool write_radio_map(const sim::World& world, const std::string& radio_csv, cons
   // The robots' tracks: thin while in range, thick red where the link was cut.
   const auto states = read_link_states(radio_csv);
   for (const sim::RobotSpec& robot : world.robots) {
-    std::ifstream in(ground_truth_dir + "/gt_robot" + std::to_string(robot.id.value) + ".csv");
+    Trajectory track;
+    try {
+      track = read_trajectory_csv(ground_truth_dir + "/gt_robot" + std::to_string(robot.id.value) + ".csv");
+    } catch (const InputError&) {
+      continue;  // no ground truth for this robot: its track is left out
+    }
     const auto it = states.find(robot.id.value);
-    std::string line;
-    std::getline(in, line);  // header
     cv::Point last(-1, -1);
     size_t k = 0;
     bool up = true;
-    while (std::getline(in, line)) {
-      long long stamp_ns = 0;
-      double x = 0, y = 0, yaw = 0;
-      if (std::sscanf(line.c_str(), "%lld,%lf,%lf,%lf", &stamp_ns, &x, &y, &yaw) != 4) continue;
-      const double t_s = double(stamp_ns) * 1e-9;
+    for (const StampedPose& p_true : track) {
+      const double t_s = ns_to_sec(p_true.stamp_ns);
       while (it != states.end() && k < it->second.size() && it->second[k].first <= t_s) up = it->second[k++].second;
-      const cv::Point p = px({x, y});
+      const cv::Point p = px(p_true.pose.translation());
       if (last.x >= 0) cv::line(img, last, p, up ? cv::Scalar(150, 90, 40) : cv::Scalar(30, 30, 220), up ? 1 : 3);
       last = p;
     }
