@@ -15,6 +15,7 @@ PACKAGES=(
   openssl                               # DDS Security certificates (deploy/security/make_certs.sh)
   libssl-dev                            # which certificate wrote a sample (dds/identity.cpp)
   clang-format                          # house style, checked by the Style.Format test
+  clang libclang-rt-14-dev              # the sanitized build: ASan + UBSan, libFuzzer (scripts/build_sanitized.sh)
   chromium fonts-dejavu-core            # the console's browser tests (tests/browser)
 )
 # Node (for the browser tests' npm packages): Debian's, unless a newer one is already installed.

@@ -54,10 +54,11 @@ std::vector<RadioSample> RadioLinks::update(StampNs now_ns,
   std::vector<RadioSample> out;
   if (now_ns < next_due_ns_) return out;
   next_due_ns_ = now_ns + sec_to_ns(options_.period_s);
-  for (const auto& [robot, position_m] : robots_m) {
-    auto it = std::find_if(links_.begin(), links_.end(), [&](const auto& l) { return l.first == robot; });
+  for (const auto& entry : robots_m) {
+    const RobotId robot = entry.first;
+    auto it = std::find_if(links_.begin(), links_.end(), [robot](const auto& l) { return l.first == robot; });
     if (it == links_.end()) it = links_.insert(links_.end(), {robot, RadioLink(options_)});
-    RadioSample s{robot, now_ns, radio_reading(plan_, options_, position_m)};
+    RadioSample s{robot, now_ns, radio_reading(plan_, options_, entry.second)};
     s.changed = it->second.update(s.reading, now_ns);
     s.up = it->second.up();
     out.push_back(s);

@@ -227,7 +227,15 @@ TEST(OperatorCommands, PauseHoldsTheExploringRobotAndNoGoalIsSentIntoAKeepOutAre
     return ended();
   });
   EXPECT_TRUE(plans_seen > 0 || ended()) << "no goal was planned after the resume, and the mission goes on";
-  if (!ended()) EXPECT_EQ(op.post({{"robot", "all"}, {"kind", "home"}}), 202) << op.last_body();
+  if (!ended()) {
+    // The base may end the mission (everything explored, the team home) between the check and the
+    // post; then the post gets no answer, which is not a failure.
+    const int status = op.post({{"robot", "all"}, {"kind", "home"}});
+    if (status != 202) {
+      EXPECT_EQ(mission.wait_for(std::chrono::seconds(30)), std::future_status::ready)
+          << "\"all home\" refused (" << status << ": " << op.last_body() << ") while the mission goes on";
+    }
+  }
   const CommandResult result = mission.get();
   ASSERT_EQ(result.exit_code, 0) << result.output;
 }
