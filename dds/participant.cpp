@@ -95,6 +95,14 @@ std::unique_ptr<Participant> Participant::create(const ParticipantOptions& optio
   }
   builtin.discovery_config.leaseDuration_announcementperiod = to_duration(options.announcement_period_s);
   builtin.discovery_config.leaseDuration = to_duration(options.lease_duration_s);
+  if (options.same_host_only) {
+    builtin.discovery_config.ignoreParticipantFlags =
+        eprosima::fastrtps::rtps::ParticipantFilteringFlags::FILTER_DIFFERENT_HOST;
+  }
+  // No Cairn topic uses the liveliness QoS (writers stay AUTOMATIC with an infinite lease), so the
+  // writer liveliness protocol's reliable builtin endpoints only cost heartbeats and
+  // acknowledgements, a third of the discovery traffic on a slow radio.
+  builtin.use_WriterLivelinessProtocol = false;
 
   if (options.link_budget_bytes_per_sec > 0) {
     // Fast DDS cuts samples into fragments no larger than a period's bytes: a keyframe cut into

@@ -32,6 +32,10 @@ struct ParticipantOptions {
   /// fewer announcements; the lease stays several periods so that lost ones do not unmatch a peer.
   double announcement_period_s = 3.0;
   double lease_duration_s = 20.0;
+  /// Only participants on this host (Fast DDS host id) are discovered: the simulator's sensor
+  /// topics are the robots' onboard buses, and the base station across the radio must not
+  /// exchange endpoint discovery with it (on a 50 kbit/s link that exchange alone filled the link).
+  bool same_host_only = false;
   bool use_shared_memory = true;
   uint32_t shm_segment_bytes = 32u << 20;  ///< default 512 KiB is too small for RGB-D frames
   /// This process's share of the radio link in bytes/s; 0 = unlimited. Set, the writers that ask

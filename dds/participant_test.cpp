@@ -60,6 +60,30 @@ TEST(Participant, AnnouncementsAndLeaseAreSetAndALeaseTooShortIsRefusedByName) {
   EXPECT_NE(error.find("lease"), std::string::npos) << error;
 }
 
+TEST(Participant, DiscoveryStaysSmallOnASlowRadio) {
+  // The simulator's participant ignores other hosts (the base across the radio), no participant
+  // runs the writer liveliness protocol, and a reader waits a second before asking a writer it has
+  // not heard yet for data (see reader_qos): on a 50 kbit/s radio these decided between nothing
+  // delivered and everything (docs/benchmarks.md "The slow radio").
+  ParticipantOptions o{test_domain(), "participant_test"};
+  o.same_host_only = true;
+  std::string error;
+  auto p = Participant::create(o, &error);
+  ASSERT_TRUE(p) << error;
+  const auto& builtin = p->get()->get_qos().wire_protocol().builtin;
+  EXPECT_EQ(builtin.discovery_config.ignoreParticipantFlags,
+            eprosima::fastrtps::rtps::ParticipantFilteringFlags::FILTER_DIFFERENT_HOST);
+  EXPECT_FALSE(builtin.use_WriterLivelinessProtocol);
+  o.same_host_only = false;
+  auto q = Participant::create(o, &error);
+  ASSERT_TRUE(q) << error;
+  EXPECT_EQ(q->get()->get_qos().wire_protocol().builtin.discovery_config.ignoreParticipantFlags,
+            eprosima::fastrtps::rtps::ParticipantFilteringFlags::NO_FILTER);
+  for (TopicKind kind : {TopicKind::kKeyframe, TopicKind::kAck, TopicKind::kGoal, TopicKind::kObject}) {
+    EXPECT_GE(reader_qos(kind).reliable_reader_qos().times.initialAcknackDelay.seconds, 1);
+  }
+}
+
 TEST(Participant, LinkPrioritiesPutAFindFirstAndPoseUpdatesLast) {
   EXPECT_LT(link_priority(TopicKind::kObject), link_priority(TopicKind::kKeyframe));
   EXPECT_LT(link_priority(TopicKind::kKeyframe), link_priority(TopicKind::kKeyframePoses));

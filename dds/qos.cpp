@@ -115,6 +115,15 @@ DataReaderQos reader_qos(TopicKind kind) {
   q.endpoint().history_memory_policy = eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
   const bool reliable = kind != TopicKind::kStatus;
   q.reliability().kind = reliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
+  // A reader that knows a writer but has had no heartbeat from it asks for its data "preemptively"
+  // after this delay, then after twice it, and so on (Fast DDS: 70 ms). On a 50 kbit/s radio, while
+  // the endpoint announcements were still being repeated, each agent's four readers of the base's
+  // topics sent 12 such requests a second each, all 25 s long (2 166 packets), which crowded out the
+  // announcements the base needed before it could answer: nothing was delivered in 400 s. From 1 s
+  // the two-robot mission delivers everything at 50 kbit/s (docs/benchmarks.md "The slow radio").
+  // A writer pushes its data to a reader it matches anyway; the request only covers a lost first
+  // heartbeat.
+  q.reliable_reader_qos().times.initialAcknackDelay = {1, 0};
   switch (kind) {
     case TopicKind::kSensor:
     case TopicKind::kKeyframe:

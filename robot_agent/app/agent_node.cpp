@@ -21,6 +21,8 @@ AgentNode::AgentNode(RobotId robot, const AgentOptions& core_options, const Agen
       behaviour_(options.behaviour),
       own_options_(options.own_exploration) {
   laser_timeout_s_ = core_options.dead_reckoning.laser_timeout_s;
+  keyframe_window_ =
+      SendWindow<cairn_msgs::Keyframe>(options.link_budget_bytes_per_sec > 0 ? options.keyframes_in_flight : 0);
 }
 
 std::unique_ptr<AgentNode> AgentNode::create(RobotId robot, const AgentOptions& core_options,
@@ -177,6 +179,7 @@ bool AgentNode::poll_inputs() {
     acked_keyframe_seq_ = std::max(acked_keyframe_seq_, a.keyframe_seq());
     acked_object_count_ = std::max(acked_object_count_, int(a.object_count()));
     note_own_ack();
+    write_keyframes();                                            // room in flight
     if (a.probe_ns() != 0) probe_ = {a.probe_ns(), received_ns};  // echoed in the next status
   }
   return any;
@@ -199,12 +202,10 @@ void AgentNode::publish(const AgentOutputs& outputs) {
 
 void AgentNode::write_outputs(const OutgoingSamples& samples) {
   for (const auto& kf : samples.keyframes) {
-    if (!keyframe_out_->write(kf)) {
-      log_->error("keyframe {} could not be queued (history full)", kf.seq());
-      continue;
-    }
+    keyframe_window_.push(kf);
     last_keyframe_seq_ = kf.seq();
   }
+  write_keyframes();
   if (samples.keyframe_poses) waiting_poses_ = samples.keyframe_poses;  // a newer estimate replaces a waiting one
   for (const auto& obj : samples.objects) {
     if (objects_published_.count(obj.object_seq())) {
@@ -221,6 +222,13 @@ void AgentNode::write_outputs(const OutgoingSamples& samples) {
                obj.observations());
   }
   send_waiting_updates();
+}
+
+void AgentNode::write_keyframes() {
+  keyframe_window_.acknowledged(acked_keyframe_seq_);
+  keyframe_window_.release([&](const cairn_msgs::Keyframe& kf) {
+    if (!keyframe_out_->write(kf)) log_->error("keyframe {} could not be queued (history full)", kf.seq());
+  });
 }
 
 bool AgentNode::send_waiting_updates() {
@@ -288,8 +296,8 @@ uint64_t AgentNode::bytes_sent() const {
 }
 
 bool AgentNode::base_has_everything() {
-  return held_outputs_.empty() && earlier_.empty() && acked_keyframe_seq_ >= last_keyframe_seq_ &&
-         acked_object_count_ >= int(objects_published_.size());
+  return held_outputs_.empty() && earlier_.empty() && keyframe_window_.empty() &&
+         acked_keyframe_seq_ >= last_keyframe_seq_ && acked_object_count_ >= int(objects_published_.size());
 }
 
 std::string AgentNode::delivery_report() const {

@@ -4,7 +4,6 @@
 // Data flow: sensor topics -> dds::from_msg -> AgentPipeline -> dds::to_msg -> keyframe/object.
 #include <atomic>
 #include <chrono>
-#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -18,6 +17,7 @@
 #include "robot_agent/app/log_source.h"
 #include "robot_agent/app/outbox.h"
 #include "robot_agent/app/ros2_input.h"
+#include "robot_agent/app/send_window.h"
 #include "robot_agent/core/agent_pipeline.h"
 #include "robot_agent/core/navigation/breadcrumbs.h"
 #include "robot_agent/core/navigation/mission_behaviour.h"
@@ -55,6 +55,9 @@ struct AgentNodeOptions {
   /// This robot's share of the radio in bytes/s (objects, keyframes, keyframe poses in that
   /// order of priority; dds::ParticipantOptions::link_budget_bytes_per_sec); 0 = unlimited.
   uint32_t link_budget_bytes_per_sec = 0;
+  /// With a link budget: keyframes written to DDS and not yet acknowledged by the base at most;
+  /// the rest wait in the agent (robot_agent/app/send_window.h says why).
+  int keyframes_in_flight = 6;
   bool navigate = true;  ///< drive the robot (cmd_vel); off when replaying a log
   /// Sensors from a ROS 2 robot's drivers (cairn_agent --ros2) instead of Cairn's sensor topics.
   std::optional<Ros2InputOptions> ros2;
@@ -91,6 +94,7 @@ class AgentNode {
   /// Writes the newest update of each object and the newest keyframe poses once what was written
   /// before has been acknowledged (why: agent_node.cpp). True when nothing waits.
   bool send_waiting_updates();
+  void write_keyframes();  ///< those keyframe_window_ releases
   /// Keyframe, object and keyframe-pose payloads written so far.
   uint64_t bytes_sent() const;
   /// Writes this run's outputs (publish() holds them back while an earlier session goes first).
@@ -159,8 +163,10 @@ class AgentNode {
   double laser_timeout_s_ = 1.0;  ///< AgentOptions::dead_reckoning.laser_timeout_s
   std::optional<std::chrono::steady_clock::time_point> first_odometry_arrival_;
   bool any_scan_arrived_ = false;
-  int32_t last_keyframe_seq_ = -1;
+  int32_t last_keyframe_seq_ = -1;  ///< the newest keyframe made (written, or waiting to be)
   int32_t acked_keyframe_seq_ = -1;
+  /// Made, waiting for room in flight (AgentNodeOptions::keyframes_in_flight; no limit without a budget).
+  SendWindow<cairn_msgs::Keyframe> keyframe_window_;
   int acked_object_count_ = 0;
   std::set<int32_t> objects_published_;
   std::optional<cairn_msgs::KeyframePoses> waiting_poses_;       ///< newest estimate not written yet

@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Cairn multi-robot simulator"};
   std::string world_path, routes_path, out_dir, radio_path, log_level = "info";
   cairn::dds::ParticipantOptions participant;
+  participant.same_host_only = true;  // the robots' onboard sensor buses never cross the radio
   double speed = 0.0, wait_agents_s = 30.0, duration_s = 0.0, answer_timeout_s = 10.0;
   int64_t seed = -1;
   int subscribers = 1;
