@@ -95,7 +95,9 @@ std::unique_ptr<Participant> Participant::create(const ParticipantOptions& optio
   }
   builtin.discovery_config.leaseDuration_announcementperiod = to_duration(options.announcement_period_s);
   builtin.discovery_config.leaseDuration = to_duration(options.lease_duration_s);
-  if (options.same_host_only) {
+  // Under DDS Security the GUID prefix is derived from the certificate (PKI-DH), not the host, so
+  // Fast DDS could not tell hosts apart and would ignore every peer: the filter is left off.
+  if (options.same_host_only && options.security_dir.empty()) {
     builtin.discovery_config.ignoreParticipantFlags =
         eprosima::fastrtps::rtps::ParticipantFilteringFlags::FILTER_DIFFERENT_HOST;
   }

@@ -35,6 +35,7 @@ struct ParticipantOptions {
   /// Only participants on this host (Fast DDS host id) are discovered: the simulator's sensor
   /// topics are the robots' onboard buses, and the base station across the radio must not
   /// exchange endpoint discovery with it (on a 50 kbit/s link that exchange alone filled the link).
+  /// Ignored with security_dir (the GUID prefix then comes from the certificate, not the host).
   bool same_host_only = false;
   bool use_shared_memory = true;
   uint32_t shm_segment_bytes = 32u << 20;  ///< default 512 KiB is too small for RGB-D frames

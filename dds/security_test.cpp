@@ -124,6 +124,23 @@ TEST_F(Security, TeamMembersAuthenticateAndExchangeKeyframes) {
   EXPECT_EQ(exchange(w, r, 10.0), 3u);
 }
 
+TEST_F(Security, AParticipantKeptToItsHostStillHearsItsTeamOnThatHost) {
+  // The simulator's same-host filter (ParticipantOptions::same_host_only) judges hosts by the GUID
+  // prefix, which under PKI-DH comes from the certificate: left on, it ignored every agent.
+  ParticipantOptions o;
+  o.domain_id = lease_->domain_id();
+  o.name = "sim";
+  o.same_host_only = true;
+  o.security_dir = (*dir_ / "team/base").string();
+  auto sim = Participant::create(o, &error_);
+  auto robot = participant("robot0", "team/robot0");
+  ASSERT_TRUE(sim && robot) << error_;
+  KeyframeWriter w(*sim);
+  KeyframeReader r(*robot);
+  ASSERT_TRUE(matched_within(w, r, 20.0));
+  EXPECT_EQ(exchange(w, r, 10.0), 3u);
+}
+
 TEST_F(Security, ASamplesWriterIsKnownByTheCertificateItAuthenticatedWith) {
   auto robot = participant("robot0", "team/robot0");
   auto base = participant("base", "team/base");
