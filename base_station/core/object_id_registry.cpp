@@ -52,17 +52,31 @@ void ObjectIdRegistry::assign(std::vector<GlobalObject>* objects) {
     if (!id[i]) id[i] = (*objects)[i].id;  // every report id taken: cannot happen with disjoint reports
     taken.insert(*id[i]);
   }
-  // 3. Aliases: the other ids its reports were shown under that no other object holds now.
+  // 3. Aliases: every id ever shown that no object holds now stays findable, as an alias of one
+  //    object: the one holding the report the id was born from, else one whose reports were shown
+  //    under it. (The ids the reports are shown under now are not enough: after one refresh a merged
+  //    object's reports all carry its id, and the alias it had for a second was gone.)
+  std::set<ObjectId> current;
+  for (size_t i = 0; i < objects->size(); ++i) current.insert(*id[i]);
+  std::map<ObjectId, size_t> alias_owner;
+  for (size_t i = 0; i < objects->size(); ++i) {
+    for (ObjectId report : (*objects)[i].reports) {
+      const auto h = history_.find(report);
+      if (h == history_.end()) continue;
+      for (ObjectId k : h->second) {
+        if (current.count(k)) continue;
+        if (own(i, k) || !alias_owner.count(k)) alias_owner[k] = i;
+      }
+    }
+  }
+  for (GlobalObject& o : *objects) o.aliases.clear();
+  for (const auto& [k, i] : alias_owner) (*objects)[i].aliases.push_back(k);  // in id order
   for (size_t i = 0; i < objects->size(); ++i) {
     GlobalObject& o = (*objects)[i];
     o.id = *id[i];
-    o.aliases.clear();
-    for (ObjectId k : known[i]) {
-      if (k != o.id && !taken.count(k)) o.aliases.push_back(k);
-    }
-    std::sort(o.aliases.begin(), o.aliases.end());
     if (!first_shown_.count(o.id)) first_shown_[o.id] = next_++;
     for (ObjectId report : o.reports) {
+      note_history(report, o.id);
       auto [it, added] = shown_as_.emplace(report, o.id);
       if (!added && it->second == o.id) continue;
       it->second = o.id;
@@ -70,6 +84,11 @@ void ObjectIdRegistry::assign(std::vector<GlobalObject>* objects) {
     }
   }
   std::sort(objects->begin(), objects->end(), [](const GlobalObject& a, const GlobalObject& b) { return a.id < b.id; });
+}
+
+void ObjectIdRegistry::note_history(ObjectId report, ObjectId shown) {
+  std::vector<ObjectId>& h = history_[report];
+  if (std::find(h.begin(), h.end(), shown) == h.end()) h.push_back(shown);
 }
 
 std::vector<ObjectIdRegistry::Entry> ObjectIdRegistry::take_new_entries() {
@@ -86,6 +105,7 @@ bool ObjectIdRegistry::restore(const Entry& e) {
   }
   first_shown_[e.shown] = e.order;
   shown_as_[e.report] = e.shown;
+  note_history(e.report, e.shown);
   next_ = std::max(next_, e.order + 1);
   return true;
 }

@@ -4,6 +4,8 @@
 // when robots link or reports merge, the merged object keeps the id shown first and lists the
 // others as aliases, so "victim 1-3" never silently becomes "victim 0-2". An object whose reports
 // no longer merge keeps the old id for one part and gives the other its own smallest report id.
+// Every id ever shown that no object holds stays an alias of one object for the whole mission (and
+// after a restart: the journaled entries carry the history).
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -37,8 +39,10 @@ class ObjectIdRegistry {
 
  private:
   std::vector<Entry> new_entries_;
-  std::map<ObjectId, ObjectId> shown_as_;     ///< report -> the id its object was shown under
-  std::map<ObjectId, uint64_t> first_shown_;  ///< shown id -> when it was first shown (order)
+  std::map<ObjectId, ObjectId> shown_as_;              ///< report -> the id its object was shown under
+  std::map<ObjectId, uint64_t> first_shown_;           ///< shown id -> when it was first shown (order)
+  std::map<ObjectId, std::vector<ObjectId>> history_;  ///< report -> every id it was shown under
+  void note_history(ObjectId report, ObjectId shown);
   uint64_t next_ = 0;
 };
 

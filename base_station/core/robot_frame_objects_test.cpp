@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "base_station/core/multi_robot_mapper.h"
 #include "base_station/core/object_id_registry.h"
 #include "base_station/core/unlinked_robot_test_util.h"
@@ -72,6 +74,9 @@ TEST(ObjectIdRegistry, AnObjectKeepsTheIdItWasFirstShownUnderWhenItMerges) {
   ids.assign(&merged);
   EXPECT_EQ(merged[0].id, r1);
   EXPECT_EQ(merged[0].aliases, std::vector<ObjectId>{r0});
+  ids.assign(&merged);  // the next refresh: "0-2" is still its alias (it was lost after one second)
+  EXPECT_EQ(merged[0].id, r1);
+  EXPECT_EQ(merged[0].aliases, std::vector<ObjectId>{r0});
   // The merge no longer holds: one part keeps "1-3", the other gets back "0-2"; a new one its own.
   std::vector<GlobalObject> split = {merged_of({r0}), merged_of({r1}), merged_of({r2})};
   ids.assign(&split);
@@ -110,6 +115,42 @@ TEST(ObjectIdRegistry, ARestartedBaseShowsAMergedVictimUnderTheIdTheTeamAlreadyK
   EXPECT_TRUE(restarted.take_new_entries().empty());  // nothing new learnt: nothing to journal again
   // A fact that contradicts the restored order is refused.
   EXPECT_FALSE(restarted.restore({ObjectId{RobotId(2), 0}, ObjectId{RobotId(2), 0}, journaled.front().order}));
+}
+
+TEST(ObjectIdRegistry, EveryIdTheTeamSawStaysFindableThroughARestartThatSplitsAndMergesAgain) {
+  // A CI run of the demo: an exit was shown as "1-2", merged with robot 0's "0-5" into an older
+  // object, split off from it again under "0-5"; the base restarted from its journal saw the two
+  // reports apart first (their robots not linked yet), then merged: "0-5" was gone.
+  const ObjectId r05{RobotId(0), 5}, r12{RobotId(1), 2}, r21{RobotId(2), 1};
+  ObjectIdRegistry live;
+  std::vector<GlobalObject> step = {merged_of({r21})};
+  live.assign(&step);
+  step = {merged_of({r21}), merged_of({r12})};
+  live.assign(&step);
+  step = {merged_of({r05, r12, r21})};
+  live.assign(&step);
+  step = {merged_of({r05, r12}), merged_of({r21})};  // the split: r21 keeps "2-1"
+  live.assign(&step);
+  std::set<ObjectId> known;
+  for (const GlobalObject& o : step) {
+    known.insert(o.id);
+    known.insert(o.aliases.begin(), o.aliases.end());
+  }
+  EXPECT_EQ(known, (std::set<ObjectId>{r05, r12, r21}));
+
+  ObjectIdRegistry restarted;
+  for (const auto& e : live.take_new_entries()) ASSERT_TRUE(restarted.restore(e));
+  std::vector<GlobalObject> apart = {merged_of({r05}), merged_of({r12}), merged_of({r21})};
+  restarted.assign(&apart);
+  std::vector<GlobalObject> again = {merged_of({r05, r12}), merged_of({r21})};
+  restarted.assign(&again);
+  restarted.assign(&again);
+  std::set<ObjectId> after;
+  for (const GlobalObject& o : again) {
+    EXPECT_TRUE(after.insert(o.id).second) << to_string(o.id) << " twice";
+    for (ObjectId a : o.aliases) EXPECT_TRUE(after.insert(a).second) << to_string(a) << " twice";
+  }
+  EXPECT_EQ(after, known);
 }
 
 }  // namespace
