@@ -4,6 +4,7 @@
 // Data flow: sensor topics -> dds::from_msg -> AgentPipeline -> dds::to_msg -> keyframe/object.
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
