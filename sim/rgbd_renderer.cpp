@@ -101,11 +101,11 @@ struct RgbdRenderer::Hit {
   double t = kInf;  ///< ray parameter = z-depth (the camera ray has unit optical z component)
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
-  int object = -1;  ///< index into objects_
+  const WorldObject* object = nullptr;  ///< the object hit (kObject)
 };
 
 struct RgbdRenderer::ObjectView {
-  int index = 0;
+  const WorldObject* object = nullptr;
   int u_min = 0, u_max = -1, v_min = 0, v_max = -1;
   Eigen::Vector3d o_local;  ///< camera centre in the object frame
   double cos_yaw = 1, sin_yaw = 0;
@@ -143,13 +143,13 @@ RgbdRenderer::RgbdRenderer(const CameraOptions& options, FloorPlan plan, double 
       intrinsics_(intrinsics_of(options)),
       T_base_camera_(camera_mount(options)) {}
 
-std::vector<RgbdRenderer::ObjectView> RgbdRenderer::visible_objects(const Eigen::Isometry3d& T_world_camera) const {
+std::vector<RgbdRenderer::ObjectView> RgbdRenderer::visible_objects(const std::vector<WorldObject>& scene,
+                                                                    const Eigen::Isometry3d& T_world_camera) const {
   std::vector<ObjectView> views;
   const Eigen::Isometry3d T_camera_world = T_world_camera.inverse();
   const Eigen::Vector3d c = T_world_camera.translation();
   const CameraIntrinsics& k = intrinsics_;
-  for (size_t i = 0; i < objects_.size(); ++i) {
-    const WorldObject& obj = objects_[i];
+  for (const WorldObject& obj : scene) {
     const Eigen::Matrix3d R = Eigen::AngleAxisd(obj.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     const Eigen::Vector3d half = 0.5 * obj.size_m;
     double u0 = kInf, u1 = -kInf, v0 = kInf, v1 = -kInf, z_min = kInf;
@@ -170,7 +170,7 @@ std::vector<RgbdRenderer::ObjectView> RgbdRenderer::visible_objects(const Eigen:
     if (u0 == kInf && behind) continue;  // entirely behind the camera
     if (z_min > options_.render_range_m) continue;
     ObjectView view;
-    view.index = int(i);
+    view.object = &obj;
     view.u_min = behind ? 0 : std::max(0, int(std::floor(u0)) - 1);
     view.u_max = behind ? k.width - 1 : std::min(k.width - 1, int(std::ceil(u1)) + 1);
     view.v_min = behind ? 0 : std::max(0, int(std::floor(v0)) - 1);
@@ -213,7 +213,7 @@ RgbdRenderer::Hit RgbdRenderer::background(const Eigen::Vector3d& c, const Eigen
   return h;
 }
 
-void RgbdRenderer::shade_pixel(const Hit& h, const Eigen::Vector3d& d, uint8_t* rgb) const {
+void RgbdRenderer::shade_pixel(const Hit& h, const Eigen::Vector3d& d, uint8_t* rgb) {
   const Eigen::Vector3d view = -d.normalized();
   const double facing = std::abs(h.normal.dot(view));
   double r = 0, g = 0, b = 0;
@@ -240,7 +240,7 @@ void RgbdRenderer::shade_pixel(const Hit& h, const Eigen::Vector3d& d, uint8_t* 
       b = 78;
       break;
     case Surface::kObject: {
-      const auto& col = objects_[size_t(h.object)].color_rgb;
+      const auto& col = h.object->color_rgb;
       const double shade = 0.35 + 0.5 * std::max(0.0, h.normal.dot(view)) + 0.15 * std::max(0.0, h.normal.z());
       r = col[0] * shade;
       g = col[1] * shade;
@@ -254,7 +254,7 @@ void RgbdRenderer::shade_pixel(const Hit& h, const Eigen::Vector3d& d, uint8_t* 
 }
 
 void RgbdRenderer::intersect(const ObjectView& view, const Eigen::Vector3d& d, Hit* hit) const {
-  const WorldObject& obj = objects_[size_t(view.index)];
+  const WorldObject& obj = *view.object;
   const Eigen::Vector3d d_local(view.cos_yaw * d.x() + view.sin_yaw * d.y(),
                                 -view.sin_yaw * d.x() + view.cos_yaw * d.y(), d.z());
   double t = kInf;
@@ -274,13 +274,13 @@ void RgbdRenderer::intersect(const ObjectView& view, const Eigen::Vector3d& d, H
   if (!found || t >= hit->t) return;
   hit->surface = Surface::kObject;
   hit->t = t;
-  hit->object = view.index;
+  hit->object = view.object;
   hit->normal = Eigen::Vector3d(view.cos_yaw * n_local.x() - view.sin_yaw * n_local.y(),
                                 view.sin_yaw * n_local.x() + view.cos_yaw * n_local.y(), n_local.z());
 }
 
 RgbdFrame RgbdRenderer::render(const SE2& T_world_base, StampNs stamp_ns, std::mt19937_64& rng,
-                               std::vector<int>* object_ids) const {
+                               std::vector<int>* object_ids, const std::vector<WorldObject>& movers) const {
   const CameraIntrinsics& k = intrinsics_;
   RgbdFrame frame;
   frame.stamp_ns = stamp_ns;
@@ -294,7 +294,12 @@ RgbdFrame RgbdRenderer::render(const SE2& T_world_base, StampNs stamp_ns, std::m
   const Eigen::Isometry3d T_world_camera = T_world_base.to_isometry3() * T_base_camera_;
   const Eigen::Matrix3d R = T_world_camera.linear();
   const Eigen::Vector3d c = T_world_camera.translation();
-  const std::vector<ObjectView> views = visible_objects(T_world_camera);
+  std::vector<WorldObject> with_movers;
+  if (!movers.empty()) {
+    with_movers = objects_;
+    with_movers.insert(with_movers.end(), movers.begin(), movers.end());
+  }
+  const std::vector<ObjectView> views = visible_objects(movers.empty() ? objects_ : with_movers, T_world_camera);
   // Columns are vertical planes unless the optical y axis has a horizontal component (pitch).
   const bool cast_per_pixel = R.col(1).head<2>().norm() > 1e-9;
   std::vector<const ObjectView*> column_views;
@@ -320,7 +325,7 @@ RgbdFrame RgbdRenderer::render(const SE2& T_world_base, StampNs stamp_ns, std::m
       }
       const size_t idx = size_t(v) * size_t(k.width) + size_t(u);
       shade_pixel(hit, d, &frame.rgb[3 * idx]);
-      if (object_ids && hit.surface == Surface::kObject) (*object_ids)[idx] = objects_[size_t(hit.object)].id;
+      if (object_ids && hit.surface == Surface::kObject) (*object_ids)[idx] = hit.object->id;
       if (hit.surface != Surface::kNone && hit.t <= max_depth_m) {
         const double z_m = hit.t + options_.depth_noise_sd_m * unit(rng);
         frame.depth[idx] = uint16_t(std::clamp(std::lround(z_m * 1000.0), 1L, 65535L));

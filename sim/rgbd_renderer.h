@@ -27,8 +27,9 @@ class RgbdRenderer {
 
   /// Renders the view from a robot at T_world_base. When `object_ids` is given it receives, per
   /// pixel (row-major), the id of the object seen there or -1 (ground truth for detector tests).
+  /// `movers` are drawn with the world's objects this once (the other robots' bodies and markers).
   RgbdFrame render(const SE2& T_world_base, StampNs stamp_ns, std::mt19937_64& rng,
-                   std::vector<int>* object_ids = nullptr) const;
+                   std::vector<int>* object_ids = nullptr, const std::vector<WorldObject>& movers = {}) const;
 
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }
   /// Optical frame (z forward, x right, y down) into the base frame (x forward, y left, z up).
@@ -40,11 +41,12 @@ class RgbdRenderer {
  private:
   struct Hit;
   struct ObjectView;
-  std::vector<ObjectView> visible_objects(const Eigen::Isometry3d& T_world_camera) const;
+  std::vector<ObjectView> visible_objects(const std::vector<WorldObject>& scene,
+                                          const Eigen::Isometry3d& T_world_camera) const;
   Hit background(const Eigen::Vector3d& c, const Eigen::Vector3d& d, const RayHit& wall, double horizontal_norm) const;
   /// Replaces *hit when the object is nearer along world direction d.
   void intersect(const ObjectView& view, const Eigen::Vector3d& d, Hit* hit) const;
-  void shade_pixel(const Hit& hit, const Eigen::Vector3d& d, uint8_t* rgb) const;
+  static void shade_pixel(const Hit& hit, const Eigen::Vector3d& d, uint8_t* rgb);
 
   CameraOptions options_;
   FloorPlan plan_;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -82,6 +83,25 @@ TEST(RgbdRenderer, WallsOccludeObjectsAndBackgroundIsUnsaturated) {
     const int mx = std::max({r, g, b}), mn = std::min({r, g, b});
     ASSERT_TRUE(mx == 0 || double(mx - mn) / mx < 0.3) << "saturated background at pixel " << i;
   }
+}
+
+TEST(RgbdRenderer, MoversAreDrawnThisOnceInFrontOfTheWorldsObjects) {
+  const CameraOptions options = noiseless();
+  const RgbdRenderer renderer(options, open_floor(), 2.0, {make_object(1, ObjectShape::kBox, {4.0, 0.0, 0.5}, 0.5)});
+  WorldObject teammate = make_object(1001, ObjectShape::kCylinder, {2.0, 0.0, 0.2}, 0.4);
+  teammate.color_rgb = {{30, 83, 230}};
+  std::mt19937_64 rng(3);
+  std::vector<int> ids;
+  const RgbdFrame f = renderer.render(SE2(), 0, rng, &ids, {teammate});
+  const CameraIntrinsics& k = f.intrinsics;
+  const size_t ahead_low = size_t(k.cy + 20) * size_t(k.width) + size_t(k.cx);  // below the axis: the teammate
+  EXPECT_EQ(ids[ahead_low], 1001);
+  EXPECT_NEAR(f.depth[ahead_low] * 0.001, 1.8, 0.02);                           // its near face
+  EXPECT_GT(f.rgb[3 * ahead_low + 2], f.rgb[3 * ahead_low]);                    // blue
+  const size_t ahead_high = size_t(k.cy - 5) * size_t(k.width) + size_t(k.cx);  // above it: the box behind
+  EXPECT_EQ(ids[ahead_high], 1);
+  renderer.render(SE2(), 0, rng, &ids);  // gone again without movers
+  EXPECT_EQ(std::count(ids.begin(), ids.end(), 1001), 0);
 }
 
 TEST(RgbdRenderer, DepthBeyondMaxIsZeroAndNoiseIsSeeded) {

@@ -65,6 +65,10 @@ struct SimOptions {
   double robot_radius_m = 0.2;  ///< every robot is a disc: collisions, and what the other robots' lasers see
   /// false: lasers see through the other robots (to measure what they cost the robots' SLAM).
   bool lasers_see_robots = true;
+  /// The cameras see the other robots: a cylinder of robot_radius_m and robot_height_m in its
+  /// marker's colour (common/robot_markers.h; grey for a robot without one).
+  bool cameras_see_robots = true;
+  double robot_height_m = 0.4;
   bool enable_laser = true;
   bool enable_camera = true;
   OdometryOptions odometry;

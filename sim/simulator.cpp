@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/robot_markers.h"
+
 namespace cairn::sim {
 namespace {
 
@@ -82,7 +84,8 @@ SimStep Simulator::step() {
   }
   if (renderer_ && due(out.stamp_ns, camera_period_ns_, &next_camera_ns_)) {
     for (RobotState& r : robots_) {
-      out.frames.push_back({r.spec.id, renderer_->render(r.T_world_base, out.stamp_ns, r.camera_rng)});
+      out.frames.push_back(
+          {r.spec.id, renderer_->render(r.T_world_base, out.stamp_ns, r.camera_rng, nullptr, other_robot_bodies(r))});
     }
   }
   advance();
@@ -133,6 +136,26 @@ std::vector<Eigen::Vector2d> Simulator::other_robots_m(const RobotState& robot) 
   std::vector<Eigen::Vector2d> out;
   for (const RobotState& other : robots_) {
     if (&other != &robot) out.push_back(other.T_world_base.translation());
+  }
+  return out;
+}
+
+std::vector<WorldObject> Simulator::other_robot_bodies(const RobotState& robot) const {
+  std::vector<WorldObject> out;
+  if (!options_.cameras_see_robots) return out;
+  for (const RobotState& other : robots_) {
+    if (&other == &robot) continue;
+    WorldObject body;
+    body.id = kRobotBodyObjectIdBase + other.spec.id.value;
+    body.object_class = "robot";
+    body.shape = ObjectShape::kCylinder;
+    const std::optional<RobotMarker> marker = robot_marker(other.spec.id);
+    body.color_rgb = marker ? marker->color_rgb : std::array<uint8_t, 3>{{110, 110, 110}};
+    const double d_m = 2.0 * options_.robot_radius_m;
+    body.size_m = Eigen::Vector3d(d_m, d_m, options_.robot_height_m);
+    body.center_m = Eigen::Vector3d(other.T_world_base.x(), other.T_world_base.y(), 0.5 * options_.robot_height_m);
+    body.yaw_rad = other.T_world_base.yaw();
+    out.push_back(body);
   }
   return out;
 }

@@ -32,6 +32,9 @@
 
 namespace cairn::sim {
 
+/// Ground-truth object ids of the robots' bodies in rendered frames: this plus the robot id.
+inline constexpr int kRobotBodyObjectIdBase = 1000;
+
 template <typename Reading>
 struct RobotReading {
   RobotId robot;
@@ -106,6 +109,8 @@ class Simulator {
   /// that takes it further from a robot it already overlaps is allowed).
   bool blocked(const RobotState& robot, const SE2& next) const;
   std::vector<Eigen::Vector2d> other_robots_m(const RobotState& robot) const;
+  /// The other robots' bodies as the cameras see them (SimOptions::cameras_see_robots).
+  std::vector<WorldObject> other_robot_bodies(const RobotState& robot) const;
   void advance();
 
   World world_;

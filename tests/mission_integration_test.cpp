@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -327,7 +328,8 @@ TEST(MissionIntegration, ARobotWhoseLaserBreaksGoesHomeByOdometryAndItsDataReach
 
 TEST(MissionIntegration, RobotsThatNeverMeetInLookAlikeWingsAreNotMergedWrongly) {
   // The office's west and east wings look alike and the robots never see the same place: robot 1
-  // must stay unlinked (a late merge is fine, a wrong one is not).
+  // must not be linked on scans (a late merge is fine, a wrong one is not). They do see each other
+  // down the corridor at the end, and a link on those sightings must put robot 1 right.
   const MissionRun run = run_mission("tests/worlds/two_robots.yaml", "aliasing", "--timeout 400");
   const fs::path& out = run.out;
   const CommandResult& r = run.result;
@@ -338,8 +340,28 @@ TEST(MissionIntegration, RobotsThatNeverMeetInLookAlikeWingsAreNotMergedWrongly)
   EXPECT_LT(score.robots[0].global->ate_rmse_m, 0.20);
   if (score.robots[1].global) {
     EXPECT_LT(score.robots[1].global->ate_max_m, 0.5) << "robot 1 was merged in the wrong place";
+    std::ifstream base_log(out / "logs" / "base.log");
+    const std::string log((std::istreambuf_iterator<char>(base_log)), std::istreambuf_iterator<char>());
+    EXPECT_TRUE(std::regex_search(log, std::regex("linked via [0-9]+ shared sightings"))) << "linked, not on sightings";
+  } else {
+    EXPECT_NE(r.output.find("robot 1 (NOT LINKED to the map)"), std::string::npos) << r.output;
   }
-  EXPECT_NE(r.output.find("robot 1 (NOT LINKED to the map)"), std::string::npos) << r.output;
+}
+
+TEST(MissionIntegration, TheOfficesThreeRobotsAllJoinTheMapBySeeingEachOther) {
+  // Robot 1 enters from the far end: its rooms overlap the others' only in look-alike corridor
+  // pieces, so no scan closure ever links it; the robots' markers seen by each other's cameras do.
+  const MissionRun run = run_mission("worlds/office.yaml", "office", "--timeout 600");
+  const CommandResult& r = run.result;
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("NOT LINKED"), std::string::npos) << r.output;
+  const eval::MissionScore score =
+      eval::evaluate_mission((run.out / "ground_truth").string(), (run.out / "map").string());
+  ASSERT_EQ(score.robots.size(), 3u);
+  expect_every_robot_placed(score, 0.3, 0.6);
+  std::ifstream base_log(run.out / "logs" / "base.log");
+  const std::string log((std::istreambuf_iterator<char>(base_log)), std::istreambuf_iterator<char>());
+  EXPECT_TRUE(std::regex_search(log, std::regex("linked via [0-9]+ shared sightings"))) << "none linked on sightings";
 }
 
 }  // namespace

@@ -161,7 +161,7 @@ void BaseNode::report_linking(const OptimizeResult& r) {
   const auto& marker_events = mapper_.landmark_link_events();
   for (; landmark_events_reported_ < marker_events.size(); ++landmark_events_reported_) {
     const LinkEvent& e = marker_events[landmark_events_reported_];
-    log_->info("marker link {} <-> {}: {}", sessions_.label(e.robot), sessions_.label(e.other), e.reason);
+    log_->info("marker or sighting link {} <-> {}: {}", sessions_.label(e.robot), sessions_.label(e.other), e.reason);
   }
   CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 10.0,
                         "graph: {} nodes, {} loop closures ({} between robots), {} candidates pending, "

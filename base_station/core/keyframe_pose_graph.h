@@ -41,10 +41,18 @@ struct PosePrior {
   Eigen::Matrix3d information = Eigen::Matrix3d::Identity() * 1e4;
 };
 
-/// A 2D point node of the graph: an identified marker, or a merged object of interest (named by its
-/// cluster's id, the smallest ObjectId of its reports). Distinct types: a marker and an object never
-/// share a node whatever their numbers.
-using PointNodeId = std::variant<LandmarkId, ObjectId>;
+/// Where one robot was when another saw it (MapperData::sightings[index]; sightings.h).
+struct SightingNodeId {
+  int32_t index = -1;
+  friend constexpr bool operator==(SightingNodeId a, SightingNodeId b) { return a.index == b.index; }
+  friend constexpr bool operator!=(SightingNodeId a, SightingNodeId b) { return a.index != b.index; }
+  friend constexpr bool operator<(SightingNodeId a, SightingNodeId b) { return a.index < b.index; }
+};
+
+/// A 2D point node of the graph: an identified marker, a merged object of interest (named by its
+/// cluster's id, the smallest ObjectId of its reports), or a robot where a teammate saw it.
+/// Distinct types: a marker and an object never share a node whatever their numbers.
+using PointNodeId = std::variant<LandmarkId, ObjectId, SightingNodeId>;
 std::string to_string(const PointNodeId& id);
 
 /// A range-bearing observation of point node `landmark` (a marker or an object) from pose node `from`.
@@ -74,7 +82,7 @@ struct KeyframePoseGraphOptions {
   RobustLossOptions odometry_loss{RobustLossType::kNone, 1.0};
   RobustLossOptions loop_loss{RobustLossType::kCauchy, 1.0};
   RobustLossOptions prior_loss{RobustLossType::kNone, 1.0};
-  /// Range-bearing landmark residuals: a wrongly identified marker must not bend the map.
+  /// Range-bearing landmark (and sighting) residuals: a wrongly identified marker must not bend the map.
   RobustLossOptions landmark_loss{RobustLossType::kCauchy, 2.0};
   /// Observations of merged objects (multi_robot_mapper_objects.cpp): a wrong merge must not bend it.
   RobustLossOptions object_loss{RobustLossType::kCauchy, 1.0};

@@ -14,6 +14,7 @@ Eigen::Vector2d observed_point(const SE2& T_world_node, const LandmarkEdge& e) {
 
 bool valid(const PointNodeId& id) {
   if (const auto* marker = std::get_if<LandmarkId>(&id)) return marker->valid();
+  if (const auto* sighting = std::get_if<SightingNodeId>(&id)) return sighting->index >= 0;
   const ObjectId& object = std::get<ObjectId>(id);
   return object.robot.valid() && object.seq >= 0;
 }
@@ -22,6 +23,7 @@ bool valid(const PointNodeId& id) {
 
 std::string to_string(const PointNodeId& id) {
   if (const auto* marker = std::get_if<LandmarkId>(&id)) return to_string(*marker);
+  if (const auto* sighting = std::get_if<SightingNodeId>(&id)) return "sighting " + std::to_string(sighting->index);
   return "object " + to_string(std::get<ObjectId>(id));
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/robot_markers.h"
+
 namespace cairn::base {
 namespace {
 
@@ -26,6 +28,7 @@ std::string format_number(const char* format, double value) {
 int accumulate_landmarks(const Keyframe& kf, double min_range_m, LocalLandmarks* landmarks, int* invalid) {
   int used = 0;
   for (const LandmarkObservation& o : kf.landmarks) {
+    if (robot_of_marker(o.id)) continue;  // a teammate: it moves (sightings.h)
     if (!validate_landmark_observation(o).empty() || o.range_m < min_range_m) {
       if (invalid) ++*invalid;
       continue;

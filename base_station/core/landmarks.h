@@ -36,6 +36,12 @@ struct LandmarkOptions {
   /// The closure that places a robot linked on markers (the landmark residuals then do the work).
   double link_sigma_xy_m = 0.5;
   double link_sigma_yaw_rad = 0.2;
+  /// Sightings of teammates (sightings.h) in the graph: the observation's sigmas times this (a few
+  /// detections per second of one robot share their errors), and the seen robot's interpolated
+  /// position with this sigma, expressed from a keyframe at least sighting_min_offset_m away.
+  double sighting_sigma_scale = 3.0;
+  double sighting_interpolation_sigma_m = 0.03;
+  double sighting_min_offset_m = 0.1;
   /// A pair refuted or deferred is judged again after this many new observations of either robot.
   int retry_observations = 10;
 };

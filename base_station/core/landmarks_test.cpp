@@ -9,6 +9,7 @@
 #include <random>
 #include <sstream>
 
+#include "base_station/core/landmark_test_util.h"
 #include "base_station/core/multi_robot_mapper.h"
 #include "common/multirobot_log.h"
 
@@ -41,13 +42,7 @@ void simulate_robot(RobotId robot, const Eigen::Vector2d& center, double phase_r
     const StampNs t = sec_to_ns(10.0 + i * dt);
     r.odometry.push_back({t, odom, 0, 0});
     r.truth.push_back({t, truth});
-    LaserScan s;
-    s.stamp_ns = t;
-    s.angle_min_rad = float(-M_PI);
-    s.angle_increment_rad = float(M_PI / 90);
-    s.range_max_m = 10.f;
-    s.ranges_m.assign(180, std::numeric_limits<float>::infinity());
-    r.scans.push_back(s);
+    r.scans.push_back(testing::featureless_scan(t));
     for (const auto& [id, p] : kMarkers) {
       const Eigen::Vector2d q = truth.inverse() * p;
       if (q.norm() > 5.0 || q.norm() < 0.3) continue;  // out of view, or too close to see it whole
@@ -58,29 +53,6 @@ void simulate_robot(RobotId robot, const Eigen::Vector2d& center, double phase_r
   }
 }
 
-/// Keyframes every `every` scans from the log's odometry; observations between keyframes are
-/// re-expressed in the next keyframe's frame (what the agent does).
-std::vector<Keyframe> keyframes_of(const RobotLogData& r, int every) {
-  std::vector<Keyframe> out;
-  size_t next_landmark = 0;
-  for (size_t i = 0; i < r.scans.size(); i += size_t(every)) {
-    Keyframe kf;
-    kf.id = KeyframeId{r.robot, int32_t(out.size())};
-    kf.stamp_ns = r.scans[i].stamp_ns;
-    kf.T_local_base = r.odometry[i].T_odom_base;
-    if (!out.empty()) kf.T_prev_this = out.back().T_local_base.between(kf.T_local_base);
-    kf.edge_covariance = Covariance3::Identity() * 1e-3;
-    kf.scan = r.scans[i];
-    for (; next_landmark < r.landmarks.size() && r.landmarks[next_landmark].stamp_ns <= kf.stamp_ns; ++next_landmark) {
-      const LandmarkObservation& o = r.landmarks[next_landmark];
-      const size_t j = size_t((o.stamp_ns - r.scans[0].stamp_ns + kNsPerSec / 20) / (kNsPerSec / 10));
-      kf.landmarks.push_back(reexpress_landmark(o, kf.T_local_base.between(r.odometry[j].T_odom_base)));
-    }
-    out.push_back(kf);
-  }
-  return out;
-}
-
 /// Writes the log in the text format, reads it back, and merges both robots' keyframes.
 MultiRobotLog round_trip(const MultiRobotLog& log) {
   std::stringstream ss;
@@ -89,7 +61,8 @@ MultiRobotLog round_trip(const MultiRobotLog& log) {
 }
 
 void merge(const MultiRobotLog& log, MultiRobotMapper* mapper) {
-  const auto k0 = keyframes_of(*log.robot(RobotId(0)), 5), k1 = keyframes_of(*log.robot(RobotId(1)), 5);
+  const auto k0 = testing::keyframes_of(*log.robot(RobotId(0)), 5),
+             k1 = testing::keyframes_of(*log.robot(RobotId(1)), 5);
   for (size_t i = 0; i < std::max(k0.size(), k1.size()); ++i) {
     if (i < k0.size()) mapper->add_keyframe(k0[i]);
     if (i < k1.size()) mapper->add_keyframe(k1[i]);

@@ -14,6 +14,7 @@
 #include "base_station/core/landmarks.h"
 #include "base_station/core/mapper_options.h"
 #include "base_station/core/pcm.h"
+#include "base_station/core/sightings.h"
 #include "common/keyframe.h"
 #include "common/object_report.h"
 #include "common/trajectory.h"
@@ -61,6 +62,7 @@ struct MapperData {
   std::vector<LoopClosure> loops;                     ///< accepted loop closures (intra and inter-robot), a = older
   std::map<RobotId, OwnFrame> own_frames;             ///< unlinked robots with intra-robot loop closures
   std::map<RobotId, LocalLandmarks> local_landmarks;  ///< each robot's landmarks in its local frame
+  std::vector<Sighting> sightings;                    ///< robots seeing robots, in arrival order
   StampNs latest_stamp_ns = 0;                        ///< newest keyframe stamp of any robot: mission time
   /// Mission time at which each robot was linked (its first keyframe's for the anchor and hinted ones).
   std::map<RobotId, StampNs> linked_at_ns;

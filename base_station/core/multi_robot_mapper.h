@@ -111,6 +111,8 @@ class MultiRobotMapper {
   void add_loop_edges();
   /// Range-bearing edges of the robot's keyframes in the graph that have none yet.
   void add_landmark_edges(RobotId robot);
+  /// Each sighting whose two robots are placed: a point node observed from both (sightings.h).
+  void add_sighting_edges();
   void solve(bool full_resolve, std::vector<KeyframeId> active, OptimizeResult* result);
   // Objects (multi_robot_mapper_objects.cpp).
   /// Recomputes the object observations from the current merge; asks for a graph rebuild when an
@@ -131,6 +133,7 @@ class MultiRobotMapper {
   std::vector<bool> loop_in_graph_;                   ///< per data_.loops entry
   std::set<RobotId> chains_changed_;                  ///< robots whose chain edges in graph_ need re-measuring
   std::vector<ObjectConstraint> object_constraints_;  ///< sorted by report
+  std::vector<bool> sighting_done_;                   ///< per data_.sightings entry: in graph_, or never usable
   std::set<ObjectId> object_edges_in_graph_;          ///< reports whose observation is in graph_
   bool rebuild_graph_ = true;
   /// Loop closures were solved in their window only: full warm-started solves (time-capped) run

@@ -8,6 +8,7 @@
 
 #include "base_station/core/lago_initializer.h"
 #include "base_station/core/multi_robot_mapper.h"
+#include "common/robot_markers.h"
 
 namespace cairn::base {
 namespace {
@@ -48,6 +49,7 @@ void MultiRobotMapper::update_graph(bool full_resolve, OptimizeResult* result) {
   const size_t edges_before = graph_.edges().size();
   const size_t landmark_edges_before = graph_.landmark_edges().size();
   add_loop_edges();
+  add_sighting_edges();
   add_object_edges();  // multi_robot_mapper_objects.cpp
   if (graph_.edges().size() > edges_before || graph_.landmark_edges().size() > landmark_edges_before) {
     // A new loop moves the optimum of the whole graph: solving only a window around it first
@@ -66,6 +68,7 @@ void MultiRobotMapper::rebuild_graph_if_needed() {
   if (!rebuild_graph_) return;
   graph_ = KeyframePoseGraph(options_.graph);
   loop_in_graph_.assign(data_.loops.size(), false);
+  sighting_done_.assign(data_.sightings.size(), false);
   object_edges_in_graph_.clear();
   rebuild_graph_ = false;
 }
@@ -142,10 +145,36 @@ void MultiRobotMapper::add_landmark_edges(RobotId robot) {
   for (const auto& [id, kf] : data_.robot_keyframes(robot)) {
     if (kf.landmarks.empty() || !graph_.has_node(id) || graph_.has_landmark_edges_from(id)) continue;
     for (const LandmarkObservation& l : kf.landmarks) {
-      if (!validate_landmark_observation(l).empty() || l.range_m < o.min_range_m) continue;
+      if (robot_of_marker(l.id) || !validate_landmark_observation(l).empty() || l.range_m < o.min_range_m) continue;
       graph_.add_landmark_edge(LandmarkEdge{id, l.id, l.range_m, l.bearing_rad, o.sigma_scale * l.sigma_range_m,
                                             o.sigma_scale * l.sigma_bearing_rad});
     }
+  }
+}
+
+void MultiRobotMapper::add_sighting_edges() {
+  const LandmarkOptions& o = options_.landmarks;
+  if (!o.enabled) return;
+  sighting_done_.resize(data_.sightings.size(), false);
+  for (size_t i = 0; i < data_.sightings.size(); ++i) {
+    const Sighting& s = data_.sightings[i];
+    if (sighting_done_[i] || !graph_.has_node(s.observer) || !linked(s.seen)) continue;
+    const StampNs t = s.observation.stamp_ns;
+    const std::optional<SeenPosition> seen = position_at(data_, s.seen, t, o.sighting_min_offset_m);
+    if (!seen) {
+      sighting_done_[i] = has_keyframe_after(data_, s.seen, t);  // decided: the robot stood still
+      continue;
+    }
+    if (!graph_.has_node(seen->keyframe)) continue;
+    const SightingNodeId node{int32_t(i)};
+    const LandmarkObservation& z = s.observation;
+    const double k = o.sighting_sigma_scale, r = seen->point_m.norm();
+    const double sigma_m = k * o.sighting_interpolation_sigma_m;
+    graph_.add_landmark_edge(
+        LandmarkEdge{s.observer, node, z.range_m, z.bearing_rad, k * z.sigma_range_m, k * z.sigma_bearing_rad});
+    graph_.add_landmark_edge(
+        LandmarkEdge{seen->keyframe, node, r, std::atan2(seen->point_m.y(), seen->point_m.x()), sigma_m, sigma_m / r});
+    sighting_done_[i] = true;
   }
 }
 

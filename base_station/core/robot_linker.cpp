@@ -2,6 +2,8 @@
 // links of robot pairs and placing linked robots (see robot_linker.h).
 #include "base_station/core/robot_linker.h"
 
+#include "base_station/core/sightings.h"
+
 #include <Eigen/Cholesky>
 #include <algorithm>
 
@@ -31,6 +33,9 @@ bool RobotLinker::note_keyframe(const Keyframe& kf, MapperData* data) {
   if (o.enabled && !kf.landmarks.empty()) {
     landmark_observations_[kf.id.robot] +=
         accumulate_landmarks(kf, o.min_range_m, &data->local_landmarks[kf.id.robot], nullptr);
+    const std::vector<Sighting> sightings = sightings_in(kf, nullptr);
+    sighting_counts_[kf.id.robot] += int(sightings.size());
+    data->sightings.insert(data->sightings.end(), sightings.begin(), sightings.end());
   }
   if (anchor_committed_ || !data->hints.empty() || (data->anchor && !(kf.id.robot < *data->anchor))) return false;
   if (data->anchor) data->starts.erase(*data->anchor);
@@ -43,6 +48,7 @@ LinkUpdate RobotLinker::update(MapperData* data) {
   LinkUpdate update;
   choose_anchor(data);
   link_by_landmarks(data, &update);  // robot_linker_landmarks.cpp
+  link_by_sightings(data, &update);  // robot_linker_landmarks.cpp
   if (options_.detect_loops) {
     detect_new_loops(data, &update);
     refresh_own_frames(data);

@@ -92,7 +92,7 @@ class RobotLinker {
 
   const LinkStats& stats() const { return stats_; }
   const KeyframeLoopCloserStats& loop_closer_stats() const { return loop_closer_.stats(); }
-  /// Marker-based link decisions so far (accepted ones and the latest refusal per pair).
+  /// Marker- and sighting-based link decisions so far (accepted ones and the latest refusal per pair).
   const std::vector<LinkEvent>& landmark_link_events() const { return landmark_link_events_; }
 
  private:
@@ -121,6 +121,16 @@ class RobotLinker {
   void link_by_landmarks(MapperData* data, LinkUpdate* update);
   /// Links ra and rb on shared landmarks when the alignment and the map check allow; true if linked.
   bool try_link_by_landmarks(MapperData* data, RobotId ra, RobotId rb, LinkUpdate* update);
+  /// Links unlinked pairs on their sightings of each other (sightings.h), judged as markers are.
+  void link_by_sightings(MapperData* data, LinkUpdate* update);
+  /// False while the pair was judged fewer than LandmarkOptions::retry_observations ago; else
+  /// records `observations` as the pair's latest judgement.
+  bool due_for_judging(std::map<std::pair<RobotId, RobotId>, int>* judged_at, std::pair<RobotId, RobotId> pair,
+                       int observations) const;
+  /// Aligns the points known in both frames (entry i of la and lb is one point), then the map
+  /// check; links when both allow. `kind` names the evidence in the decision ("markers").
+  bool try_link_on_points(MapperData* data, RobotId ra, RobotId rb, const LocalLandmarks& la, const LocalLandmarks& lb,
+                          const std::string& kind, LinkUpdate* update);
   // Checks of link hypotheses and closures (robot_linker_checks.cpp).
   /// Why the clique `closures` (a = ra, b = rb) covers too little of a trajectory; empty if not.
   std::string spread_deficit(const MapperData& data, const std::vector<LoopClosure>& closures) const;
@@ -164,6 +174,8 @@ class RobotLinker {
   /// Per unlinked pair: observations of both robots when last judged (retry gate).
   std::map<std::pair<RobotId, RobotId>, int> landmark_pair_judged_at_;
   std::vector<LinkEvent> landmark_link_events_;
+  std::map<RobotId, int> sighting_counts_;  ///< sightings each robot made
+  std::map<std::pair<RobotId, RobotId>, int> sighting_pair_judged_at_;
 };
 
 }  // namespace cairn::base

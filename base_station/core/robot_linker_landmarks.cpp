@@ -1,4 +1,5 @@
-// RobotLinker: links on identified landmarks (markers; see robot_linker.h and landmarks.h).
+// RobotLinker: links on identified landmarks (markers; see robot_linker.h and landmarks.h) and on
+// robots seeing robots (sightings.h: each sighting is a point known in both robots' frames).
 // - Every robot keeps its own estimate of each landmark it saw, in its local frame
 //   (MapperData::local_landmarks, filled by note_keyframe).
 // - Two robots not linked yet that saw the same landmarks: their frames are aligned on the shared
@@ -9,6 +10,9 @@
 // - Once robots are linked, each landmark is a 2D point node of the pose graph (the mapper's part).
 #include "base_station/core/landmarks.h"
 #include "base_station/core/robot_linker.h"
+#include "base_station/core/sightings.h"
+
+#include <set>
 
 namespace cairn::base {
 
@@ -26,14 +30,42 @@ bool RobotLinker::try_link_by_landmarks(MapperData* data, RobotId ra, RobotId rb
   const LandmarkOptions& o = options_.landmarks;
   const LocalLandmarks& la = data->local_landmarks.at(ra);
   const LocalLandmarks& lb = data->local_landmarks.at(rb);
-  const int needed = std::min(o.min_link_landmarks, o.min_link_landmarks_map_confirmed);
-  if (shared_landmarks(la, lb) < needed) return false;
-  const std::pair<RobotId, RobotId> key{ra, rb};
+  if (shared_landmarks(la, lb) < std::min(o.min_link_landmarks, o.min_link_landmarks_map_confirmed)) return false;
   const int observations = landmark_observations_[ra] + landmark_observations_[rb];
-  auto judged = landmark_pair_judged_at_.find(key);
-  if (judged != landmark_pair_judged_at_.end() && observations - judged->second < o.retry_observations) return false;
-  landmark_pair_judged_at_[key] = observations;
+  if (!due_for_judging(&landmark_pair_judged_at_, {ra, rb}, observations)) return false;
+  return try_link_on_points(data, ra, rb, la, lb, "markers", update);
+}
 
+void RobotLinker::link_by_sightings(MapperData* data, LinkUpdate* update) {
+  if (!options_.landmarks.enabled) return;
+  std::set<std::pair<RobotId, RobotId>> pairs;
+  for (const Sighting& s : data->sightings) {
+    pairs.insert({std::min(s.observer.robot, s.seen), std::max(s.observer.robot, s.seen)});
+  }
+  for (const auto& [ra, rb] : pairs) {
+    if (component_of(*data, ra) == component_of(*data, rb)) continue;  // linked (maybe just now)
+    const int observations = sighting_counts_[ra] + sighting_counts_[rb];
+    if (!due_for_judging(&sighting_pair_judged_at_, {ra, rb}, observations)) continue;
+    LocalLandmarks la, lb;
+    sighting_correspondences(*data, ra, rb, &la, &lb);
+    try_link_on_points(data, ra, rb, la, lb, "sightings", update);
+  }
+}
+
+bool RobotLinker::due_for_judging(std::map<std::pair<RobotId, RobotId>, int>* judged_at,
+                                  std::pair<RobotId, RobotId> pair, int observations) const {
+  auto judged = judged_at->find(pair);
+  if (judged != judged_at->end() && observations - judged->second < options_.landmarks.retry_observations) {
+    return false;
+  }
+  (*judged_at)[pair] = observations;
+  return true;
+}
+
+bool RobotLinker::try_link_on_points(MapperData* data, RobotId ra, RobotId rb, const LocalLandmarks& la,
+                                     const LocalLandmarks& lb, const std::string& kind, LinkUpdate* update) {
+  const LandmarkOptions& o = options_.landmarks;
+  const int needed = std::min(o.min_link_landmarks, o.min_link_landmarks_map_confirmed);
   const LandmarkAlignment al = align_landmarks(la, lb, needed, o.max_link_rms_m, o.min_link_spread_m);
   LinkEvent ev{rb, ra, int(al.used.size()), false, false, 0.0, {}};
   auto record = [&](LinkEvent e) {
@@ -45,7 +77,7 @@ bool RobotLinker::try_link_by_landmarks(MapperData* data, RobotId ra, RobotId rb
     }
   };
   if (!al.ok) {
-    ev.reason = "markers: " + al.reason;
+    ev.reason = kind + ": " + al.reason;
     record(ev);
     return false;
   }
@@ -62,18 +94,18 @@ bool RobotLinker::try_link_by_landmarks(MapperData* data, RobotId ra, RobotId rb
   LinkEvent map = judge_link(*data, ra, rb, closures);
   ev.contradiction_ratio = map.contradiction_ratio;
   const int n = int(al.used.size());
-  const std::string what = std::to_string(n) + " shared markers (rms " + format_number("%.2f", al.rms_m) + " m, " +
+  const std::string what = std::to_string(n) + " shared " + kind + " (rms " + format_number("%.2f", al.rms_m) + " m, " +
                            std::to_string(al.dropped.size()) + " dropped)";
   if (!map.accepted && !map.inconclusive) {
-    ev.reason = "markers: " + what + " refuted by the map: " + map.reason;
+    ev.reason = kind + ": " + what + " refuted by the map: " + map.reason;
     ++stats_.rejected_map_contradiction;
     record(ev);
     return false;
   }
   if (map.inconclusive && n < o.min_link_landmarks) {
     ev.inconclusive = true;
-    ev.reason = "markers: " + what + ", map check inconclusive (" + map.reason +
-                "): " + std::to_string(o.min_link_landmarks) + " markers needed without map evidence";
+    ev.reason = kind + ": " + what + ", map check inconclusive (" + map.reason +
+                "): " + std::to_string(o.min_link_landmarks) + " needed without map evidence";
     record(ev);
     return false;
   }

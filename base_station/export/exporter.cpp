@@ -165,8 +165,9 @@ bool write_graph_g2o(const KeyframePoseGraph& graph, const std::string& path, st
   std::ostringstream s;
   s << std::setprecision(12);
   s << "# cairn pose graph. Vertex id = dense index over keyframes in (robot, seq) order, then over the"
-       " point nodes (markers, then merged objects); '# KEYFRAME <vertex> <robot> <seq>',"
-       " '# MARKER <vertex> <marker id>' and '# OBJECT <vertex> <robot> <seq>' lines give the mapping.\n";
+       " point nodes (markers, merged objects, then sightings); '# KEYFRAME <vertex> <robot> <seq>',"
+       " '# MARKER <vertex> <marker id>', '# OBJECT <vertex> <robot> <seq>' and"
+       " '# SIGHTING <vertex> <sighting index>' lines give the mapping.\n";
   std::map<KeyframeId, int> index;
   for (const auto& [id, pose] : graph.estimates()) {
     const int v = int(index.size());
@@ -196,6 +197,8 @@ bool write_graph_g2o(const KeyframePoseGraph& graph, const std::string& path, st
     points[id] = v;
     if (const auto* marker = std::get_if<LandmarkId>(&id)) {
       s << "# MARKER " << v << ' ' << marker->value << '\n';
+    } else if (const auto* sighting = std::get_if<SightingNodeId>(&id)) {
+      s << "# SIGHTING " << v << ' ' << sighting->index << '\n';
     } else {
       const ObjectId& object = std::get<ObjectId>(id);
       s << "# OBJECT " << v << ' ' << object.robot.value << ' ' << object.seq << '\n';

@@ -34,6 +34,11 @@ struct AgentOptions {
   /// Salient spots of the camera frames go out with the keyframes (Keyframe::salient) for the base's
   /// saliency layer (needs detector.use_saliency).
   bool enable_saliency_map = true;
+  /// A teammate's marker seen by the camera (common/robot_markers.h) goes out as a range-bearing
+  /// sighting with these sigmas (range: the depth's and the cylinder fit's error grow with range).
+  double sighting_sigma_range_m = 0.05;
+  double sighting_sigma_range_per_m = 0.01;
+  double sighting_sigma_bearing_rad = 0.02;
   SaliencyProjectionOptions saliency_map;
   /// After the agent's loop closing has moved its keyframes, their new poses go out
   /// (AgentOutputs::keyframe_poses) at most this often in mission time, and once more at the end

@@ -163,8 +163,8 @@ void AgentPipeline::process_rgbd(AgentOutputs* out) {
   const RgbdFrame frame = std::move(frames_.front());
   frames_.pop_front();
   ++stats_.rgbd_processed;
-  const DetectionFrame analysed = detector_.analyse(frame);
-  const std::vector<Detection>& detections = analysed.detections;
+  DetectionFrame analysed = detector_.analyse(frame);
+  const std::vector<Detection> detections = take_robot_sightings(frame.stamp_ns, &analysed.detections);
   if (options_.enable_saliency_map)
     saliency_pool_.add(pose_at(frame.stamp_ns), project_saliency(frame, analysed.saliency, options_.saliency_map));
   stats_.detections += int(detections.size());

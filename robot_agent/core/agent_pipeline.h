@@ -65,6 +65,7 @@ struct AgentStats {
   float collision_risk = 0.f;      ///< latest optical-flow estimate (0..1), for the status message
   int collision_estimates = 0;     ///< RGB frames that gave a valid flow estimate
   int landmarks_received = 0;      ///< identified landmark (marker) observations
+  int robot_sightings = 0;         ///< teammates' markers seen by the camera (also in landmarks_received)
   int landmarks_invalid = 0;       ///< NaN / negative / zero-sigma values: dropped
   int landmarks_in_keyframes = 0;  ///< attached to an emitted keyframe
   int keyframe_pose_updates = 0;   ///< AgentOutputs::keyframe_poses emitted
@@ -124,6 +125,9 @@ class AgentPipeline {
   std::optional<SE2> odometry_at(StampNs stamp_ns) const;
   Anchor anchor_at(StampNs stamp_ns) const;
   void attach_landmarks(Keyframe* kf);
+  /// Moves the teammates' markers out of `detections` into landmark observations (sightings);
+  /// returns the objects (agent_pipeline_landmarks.cpp).
+  std::vector<Detection> take_robot_sightings(StampNs stamp_ns, std::vector<Detection>* detections);
   std::optional<KeyframePoses> keyframe_poses(bool flush);
 
   RobotId robot_;

@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "common/robot_markers.h"
 #include "robot_agent/core/agent_pipeline.h"
 #include "robot_agent/core/test_util.h"
 
@@ -56,6 +57,48 @@ TEST(AgentPipelineLandmarks, ObservationsReachKeyframesInTheirFrame) {
   EXPECT_EQ(attached, stats.landmarks_in_keyframes);
   EXPECT_GT(attached, sent / 2);  // only those after the last keyframe stay behind
   EXPECT_LT(worst, 0.15) << "marker position from keyframe pose + observation";
+}
+
+TEST(AgentPipelineLandmarks, ATeammatesMarkerBecomesASightingNotAnObject) {
+  // Robot 1 (its marker's colour) stands at (2, 1); robot 0 drives past it with the camera on.
+  const auto room = testing::make_room();
+  const Eigen::Vector3d teammate(2.0, 1.0, 0.3);
+  const RobotMarker marker = *robot_marker(RobotId(1));
+  AgentOptions options;
+  options.max_pending_scans = 100000;
+  AgentPipeline agent(RobotId(0), options);
+  SE2 pose(-2.0, -1.0, 0.3);
+  const SE2 T_world_local = pose;
+  std::vector<Keyframe> keyframes;
+  int object_reports = 0;
+  for (int i = 0; i <= 40; ++i) {
+    const StampNs t = StampNs(i) * kNsPerSec / 10;
+    agent.add_odometry({t, T_world_local.between(pose), 0, 0});
+    agent.add_scan(testing::ray_cast(room, pose, t, 360, 0.01, unsigned(i)));
+    if (i % 2 == 0) agent.add_rgbd(testing::render_rgbd(pose, teammate, 0.4, t, marker.color_rgb));
+    AgentOutputs out = agent.process();
+    object_reports += int(out.objects.size());
+    for (Keyframe& kf : out.keyframes) keyframes.push_back(std::move(kf));
+    pose = pose * SE2(0.06, 0, -0.008);
+  }
+  AgentOutputs out = agent.process(true);
+  object_reports += int(out.objects.size());
+  for (Keyframe& kf : out.keyframes) keyframes.push_back(std::move(kf));
+  EXPECT_EQ(object_reports, 0) << "a teammate is not an object of interest";
+  EXPECT_GT(agent.stats().robot_sightings, 5);
+  int sightings = 0;
+  double worst = 0;
+  for (const Keyframe& kf : keyframes) {
+    for (const LandmarkObservation& o : kf.landmarks) {
+      ASSERT_EQ(o.id, robot_marker_landmark(RobotId(1)));
+      const Eigen::Vector2d truth_local = T_world_local.inverse() * teammate.head<2>();
+      worst = std::max(worst, (kf.T_local_base * o.point_m() - truth_local).norm());
+      ++sightings;
+    }
+  }
+  EXPECT_GT(sightings, 5);
+  // The painted square is the marker's near face: its centre sits up to half its size closer.
+  EXPECT_LT(worst, 0.25) << "teammate position from keyframe pose + sighting";
 }
 
 }  // namespace

@@ -98,7 +98,8 @@ void paint_square(RgbdFrame* f, int u0, int v0, int size, uint8_t r, uint8_t g, 
     }
 }
 
-RgbdFrame render_rgbd(const SE2& T_world_base, const Eigen::Vector3d& object_world, double size_m, StampNs stamp_ns) {
+RgbdFrame render_rgbd(const SE2& T_world_base, const Eigen::Vector3d& object_world, double size_m, StampNs stamp_ns,
+                      const std::array<uint8_t, 3>& rgb) {
   RgbdFrame f;
   f.stamp_ns = stamp_ns;
   f.intrinsics = CameraIntrinsics{160, 120, 130.0, 130.0, 79.5, 59.5, 0.001};
@@ -115,9 +116,9 @@ RgbdFrame render_rgbd(const SE2& T_world_base, const Eigen::Vector3d& object_wor
     for (int col = 0; col < 160; ++col) {
       if (std::abs(col - u) > half_px || std::abs(row - v) > half_px) continue;
       const size_t i = size_t(row) * 160 + col;
-      f.rgb[3 * i] = 220;
-      f.rgb[3 * i + 1] = 30;
-      f.rgb[3 * i + 2] = 30;
+      f.rgb[3 * i] = rgb[0];
+      f.rgb[3 * i + 1] = rgb[1];
+      f.rgb[3 * i + 2] = rgb[2];
       f.depth[i] = uint16_t(std::lround(p_cam.z() * 1000.0));
     }
   }

@@ -1,4 +1,5 @@
 #pragma once
+#include <array>
 // Test and benchmark helpers: a synthetic polygonal world ray-cast analytically, a synthetic RGB-D
 // camera, and the first scans of a CARMEN log (via common/carmen_log).
 #include <Eigen/Core>
@@ -23,9 +24,11 @@ std::vector<Segment> make_room(double yaw_rad = 0.3);
 LaserScan ray_cast(const std::vector<Segment>& world, const SE2& T_world_base, StampNs stamp_ns, int num_beams = 360,
                    double noise_sigma_m = 0.0, unsigned seed = 1);
 
-/// A 160x120 RGB-D frame; draws a red square object of `size_m` at world point `object_world`
-/// when visible (constant depth = its distance along the optical axis). Camera looks along base x.
-RgbdFrame render_rgbd(const SE2& T_world_base, const Eigen::Vector3d& object_world, double size_m, StampNs stamp_ns);
+/// A 160x120 RGB-D frame; draws a square object of `size_m` in `rgb` (default victim red) at world
+/// point `object_world` when visible (constant depth = its distance along the optical axis). Camera
+/// looks along base x.
+RgbdFrame render_rgbd(const SE2& T_world_base, const Eigen::Vector3d& object_world, double size_m, StampNs stamp_ns,
+                      const std::array<uint8_t, 3>& rgb = {{220, 30, 30}});
 /// The camera mounting used by render_rgbd: optical frame at (0.1, 0, 0.4) in the base, looking along x.
 Eigen::Isometry3d test_T_base_camera();
 /// A 320x240 RGB-D frame (fx = fy = 260, centred) of a grey wall 4 m ahead, with that mounting.

@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "common/robot_markers.h"
 #include "robot_agent/core/objects/cloud_filter.h"
 
 namespace cairn::agent {
@@ -129,7 +130,7 @@ double blob_saliency(const ImageD& sal, int sal_w, int sal_h, const cv::Mat& lab
 }  // namespace
 
 std::vector<ObjectClassOptions> default_object_classes() {
-  return {
+  std::vector<ObjectClassOptions> classes = {
       {"victim",
        {HsvRange{0, 120, 70, 16, 255, 255}, HsvRange{170, 120, 70, 180, 255, 255}},
        150,
@@ -139,6 +140,31 @@ std::vector<ObjectClassOptions> default_object_classes() {
       {"hazard", {HsvRange{20, 120, 70, 35, 255, 255}}, 150, 0.3, 12.0, Eigen::Vector2d::Zero()},
       {"exit", {HsvRange{45, 80, 50, 85, 255, 255}}, 150, 0.3, 12.0, Eigen::Vector2d(1.0, 0.12)},
   };
+  const std::vector<ObjectClassOptions> markers = robot_marker_classes();
+  classes.insert(classes.end(), markers.begin(), markers.end());
+  return classes;
+}
+
+std::vector<ObjectClassOptions> robot_marker_classes() {
+  std::vector<ObjectClassOptions> out;
+  for (const RobotMarker& m : kRobotMarkers) {
+    out.push_back({robot_marker_class(m.robot),
+                   {HsvRange{m.hue - 7, 120, 40, m.hue + 7, 255, 255}},
+                   150,
+                   0.3,
+                   12.0,
+                   Eigen::Vector2d::Zero()});
+  }
+  return out;
+}
+
+std::string robot_marker_class(RobotId robot) { return "robot marker " + std::to_string(robot.value); }
+
+std::optional<RobotId> robot_of_marker_class(const std::string& class_name) {
+  for (const RobotMarker& m : kRobotMarkers) {
+    if (class_name == robot_marker_class(m.robot)) return m.robot;
+  }
+  return std::nullopt;
 }
 
 ObjectDetector::ObjectDetector(const ObjectDetectorOptions& options) : options_(options) {}

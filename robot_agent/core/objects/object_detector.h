@@ -7,8 +7,11 @@
 // depth the ground homography of Eq. 19 places the blob's floor contact point instead.
 // OpenCV and PCL stay inside the .cpp files.
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "common/ids.h"
 
 #include "common/point_cloud.h"
 #include "common/sensors.h"
@@ -35,8 +38,14 @@ struct ObjectClassOptions {
   Eigen::Vector2d box_footprint_m = Eigen::Vector2d::Zero();
 };
 
-/// victim = red/orange (lying: 1.6 x 0.5 m), hazard = yellow, exit = green (door panel: 1.0 x 0.12 m).
+/// victim = red/orange (lying: 1.6 x 0.5 m), hazard = yellow, exit = green (door panel: 1.0 x 0.12 m),
+/// then the team's robot markers (robot_marker_classes()).
 std::vector<ObjectClassOptions> default_object_classes();
+/// One class per marked robot (common/robot_markers.h), named robot_marker_class(id): its hue +- 7.
+std::vector<ObjectClassOptions> robot_marker_classes();
+std::string robot_marker_class(RobotId robot);
+/// The robot whose marker class `class_name` is; nullopt for an object class.
+std::optional<RobotId> robot_of_marker_class(const std::string& class_name);
 
 struct ObjectDetectorOptions {
   std::vector<ObjectClassOptions> classes = default_object_classes();
