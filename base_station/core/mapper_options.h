@@ -50,6 +50,23 @@ struct GuidedLinkOptions {
   }();
 };
 
+/// The operator's alignment of an unlinked robot's map in the console (robot_linker_operator.cpp):
+/// a hypothesis searched around with windows for a hand's error, not a robot's drift.
+struct OperatorAlignmentOptions {
+  /// Any heading (360 deg scans) and keyframes up to 6 m apart: two robots' maps overlap where
+  /// their lasers reached, often metres from where either drove.
+  GuidedLinkOptions search = [] {
+    GuidedLinkOptions o;
+    o.sample_spacing_m = 0.5;
+    o.max_distance_m = 6.0;
+    o.max_yaw_difference_rad = M_PI;
+    o.verifier.linear_window_m = 1.5;
+    o.verifier.angular_window_rad = 0.35;  // 20 deg
+    return o;
+  }();
+  int min_closures = 3;  ///< verified matches that agree with each other, needed before the map check
+};
+
 struct MapperOptions {
   OccupancyGridOptions grid;  ///< global map; resolution 0.05 m by default
   /// Max-range beams (no return) clear free space up to min(scan range_max, this).
@@ -100,6 +117,7 @@ struct MapperOptions {
   bool check_map_consistency = true;
   MapConsistencyOptions map_check;
   GuidedLinkOptions guided_link;
+  OperatorAlignmentOptions operator_alignment;
   double linked_closure_gate_m = 0.3;
   double linked_closure_gate_rad = 0.1;
   /// ...but one that disagrees by more than this is no drift correction of the linked robots: it is

@@ -27,7 +27,8 @@ struct MergedMap {
   /// Objects of robots not linked yet, in their robot's own frame (GlobalObject::frame), by id.
   std::vector<GlobalObject> unplaced_objects;
   const std::vector<RobotFrameMap>* robot_frame_maps = nullptr;  ///< each unlinked robot's own map, by robot
-  uint64_t version = 0;                                          ///< MultiRobotMapper::version() when made
+  std::map<RobotId, AlignmentVerdict> alignments;  ///< the operator's latest alignment of each robot, judged
+  uint64_t version = 0;                            ///< MultiRobotMapper::version() when made
 
   /// Every object the team is shown: the placed ones, then the unplaced ones.
   std::vector<const GlobalObject*> all_objects() const {

@@ -77,6 +77,12 @@ bool MultiRobotMapper::set_entry_hint(RobotId robot, const EntryHint& hint) {
   return true;
 }
 
+bool MultiRobotMapper::request_alignment(RobotId robot, const SE2& T_global_local) {
+  if (!robot.valid() || !finite(T_global_local)) return false;
+  linker_.request_alignment(robot, T_global_local);
+  return true;
+}
+
 AddResult MultiRobotMapper::add_keyframe(const Keyframe& kf) {
   const std::string invalid = validate(kf);
   if (!invalid.empty()) return {AddStatus::kRejected, to_string(kf.id) + ": " + invalid};
@@ -252,6 +258,7 @@ MergedMap MultiRobotMapper::merged() const {
   m.objects = objects();
   m.unplaced_objects = unplaced_objects();
   m.robot_frame_maps = &robot_frame_maps();
+  m.alignments = linker_.alignments();
   m.version = version_;
   return m;
 }

@@ -39,6 +39,11 @@ class MultiRobotMapper {
   /// lets it link sooner; never places it by itself. False (nothing stored) when not finite or a
   /// sigma is not positive.
   bool set_entry_hint(RobotId robot, const EntryHint& hint);
+  /// The operator placed an unlinked robot's map at T_global_local (the console): verified at the
+  /// next optimize() (RobotLinker, robot_linker_operator.cpp), never a link by itself. False
+  /// (nothing stored) when the robot id is invalid or the pose not finite.
+  bool request_alignment(RobotId robot, const SE2& T_global_local);
+  const std::map<RobotId, AlignmentVerdict>& alignments() const { return linker_.alignments(); }
   AddResult add_keyframe(const Keyframe& keyframe);
   /// The agent's loop-closed estimate of its keyframes (common/keyframe.h): from the next
   /// optimize() the chain between consecutive keyframes follows it instead of the front end's

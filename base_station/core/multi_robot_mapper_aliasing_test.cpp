@@ -1,7 +1,9 @@
 // Perceptual aliasing in the merger: two wings of a building that are exact translated copies.
 // Robots exploring different wings see identical rooms, so Scan Context + verification yield
 // inter-robot closures that PCM finds mutually consistent; only the map-level check (corridor
-// ends, outer walls) tells the hypothesis is wrong. Runs without DDS.
+// ends, outer walls) tells the hypothesis is wrong. The operator's alignment of a robot's map in the
+// console is judged the same way: refined when right, refused with its reason on the look-alike
+// wing. Runs without DDS.
 #include <gtest/gtest.h>
 
 #include <optional>
@@ -197,6 +199,63 @@ TEST(MapConsistency, ShiftedCopyContradictsAndTruthAgrees) {
   EXPECT_GE(contradicting_pixels(drawn), alias.contradicting_cells * 9 / 10);
   EXPECT_LE(contradicting_pixels(drawn), alias.contradicting_cells);
   EXPECT_LE(contradicting_pixels(draw_map_consistency(a, b_truth)), truth.contradicting_cells);
+}
+
+// The operator's alignment (robot_linker_operator.cpp).
+
+TEST(MultiRobotMapperAliasing, AnOperatorsAlignmentAMetreOffIsRefinedToTheRightPlacement) {
+  const std::vector<SE2> p0 = along(west_route(0));
+  std::vector<Eigen::Vector2d> back = west_route(0);
+  std::reverse(back.begin(), back.end());  // robot 1 retraces wing W from its east end
+  const std::vector<SE2> p1 = along(back);
+  MapperOptions no_loops;  // only the operator can link them
+  no_loops.detect_loops = false;
+  OptimizeResult r;
+  MultiRobotMapper mapper = run(p0, p1, no_loops, &r);
+  ASSERT_FALSE(mapper.linked(RobotId(1)));
+  const SE2 truth = p0[0].inverse() * p1[0];
+  const SE2 dragged = SE2(0.8, -0.6, 8.0 * M_PI / 180.0) * truth;  // 1 m and 8 deg off
+  ASSERT_TRUE(mapper.request_alignment(RobotId(1), dragged));
+  EXPECT_EQ(mapper.alignments().at(RobotId(1)).state, AlignmentState::kPending);
+  mapper.optimize();
+  const AlignmentVerdict& v = mapper.alignments().at(RobotId(1));
+  ASSERT_EQ(v.state, AlignmentState::kAccepted) << v.reason;
+  EXPECT_GE(v.closures, 3);
+  EXPECT_LT((v.placed.translation() - truth.translation()).norm(), 0.1) << v.reason;
+  ASSERT_TRUE(mapper.linked(RobotId(1)));
+  EXPECT_LT(worst_position_error_m(mapper, RobotId(1), p1, p0[0].inverse()), 0.05);
+  std::printf("[operator alignment] %s\n", v.reason.c_str());
+  ASSERT_TRUE(mapper.request_alignment(RobotId(1), dragged));  // again: it is on the map already
+  mapper.optimize();
+  EXPECT_EQ(mapper.alignments().at(RobotId(1)).state, AlignmentState::kRefused);
+  EXPECT_NE(mapper.alignments().at(RobotId(1)).reason.find("already on the map"), std::string::npos);
+}
+
+TEST(MultiRobotMapperAliasing, AnOperatorsAlignmentOntoTheLookAlikeWingIsRefusedWithItsReason) {
+  const std::vector<SE2> p0 = along(west_route(0)), p1 = along(west_route(12));  // robot 1 in wing E
+  OptimizeResult r;
+  MultiRobotMapper mapper = run(p0, p1, MapperOptions{}, &r);
+  ASSERT_FALSE(mapper.linked(RobotId(1)));
+  const SE2 truth = p0[0].inverse() * p1[0];
+  mapper.request_alignment(RobotId(1), SE2(-12.0, 0.0, 0.0) * truth);  // onto wing W, where it looks right
+  mapper.optimize();
+  const AlignmentVerdict& wrong = mapper.alignments().at(RobotId(1));
+  EXPECT_EQ(wrong.state, AlignmentState::kRefused);
+  EXPECT_NE(wrong.reason.find("map check refutes"), std::string::npos) << wrong.reason;
+  EXPECT_FALSE(mapper.linked(RobotId(1)));
+  std::printf("[operator alignment] look-alike wing: %s\n", wrong.reason.c_str());
+  // The true placement: robot 0 never saw wing E, so nothing there can confirm it (what the wide
+  // search finds there are stray matches that disagree with each other).
+  mapper.request_alignment(RobotId(1), truth);
+  mapper.optimize();
+  const AlignmentVerdict& unseen = mapper.alignments().at(RobotId(1));
+  EXPECT_EQ(unseen.state, AlignmentState::kRefused);
+  EXPECT_TRUE(unseen.reason.find("does not overlap") != std::string::npos ||
+              unseen.reason.find("disagree") != std::string::npos)
+      << unseen.reason;
+  EXPECT_FALSE(mapper.linked(RobotId(1)));
+  EXPECT_FALSE(mapper.request_alignment(RobotId(1), SE2(std::nan(""), 0.0, 0.0)));
+  EXPECT_FALSE(mapper.request_alignment(RobotId(), truth));
 }
 
 }  // namespace

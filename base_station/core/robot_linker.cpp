@@ -49,6 +49,7 @@ LinkUpdate RobotLinker::update(MapperData* data) {
   choose_anchor(data);
   link_by_landmarks(data, &update);  // robot_linker_landmarks.cpp
   link_by_sightings(data, &update);  // robot_linker_landmarks.cpp
+  judge_alignments(data, &update);   // robot_linker_operator.cpp
   if (options_.detect_loops) {
     detect_new_loops(data, &update);
     refresh_own_frames(data);

@@ -7,7 +7,9 @@
 //   (KeyframeLoopCloser), then PCM (maximum clique) over each robot pair's closures before the pair
 //   is first linked, the clique's spread over both trajectories, and a map-level consistency check
 //   of the placement it implies (a wrong merge is worse than a late one);
-// - shared identified landmarks (markers), aligned and put through the same map check.
+// - shared identified landmarks (markers), aligned and put through the same map check;
+// - robots seeing robots (sightings.h), aligned and judged as markers are;
+// - the operator's alignment in the console: verified scan matches around it, then the map check.
 // Once a pair is linked, a closure that would move it passes a gate and the map check first, and a
 // closure within one robot must agree with its own map up to its drift.
 // add-side calls only store (note_keyframe); every decision happens in update(), which returns
@@ -71,6 +73,19 @@ struct LinkUpdate {
   int pending_candidates = 0;       ///< verified inter-robot closures waiting for PCM
 };
 
+/// The operator's alignment of an unlinked robot's map over the global map (the console), and what
+/// the base made of it (robot_linker_operator.cpp).
+enum class AlignmentState { kPending, kAccepted, kRefused };
+const char* to_string(AlignmentState state);
+struct AlignmentVerdict {
+  RobotId robot;
+  SE2 requested;  ///< T_global_local as the operator placed it
+  AlignmentState state = AlignmentState::kPending;
+  SE2 placed;          ///< accepted: T_global_local the verified matches gave
+  int closures = 0;    ///< verified scan matches that agreed
+  std::string reason;  ///< why refused, or how it was placed
+};
+
 /// The pose-graph edge of a loop closure: its covariance inverted (identity if not positive definite).
 PoseGraphEdge loop_edge(const LoopClosure& c);
 /// The same closure seen from b (a and b swapped, transform inverted, covariance rotated into b).
@@ -84,14 +99,19 @@ class RobotLinker {
   /// added to its robot's local landmarks. Before the first update() the lowest robot seen anchors
   /// provisionally (data.starts), so its keyframes are placed at once; true when that moved.
   bool note_keyframe(const Keyframe& kf, MapperData* data);
-  /// Every link decision, in this order: commit the anchor, marker links, loop detection (intra
-  /// closures gated, inter-robot ones queued for PCM), unlinked robots' own frames, scan links of
+  /// Every link decision, in this order: commit the anchor, marker links, sighting links, the
+  /// operator's alignments, loop detection (intra closures gated, inter-robot ones queued for
+  /// PCM), unlinked robots' own frames, scan links of
   /// robot pairs, placing newly linked robots (data.starts), then closures held until both robots
   /// were placed.
   LinkUpdate update(MapperData* data);
 
   const LinkStats& stats() const { return stats_; }
   const KeyframeLoopCloserStats& loop_closer_stats() const { return loop_closer_.stats(); }
+  /// The operator placed `robot`'s own map at T_global_local: judged at the next update().
+  void request_alignment(RobotId robot, const SE2& T_global_local);
+  /// Every robot's latest alignment and its verdict.
+  const std::map<RobotId, AlignmentVerdict>& alignments() const { return alignments_; }
   /// Marker- and sighting-based link decisions so far (accepted ones and the latest refusal per pair).
   const std::vector<LinkEvent>& landmark_link_events() const { return landmark_link_events_; }
 
@@ -131,6 +151,10 @@ class RobotLinker {
   /// check; links when both allow. `kind` names the evidence in the decision ("markers").
   bool try_link_on_points(MapperData* data, RobotId ra, RobotId rb, const LocalLandmarks& la, const LocalLandmarks& lb,
                           const std::string& kind, LinkUpdate* update);
+  // The operator's alignments (robot_linker_operator.cpp).
+  void judge_alignments(MapperData* data, LinkUpdate* update);
+  /// Verified matches around the alignment, their rigid fit, the map check; links rb when all pass.
+  void judge_alignment(MapperData* data, AlignmentVerdict* verdict, LinkUpdate* update);
   // Checks of link hypotheses and closures (robot_linker_checks.cpp).
   /// Why the clique `closures` (a = ra, b = rb) covers too little of a trajectory; empty if not.
   std::string spread_deficit(const MapperData& data, const std::vector<LoopClosure>& closures) const;
@@ -154,6 +178,9 @@ class RobotLinker {
   /// Verified closures (a in frame A, b = rb) between rb's keyframes placed by T_A_blocal and the
   /// nearest keyframes of frame A, each searched in a small window around the hypothesis.
   std::vector<LoopClosure> guided_closures(const MapperData& data, RobotId ra, RobotId rb, const SE2& T_A_blocal) const;
+  /// The same with other search options (the operator's alignment).
+  std::vector<LoopClosure> guided_closures(const MapperData& data, RobotId ra, RobotId rb, const SE2& T_A_blocal,
+                                           const GuidedLinkOptions& options) const;
   /// rb's keyframes in frame A solved against the clique and the guided closures (a in frame A,
   /// held fixed), keeping rb's own map as stiff as its front end's uncertainty says. Guided closures
   /// the solution leaves off by more than GuidedLinkOptions::max_residual_* are dropped from *guided.
@@ -175,6 +202,7 @@ class RobotLinker {
   std::map<std::pair<RobotId, RobotId>, int> landmark_pair_judged_at_;
   std::vector<LinkEvent> landmark_link_events_;
   std::map<RobotId, int> sighting_counts_;  ///< sightings each robot made
+  std::map<RobotId, AlignmentVerdict> alignments_;
   std::map<std::pair<RobotId, RobotId>, int> sighting_pair_judged_at_;
 };
 

@@ -31,7 +31,11 @@ std::vector<std::pair<KeyframeId, SE2>> placed_side(const MapperData& data, Robo
 
 std::vector<LoopClosure> RobotLinker::guided_closures(const MapperData& data, RobotId ra, RobotId rb,
                                                       const SE2& T_A_blocal) const {
-  const GuidedLinkOptions& o = options_.guided_link;
+  return guided_closures(data, ra, rb, T_A_blocal, options_.guided_link);
+}
+
+std::vector<LoopClosure> RobotLinker::guided_closures(const MapperData& data, RobotId ra, RobotId rb,
+                                                      const SE2& T_A_blocal, const GuidedLinkOptions& o) const {
   std::vector<LoopClosure> out;
   if (!o.enabled || o.max_verifications <= 0) return out;
   const std::vector<std::pair<KeyframeId, SE2>> side_a = placed_side(data, ra);
