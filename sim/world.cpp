@@ -120,7 +120,8 @@ bool load_sim(const YamlConfig& root, SimOptions& sim) {
   bool drive_given = false;
   if (root.has("sim")) {
     const YamlConfig s = root["sim"];
-    s.allow_only({"seed", "dt_s", "duration_s", "settle_time_s", "drive", "robot_radius_m", "lasers_see_robots"});
+    s.allow_only({"seed", "dt_s", "duration_s", "settle_time_s", "drive", "robot_radius_m", "lasers_see_robots",
+                  "cameras_see_robots"});
     const long long seed = s.get<long long>("seed", (long long)sim.seed);
     if (seed < 0) s.fail("seed", "must be >= 0");
     sim.seed = uint64_t(seed);
@@ -129,6 +130,7 @@ bool load_sim(const YamlConfig& root, SimOptions& sim) {
     sim.settle_time_s = non_negative(s, "settle_time_s", sim.settle_time_s, 3600);
     sim.robot_radius_m = positive(s, "robot_radius_m", sim.robot_radius_m, 5);
     sim.lasers_see_robots = s.get("lasers_see_robots", sim.lasers_see_robots);
+    sim.cameras_see_robots = s.get("cameras_see_robots", sim.cameras_see_robots);
     if (s.has("drive")) sim.drive_mode = parse_drive(s), drive_given = true;
   }
   load_sensors(root, sim);

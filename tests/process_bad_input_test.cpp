@@ -170,7 +170,7 @@ TEST(ProcessBadInput, ARobotKnownOnlyFromItsStatusesIsInTheSummary) {
 // The operator's commands and verdicts survive a base restart (a command with what the robot last
 // said of it); a damaged command record is named and kept, not fatal.
 TEST(ProcessBadInput,
-     OperatorCommandsVerdictsAlertAcksKeepOutAreasAndObjectIdsSurviveABaseRestartAndADamagedOneIsNamed) {
+     OperatorCommandsVerdictsAlertAcksKeepOutAreasObjectIdsAndAlignmentsSurviveABaseRestartAndADamagedOneIsNamed) {
   cairn_msgs::RobotStatus status;
   status.robot_id(5);
   status.finished(true);
@@ -185,6 +185,8 @@ TEST(ProcessBadInput,
   const std::string ack = R"({"key": "object:5-3"})";
   const std::string object_id = R"({"report": [5, 3], "shown": [5, 3], "order": 0})";
   const std::string bad_object_id = R"({"report": [5], "shown": [5, 3], "order": 1})";
+  const std::string alignment = R"({"robot": 5, "x_m": 1.5, "y_m": -2, "yaw_deg": 30})";
+  const std::string bad_alignment = R"({"robot": 5, "x_m": "east", "y_m": -2, "yaw_deg": 30})";
   const std::string dir = folder_with_journal(
       "base_commands",
       {robot5_record(base::JournalKind::kStatus, 0, dds::to_cdr<cairn_msgs::RobotStatusPubSubType>(status)),
@@ -196,7 +198,9 @@ TEST(ProcessBadInput,
        robot5_record(base::JournalKind::kAlertAck, 1, {ack.begin(), ack.end()}),
        robot5_record(base::JournalKind::kAlertAck, 2, {'{', '}'}),
        robot5_record(base::JournalKind::kObjectId, 1, {object_id.begin(), object_id.end()}),
-       robot5_record(base::JournalKind::kObjectId, 2, {bad_object_id.begin(), bad_object_id.end()})});
+       robot5_record(base::JournalKind::kObjectId, 2, {bad_object_id.begin(), bad_object_id.end()}),
+       robot5_record(base::JournalKind::kAlignment, 0, {alignment.begin(), alignment.end()}),
+       robot5_record(base::JournalKind::kAlignment, 1, {bad_alignment.begin(), bad_alignment.end()})});
   const auto [r, summary] = run_base_on(dir);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("skipped operator command 8 of robot5"), std::string::npos) << r.output;
@@ -214,9 +218,16 @@ TEST(ProcessBadInput,
                           "non-negative integers"),
             std::string::npos)
       << r.output;
-  EXPECT_EQ(summary["journal"]["skipped_records"], 4);
+  EXPECT_NE(r.output.find("skipped operator alignment 1 of robot5: \"x_m\" must be a number"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(summary["journal"]["skipped_records"], 5);
   // The damaged records are kept for a later look; robot 5's session (the status's) is journaled.
-  EXPECT_EQ(summary["journal"]["records"], 11);
+  EXPECT_EQ(summary["journal"]["records"], 13);
+  // The operator's alignment is judged again (robot 5 sent no keyframes: refused, saying so).
+  ASSERT_EQ(summary["alignments"].size(), 1u) << summary.dump();
+  EXPECT_EQ(summary["alignments"][0]["x_m"], 1.5);
+  EXPECT_EQ(summary["alignments"][0]["state"], "refused");
+  EXPECT_FALSE(summary["alignments"][0]["reason"].get<std::string>().empty());
   EXPECT_EQ(summary["alerts_acknowledged"], nlohmann::json::array({"object:5-3"}));
   ASSERT_EQ(summary["verdicts"].size(), 1u) << summary.dump();
   EXPECT_EQ(summary["verdicts"][0]["object"], "5-3");

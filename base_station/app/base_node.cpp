@@ -163,6 +163,12 @@ void BaseNode::report_linking(const OptimizeResult& r) {
     const LinkEvent& e = marker_events[landmark_events_reported_];
     log_->info("marker or sighting link {} <-> {}: {}", sessions_.label(e.robot), sessions_.label(e.other), e.reason);
   }
+  for (const auto& [robot, v] : mapper_.alignments()) {  // each verdict once (pending ones are logged on request)
+    const std::string said = std::string(to_string(v.state)) + v.reason;
+    if (v.state == AlignmentState::kPending || alignments_reported_[robot] == said) continue;
+    alignments_reported_[robot] = said;
+    log_->info("operator alignment of {} {}: {}", sessions_.label(robot), to_string(v.state), v.reason);
+  }
   CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 10.0,
                         "graph: {} nodes, {} loop closures ({} between robots), {} candidates pending, "
                         "{} robots not linked yet",
@@ -291,6 +297,14 @@ int BaseNode::finish() {
   summary["verdicts"] = nlohmann::json::array();           // the operator's, as given (objects.csv: as applied)
   for (const auto& [id, v] : verdicts_.records())
     summary["verdicts"].push_back({{"object", object_key(id)}, {"verdict", to_string(v.verdict)}, {"note", v.note}});
+  summary["alignments"] = nlohmann::json::array();  // the operator's latest per robot, and the verdict
+  for (const auto& [robot, a] : mapper_.alignments())
+    summary["alignments"].push_back({{"robot", robot.value},
+                                     {"x_m", a.requested.x()},
+                                     {"y_m", a.requested.y()},
+                                     {"yaw_deg", a.requested.yaw() * 180.0 / M_PI},
+                                     {"state", to_string(a.state)},
+                                     {"reason", a.reason}});
   summary["rejected_samples"] = rejected_samples_;
   summary["refused_overwrites"] = refused_overwrites_;
   summary["spoofed_samples"] = spoofed_samples_;  // with DDS Security: a robot id its writer's certificate is not

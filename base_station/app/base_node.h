@@ -135,6 +135,9 @@ class BaseNode {
   /// The operator's alert acknowledgements not journaled yet go into the journal (kAlertAck).
   void journal_alert_acks();
   bool restore_alert_ack(const JournalRecord& r, std::string* error);
+  /// The operator's alignments of unlinked robots: to the mapper (judged at its next optimise) and the journal.
+  void take_alignments();
+  bool restore_alignment(const JournalRecord& r, std::string* error);
   void apply_search_controls();  ///< the operator's pause, resume and keep-out areas
   bool restore_verdict(const JournalRecord& r, std::string* error);
   /// The merged map with the operator's verdicts on its objects (what the console and exports show).
@@ -207,6 +210,7 @@ class BaseNode {
   int spoofed_samples_ = 0;              ///< samples whose writer does not hold their robot's certificate
   RobotSessions sessions_;               ///< (robot, session) on the wire -> the base's robot id
   size_t landmark_events_reported_ = 0;  ///< mapper_.landmark_link_events() already logged
+  std::map<RobotId, std::string> alignments_reported_;  ///< the operator alignments' verdicts already logged
 };
 
 }  // namespace cairn::base

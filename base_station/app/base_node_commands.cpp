@@ -21,6 +21,7 @@ void BaseNode::send_operator_commands() {
     refresh_snapshot();  // the console shows it at once
   }
   journal_alert_acks();
+  take_alignments();
   apply_search_controls();  // first: a pause or resume queues its stop or resume commands
   const std::vector<CommandInbox::Entry> entries = inbox_.take_all();
   if (entries.empty()) return;
@@ -147,6 +148,27 @@ bool BaseNode::restore_alert_ack(const JournalRecord& r, std::string* error) {
   journaled_alert_acks_.insert(*key);
   inbox_.ack_alert(*key);  // shown acknowledged as soon as it is raised again
   return true;
+}
+
+void BaseNode::take_alignments() {
+  const std::vector<AlignmentRequest> requests = inbox_.take_alignments();
+  for (const AlignmentRequest& a : requests) {
+    if (!mapper_.request_alignment(a.robot, a.T_global_local)) continue;  // parse_alignment_request checked it
+    const std::string payload = alignment_request_to_json(a);
+    journal(JournalKind::kAlignment, a.robot.value, 0, std::vector<uint8_t>(payload.begin(), payload.end()));
+    log_->info("operator: {} aligned at ({:.2f}, {:.2f}) m, {:.1f} deg: verifying", sessions_.label(a.robot),
+               a.T_global_local.x(), a.T_global_local.y(), a.T_global_local.yaw() * 180.0 / M_PI);
+  }
+  if (requests.empty()) return;
+  flush_journal();
+  refresh_snapshot(/*full=*/false);  // the console shows "verifying" at once
+}
+
+bool BaseNode::restore_alignment(const JournalRecord& r, std::string* error) {
+  const auto a = alignment_request_from_json(std::string(r.payload.begin(), r.payload.end()), error);
+  if (!a) return false;
+  if (a->robot != r.robot) return *error = "alignment record: its robot differs from the journal's", false;
+  return mapper_.request_alignment(a->robot, a->T_global_local);  // judged again once the keyframes are back
 }
 
 MergedMap BaseNode::judged_map() const {

@@ -119,6 +119,9 @@ void BaseNode::restore(const JournalContents& contents) {
       case JournalKind::kAlertAck:
         restored = restore_alert_ack(r, &why);
         break;
+      case JournalKind::kAlignment:
+        restored = restore_alignment(r, &why);
+        break;
     }
     if (restored)
       ++restored_records_;

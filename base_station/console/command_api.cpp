@@ -142,6 +142,16 @@ std::vector<VerdictRequest> CommandInbox::take_verdicts() {
   return std::exchange(verdicts_, {});
 }
 
+void CommandInbox::push_alignment(const AlignmentRequest& request) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  alignments_.push_back(request);
+}
+
+std::vector<AlignmentRequest> CommandInbox::take_alignments() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return std::exchange(alignments_, {});
+}
+
 void CommandInbox::ack_alert(const std::string& key) {
   std::lock_guard<std::mutex> lock(mutex_);
   acked_alerts_.insert(key);
@@ -218,6 +228,40 @@ std::optional<VerdictRequest> parse_verdict_request(ObjectId object, const std::
     if (r.note.size() > kMaxNoteChars) return fail(error, "\"note\" is longer than 200 characters");
   }
   return r;
+}
+
+std::optional<AlignmentRequest> parse_alignment_request(RobotId robot, const std::string& body, std::string* error) {
+  const nlohmann::json j = nlohmann::json::parse(body, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) return fail(error, "the body is not JSON");
+  if (!j.is_object()) return fail(error, "the body must be a JSON object");
+  double v[3];
+  const char* keys[3] = {"x_m", "y_m", "yaw_deg"};
+  for (int i = 0; i < 3; ++i) {
+    // JSON has no NaN: a non-finite value arrives as null or a string and is named here.
+    if (!j.contains(keys[i]) || !j[keys[i]].is_number())
+      return fail(error,
+                  std::string("\"") + keys[i] + "\" must be a number (the robot's entry on the map, and its heading)");
+    v[i] = j[keys[i]].get<double>();
+    if (!std::isfinite(v[i]) || std::abs(v[i]) > 1e4)
+      return fail(error, std::string("\"") + keys[i] + "\" is out of range");
+  }
+  return AlignmentRequest{robot, SE2(v[0], v[1], v[2] * M_PI / 180.0)};
+}
+
+std::string alignment_request_to_json(const AlignmentRequest& r) {
+  return nlohmann::json{{"robot", r.robot.value},
+                        {"x_m", r.T_global_local.x()},
+                        {"y_m", r.T_global_local.y()},
+                        {"yaw_deg", r.T_global_local.yaw() * 180.0 / M_PI}}
+      .dump();
+}
+
+std::optional<AlignmentRequest> alignment_request_from_json(const std::string& text, std::string* error) {
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_object() || !j.contains("robot") || !j["robot"].is_number_integer() || j["robot"].get<int64_t>() < 0 ||
+      j["robot"].get<int64_t>() > 1000)
+    return fail(error, "an alignment record must be a JSON object with a robot id");
+  return parse_alignment_request(RobotId(j["robot"].get<int32_t>()), text, error);
 }
 
 std::string verdict_record_to_json(const VerdictRecord& r) {

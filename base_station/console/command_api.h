@@ -4,6 +4,7 @@
 // requests from the HTTP threads to the base's thread with their sequence numbers.
 //   POST /api/commands  {"robot": 1 | "all", "kind": "goto"|"stop"|"resume"|"home", "x_m": .., "y_m": ..}
 //   with "Authorization: Bearer <token>"; the point is in the merged map's frame (goto only).
+// Also the operator's object verdicts and alignments of unlinked robots' maps (below).
 #include <cstdint>
 #include <mutex>
 #include <optional>
@@ -41,6 +42,19 @@ struct VerdictRequest {
 };
 std::optional<VerdictRequest> parse_verdict_request(ObjectId object, const std::string& body, std::string* error);
 
+/// The operator's alignment of an unlinked robot's own map over the global map: POST
+/// /api/robots/<id>/align {"x_m": .., "y_m": .., "yaw_deg": ..}, where the robot's entry (its local
+/// origin) goes on the map and which way its local x points. nullopt with `error` naming the field
+/// (missing, not a number, or beyond 10 km). (Whether the robot is unlinked is the server's check.)
+struct AlignmentRequest {
+  RobotId robot;
+  SE2 T_global_local;
+};
+std::optional<AlignmentRequest> parse_alignment_request(RobotId robot, const std::string& body, std::string* error);
+/// An alignment as the base journals it (the same JSON plus "robot"), and back.
+std::string alignment_request_to_json(const AlignmentRequest& request);
+std::optional<AlignmentRequest> alignment_request_from_json(const std::string& text, std::string* error);
+
 /// A verdict as the base journals it (JSON), and back; from: nullopt with `error` naming the fault.
 std::string verdict_record_to_json(const VerdictRecord& record);
 std::optional<VerdictRecord> verdict_record_from_json(const std::string& text, std::string* error);
@@ -61,6 +75,8 @@ class CommandInbox {
   std::vector<uint32_t> push(const CommandRequest& request);
   std::vector<Entry> take_all();
   void push_verdict(const VerdictRequest& request);
+  void push_alignment(const AlignmentRequest& request);
+  std::vector<AlignmentRequest> take_alignments();
   /// An operator acknowledged the alert `key` (AlertLog keys); kept for the rest of the mission.
   void ack_alert(const std::string& key);
   std::set<std::string> acked_alerts() const;
@@ -84,6 +100,7 @@ class CommandInbox {
   uint32_t next_seq_ = 1;
   std::vector<Entry> entries_;
   std::vector<VerdictRequest> verdicts_;
+  std::vector<AlignmentRequest> alignments_;
   std::vector<SearchControlRequest> search_requests_;
   SearchControls search_;
   std::set<std::string> acked_alerts_;

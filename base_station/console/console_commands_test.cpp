@@ -1,5 +1,5 @@
-// POST /api/commands end to end through the HTTP server: who may command, and every bad request
-// refused with a message and nothing queued.
+// POST /api/commands (and the verdict, alignment and alert routes) end to end through the HTTP
+// server: who may command, and every bad request refused with a message and nothing queued.
 // Eigen (through console_server.h) before httplib.h: <resolv.h>'s _res macro breaks Eigen's headers.
 #include "base_station/console/console_server.h"
 
@@ -21,6 +21,7 @@ ConsoleSnapshot snapshot_with_two_robots() {
   s.command_context.map_min_m = {-1, -1};
   s.command_context.map_max_m = {10, 8};
   s.objects = nlohmann::json::array({{{"id", "0-2"}, {"aliases", {"1-0"}}}});
+  s.robots = nlohmann::json::array({{{"id", 0}, {"linked", true}}, {{"id", 3}, {"linked", false}}});
   s.status = {{"alerts", nlohmann::json::array({{{"key", "object:0-2"}, {"text", "Victim found"}}})}};
   s.alert_log = nlohmann::json::array({{{"key", "object:0-2"}, {"text", "Victim found"}}});
   return s;
@@ -160,6 +161,40 @@ TEST_F(ConsoleCommands, VerdictsNeedTheTokenAKnownObjectAndAKnownWord) {
   EXPECT_EQ(taken[0].verdict, ObjectVerdict::kConfirmed);
   EXPECT_EQ(taken[0].note, "alive");
   EXPECT_EQ(taken[1].object, (ObjectId{RobotId(1), 0}));
+}
+
+TEST_F(ConsoleCommands, AnAlignmentNeedsTheTokenAnUnlinkedRobotAndThreeNumbers) {
+  const std::string good = R"({"x_m": 4.5, "y_m": -1.0, "yaw_deg": 90})";
+  EXPECT_EQ(post(good, "", "/api/robots/3/align").first, 401);
+  const std::string bearer = std::string("Bearer ") + kToken;
+  EXPECT_EQ(post(good, bearer, "/api/robots/7/align").first, 404);
+  const auto placed = post(good, bearer, "/api/robots/0/align");
+  EXPECT_EQ(placed.first, 409);
+  EXPECT_NE(placed.second.find("already on the map"), std::string::npos) << placed.second;
+  for (const char* bad : {R"({"x_m": 4.5, "y_m": -1.0})", R"({"x_m": "4.5", "y_m": -1.0, "yaw_deg": 90})",
+                          R"({"x_m": null, "y_m": -1.0, "yaw_deg": 90})", R"({"x_m": 1e9, "y_m": -1.0, "yaw_deg": 90})",
+                          "[1, 2, 3]", "not json"}) {
+    const auto r = post(bad, bearer, "/api/robots/3/align");
+    EXPECT_EQ(r.first, 400) << bad;
+    EXPECT_FALSE(r.second.empty()) << bad;
+  }
+  EXPECT_NE(post(R"({"x_m": 4.5, "y_m": -1.0})", bearer, "/api/robots/3/align").second.find("yaw_deg"),
+            std::string::npos);
+  EXPECT_TRUE(inbox_.take_alignments().empty()) << "a refused request queued nothing";
+  EXPECT_EQ(post(good, bearer, "/api/robots/3/align").first, 202);
+  const auto taken = inbox_.take_alignments();
+  ASSERT_EQ(taken.size(), 1u);
+  EXPECT_EQ(taken[0].robot, RobotId(3));
+  EXPECT_NEAR(taken[0].T_global_local.x(), 4.5, 1e-12);
+  EXPECT_NEAR(taken[0].T_global_local.yaw(), M_PI / 2, 1e-12);
+  // As the base journals it, and back.
+  std::string error;
+  const auto again = alignment_request_from_json(alignment_request_to_json(taken[0]), &error);
+  ASSERT_TRUE(again) << error;
+  EXPECT_EQ(again->robot, RobotId(3));
+  EXPECT_NEAR(again->T_global_local.y(), -1.0, 1e-12);
+  EXPECT_FALSE(alignment_request_from_json(R"({"x_m": 1, "y_m": 2, "yaw_deg": 3})", &error));
+  EXPECT_NE(error.find("robot"), std::string::npos) << error;
 }
 
 TEST_F(ConsoleCommands, TheEventStreamSaysAtOnceThatTheCommandsChanged) {

@@ -55,6 +55,7 @@ void ConsoleServer::register_routes() {
   server_->Get("/app.js", asset("app.js", "text/javascript; charset=utf-8"));
   server_->Get("/common.js", asset("common.js", "text/javascript; charset=utf-8"));
   server_->Get("/control.js", asset("control.js", "text/javascript; charset=utf-8"));
+  server_->Get("/align.js", asset("align.js", "text/javascript; charset=utf-8"));
   server_->Get("/mapview.js", asset("mapview.js", "text/javascript; charset=utf-8"));
   server_->Get("/cloud3d.js", asset("cloud3d.js", "text/javascript; charset=utf-8"));
   server_->Get("/report.html", asset("report.html", "text/html; charset=utf-8"));
@@ -131,6 +132,8 @@ void ConsoleServer::register_routes() {
                 [this](const httplib::Request& req, httplib::Response& res) { handle_verdict(req, res); });
   server_->Post("/api/commands",
                 [this](const httplib::Request& req, httplib::Response& res) { handle_command(req, res); });
+  server_->Post(R"(/api/robots/([0-9]{1,6})/align)",
+                [this](const httplib::Request& req, httplib::Response& res) { handle_alignment(req, res); });
 }
 
 void ConsoleServer::accept_commands(const std::string& operator_token, CommandInbox* inbox) {
@@ -267,6 +270,24 @@ void ConsoleServer::handle_verdict(const httplib::Request& req, httplib::Respons
   inbox_->push_verdict(*request);
   res.status = 202;
   reply_json(res, {{"object", key}, {"verdict", to_string(request->verdict)}});
+}
+
+void ConsoleServer::handle_alignment(const httplib::Request& req, httplib::Response& res) {
+  if (!authorized(req, res)) return;
+  const RobotId robot(std::stoi(req.matches[1].str()));
+  const std::shared_ptr<const ConsoleSnapshot> s = provider_ ? provider_() : nullptr;
+  std::optional<bool> linked;  // nullopt: not shown
+  for (const nlohmann::json& r : s ? s->robots : nlohmann::json::array()) {
+    if (r["id"] == robot.value) linked = r["linked"].get<bool>();
+  }
+  if (!linked) return reply_not_found(res, "robot " + std::to_string(robot.value));
+  if (*linked) return reply_error(res, 409, "robot " + std::to_string(robot.value) + " is already on the map");
+  std::string error;
+  const std::optional<AlignmentRequest> request = parse_alignment_request(robot, req.body, &error);
+  if (!request) return reply_error(res, 400, error);
+  inbox_->push_alignment(*request);
+  res.status = 202;
+  reply_json(res, {{"robot", robot.value}, {"state", "pending"}});
 }
 
 void ConsoleServer::handle_command(const httplib::Request& req, httplib::Response& res) {

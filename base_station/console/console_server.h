@@ -81,6 +81,8 @@ class ConsoleServer {
   void register_routes();
   void handle_command(const httplib::Request& req, httplib::Response& res);
   void handle_verdict(const httplib::Request& req, httplib::Response& res);
+  /// POST /api/robots/<id>/align: an unlinked robot's map placed by the operator (command_api.h).
+  void handle_alignment(const httplib::Request& req, httplib::Response& res);
   /// GET /api/events (Server-Sent Events): {"map_version", "commands"} whenever either changed.
   void stream_events(httplib::Response& res);
   void serve_exports();

@@ -36,6 +36,37 @@ std::string robots_text(const std::vector<RobotId>& robots) {
   return (robots.size() > 1 ? "robots " : "robot ") + s;
 }
 
+nlohmann::json pose_json(const SE2& T) { return {{"x_m", T.x()}, {"y_m", T.y()}, {"yaw_deg", T.yaw() * 180.0 / M_PI}}; }
+
+/// The operator's latest alignment of the robot's map and what the base made of it (null: none).
+nlohmann::json alignment_json(const MergedMap& merged, RobotId robot) {
+  const auto it = merged.alignments.find(robot);
+  if (it == merged.alignments.end()) return nullptr;
+  const AlignmentVerdict& v = it->second;
+  return {{"state", to_string(v.state)},
+          {"reason", v.reason},
+          {"requested", pose_json(v.requested)},
+          {"placed", v.state == AlignmentState::kAccepted ? pose_json(v.placed) : nlohmann::json()},
+          {"closures", v.closures}};
+}
+
+/// An unlinked robot's own map as points the console can move over the global map while the
+/// operator aligns it: its walls (occupied cells, at most max_points, evenly kept) and its path,
+/// both in its own frame.
+nlohmann::json own_frame_outline(const RobotFrameMap& m, size_t max_points) {
+  std::vector<Eigen::Vector2d> walls;
+  for (int row = 0; row < m.grid.height(); ++row) {
+    for (int col = 0; col < m.grid.width(); ++col) {
+      if (m.grid.probability(col, row) >= 0.65) walls.push_back(m.grid.cell_center_m(col, row));
+    }
+  }
+  nlohmann::json walls_m = nlohmann::json::array(), path_m = nlohmann::json::array();
+  for (size_t i : decimate(walls, max_points)) walls_m.push_back({walls[i].x(), walls[i].y()});
+  for (size_t i : decimate(m.trajectory, max_points / 10))
+    path_m.push_back({m.trajectory[i].pose.x(), m.trajectory[i].pose.y()});
+  return {{"walls_m", walls_m}, {"path_m", path_m}};
+}
+
 /// A placed robot's newest reported pose on the map (from its link's "pose_local").
 std::optional<SE2> pose_on_map(const RobotSummary& r, const nlohmann::json& link) {
   if (!r.linked || !link.contains("pose_local") || link["pose_local"].size() != 3) return std::nullopt;
@@ -70,6 +101,7 @@ nlohmann::json robot_json(const MergedMap& merged, const RobotSummary& r, const 
           {"first_stamp_s", ns_to_sec(r.first_stamp_ns)},
           {"last_stamp_s", ns_to_sec(r.last_stamp_ns)},
           {"time_to_link_s", r.time_to_link_s >= 0 ? nlohmann::json(r.time_to_link_s) : nlohmann::json()},
+          {"alignment", alignment_json(merged, r.id)},
           {"own_map", r.linked || r.keyframes == 0
                           ? nlohmann::json()
                           : nlohmann::json("/api/robots/" + std::to_string(r.id.value) + "/own_map.png")},
@@ -300,9 +332,13 @@ ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& lin
   if (g.valid)  // what the map view shows first: the known part of the map, [[x0, y0], [x1, y1]]
     s.layers["bounds_m"] = {{g.x0_m, g.y_top_m - g.height_px * g.m_per_px},
                             {g.x0_m + g.width_px * g.m_per_px, g.y_top_m}};
-  if (merged.robot_frame_maps && options.render_images)
-    for (const RobotFrameMap& m : *merged.robot_frame_maps)
-      s.own_maps[std::to_string(m.robot.value)] = render_robot_frame_png(m);
+  s.layers["own_frames"] = nlohmann::json::object();  // unlinked robots' maps, for the operator to align
+  if (merged.robot_frame_maps) {
+    for (const RobotFrameMap& m : *merged.robot_frame_maps) {
+      s.layers["own_frames"][std::to_string(m.robot.value)] = own_frame_outline(m, options.max_outline_points);
+      if (options.render_images) s.own_maps[std::to_string(m.robot.value)] = render_robot_frame_png(m);
+    }
+  }
   return s;
 }
 

@@ -24,7 +24,8 @@ struct ConsoleSnapshot {
   GridCells grid_cells;  ///< the merged grid, for the map view's tiles
   /// The map view's switchable layers beyond the robots and objects: {"frontiers": [{x_m, y_m,
   /// length_m, saliency}], "saliency": {"cell_m", "cells": [[x_m, y_m, value]]}, "unreachable":
-  /// [{x_m, y_m, robot, why}]} (the last filled by the base, which keeps the failed goals).
+  /// [{x_m, y_m, robot, why}]} (the last filled by the base, which keeps the failed goals),
+  /// "own_frames": {robot id: {"walls_m", "path_m"}} (unlinked robots' maps in their own frames).
   nlohmann::json layers = nlohmann::json::object();
   std::map<std::string, std::vector<uint8_t>> thumbnails;  ///< object key ("1-3") -> JPEG
   std::map<std::string, nlohmann::json> clouds;            ///< object key -> [[x,y,z,r,g,b],...]
@@ -37,6 +38,7 @@ struct ConsoleSnapshot {
 struct SnapshotOptions {
   size_t max_trajectory_points = 500;  ///< per robot, decimated uniformly (last point kept)
   size_t max_cloud_points = 2000;      ///< per object
+  size_t max_outline_points = 3000;    ///< per unlinked robot's own map (layers.own_frames)
   /// The map image (the report's, /api/map.png) and the unlinked robots' own maps: the dearest part
   /// of a snapshot. A quick snapshot between optimise ticks leaves them out (and keeps the last ones).
   bool render_images = true;

@@ -8,7 +8,7 @@ namespace {
 
 using Statement = SqliteStatement;
 
-bool known_kind(int64_t kind) { return kind >= 0 && kind <= int64_t(JournalKind::kObjectId); }
+bool known_kind(int64_t kind) { return kind >= 0 && kind <= int64_t(JournalKind::kAlignment); }
 
 }  // namespace
 
@@ -34,6 +34,8 @@ const char* to_string(JournalKind kind) {
       return "alert acknowledgement";
     case JournalKind::kObjectId:
       return "object id";
+    case JournalKind::kAlignment:
+      return "operator alignment";
   }
   return "unknown";
 }

@@ -24,7 +24,8 @@ namespace cairn::base {
 /// operator's pause, resume or keep-out area (JSON), keyed by its sequence number (robot 0);
 /// kSession: a robot's session (JSON, base_station/core/robot_sessions.h), under its base id and
 /// keyed by the session id (restored before everything else); kObjectId: a fact of the object-id
-/// registry (JSON, base_station/core/object_id_registry.h), keyed 1, 2, ... (restored next).
+/// registry (JSON, base_station/core/object_id_registry.h), keyed 1, 2, ... (restored next);
+/// kAlignment: the operator's latest alignment of a robot's map (JSON), under that robot, key 0.
 enum class JournalKind : int32_t {
   kKeyframe = 0,
   kObject = 1,
@@ -35,7 +36,8 @@ enum class JournalKind : int32_t {
   kSearch = 6,
   kSession = 7,
   kAlertAck = 8,
-  kObjectId = 9
+  kObjectId = 9,
+  kAlignment = 10
 };
 const char* to_string(JournalKind kind);
 

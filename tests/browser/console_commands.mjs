@@ -10,66 +10,17 @@
 //   - the printable mission report shows the map and the commands.
 // Exit 0 passed, 1 failed, 77 skipped (no chromium or no node_modules: said loudly).
 //   node tests/browser/console_commands.mjs <bin dir> <source dir> <out dir>
-import { spawn } from "node:child_process";
-import { existsSync, mkdirSync, readFileSync } from "node:fs";
-import { createServer } from "node:net";
+import { readFileSync } from "node:fs";
 import { join } from "node:path";
+import { sleep, startMission, waitFor } from "./harness.mjs";
 
 const [binDir, sourceDir, outDir] = process.argv.slice(2);
-const CHROMIUM = process.env.CAIRN_CHROMIUM || "/usr/bin/chromium";
 const TOKEN = "b0a7c0de0123456789abcdef01234567";
 const TARGET = { x: 6.0, y: 7.5 }; // down the office corridor from where robot 0 entered (1.2, 7.5)
 
-function skip(why) {
-  console.log(`SKIPPED: ${why}`);
-  process.exit(77);
-}
-let playwright;
-try {
-  playwright = await import("playwright-core");
-} catch {
-  skip("playwright-core is not installed (scripts/install_deps.sh runs npm ci in tests/browser)");
-}
-if (!existsSync(CHROMIUM)) skip(`no chromium at ${CHROMIUM} (apt-get install chromium)`);
-
-const failures = [];
-function check(ok, what) {
-  console.log(`${ok ? "ok  " : "FAIL"} ${what}`);
-  if (!ok) failures.push(what);
-}
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
-async function waitFor(what, timeoutMs, probe) {
-  const until = Date.now() + timeoutMs;
-  while (Date.now() < until) {
-    const v = await probe().catch(() => null);
-    if (v) return v;
-    await sleep(250);
-  }
-  throw new Error(`timed out after ${timeoutMs / 1000} s waiting for ${what}`);
-}
-function freePort() {
-  return new Promise((resolve) => {
-    const s = createServer().listen(0, "127.0.0.1", () => {
-      const { port } = s.address();
-      s.close(() => resolve(port));
-    });
-  });
-}
-
-mkdirSync(outDir, { recursive: true });
-const port = await freePort();
-const base = `http://127.0.0.1:${port}`;
-const mission = spawn(join(binDir, "cairn_mission"), [
-  "--world", join(sourceDir, "tests/worlds/operator_one_robot.yaml"), "--out", join(outDir, "mission"),
-  "--port", String(port), "--operator-token", TOKEN, "--speed", "1", "--timeout", "240",
-], { stdio: ["ignore", "pipe", "pipe"] });
-let missionOutput = "";
-mission.stdout.on("data", (d) => { missionOutput += d; });
-mission.stderr.on("data", (d) => { missionOutput += d; });
-const missionExit = new Promise((resolve) => mission.on("exit", (code) => resolve(code)));
-
-const getJson = async (path) => (await fetch(base + path)).json();
-const browser = await playwright.chromium.launch({ executablePath: CHROMIUM, args: ["--no-sandbox"] });
+const { base, getJson, browser, missionExit, check, finish } = await startMission(binDir,
+  join(sourceDir, "tests/worlds/operator_one_robot.yaml"), outDir,
+  ["--operator-token", TOKEN, "--speed", "1", "--timeout", "240"]);
 try {
   await waitFor("robot 0 placed on the map", 90000, async () => {
     const robots = await getJson("/api/robots");
@@ -205,12 +156,5 @@ try {
 } catch (e) {
   check(false, e.message);
 } finally {
-  await browser.close();
-  if (mission.exitCode === null) mission.kill("SIGTERM");
+  await finish(join(outDir, "console_operator.png"));
 }
-if (failures.length) {
-  console.log(`--- mission output ---\n${missionOutput}`);
-  console.log(`${failures.length} check(s) failed`);
-  process.exit(1);
-}
-console.log(`all checks passed; screenshot ${join(outDir, "console_operator.png")}`);

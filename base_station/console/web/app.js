@@ -78,7 +78,9 @@ function renderRobots(robots) {
     return el("tr", {}, [
       // A robot that restarted without its state runs a new session, shown as its own row (label).
       el("td", { text: link.label ? link.label.replace(/^robot(\d+)/, "Robot $1") : `Robot ${r.id}` }),
-      el("td", {}, [el("span", { class: r.linked ? "badge ok" : "badge warn", text: r.linked ? "linked" : "not linked" })]),
+      el("td", {}, [el("span", { class: r.linked ? "badge ok" : "badge warn", text: r.linked ? "linked" : "not linked",
+        title: r.alignment ? alignmentText(r.alignment) : "" }),
+      document.createTextNode(r.linked && r.alignment && r.alignment.state === "accepted" ? " (by your alignment)" : "")]),
       el("td", { text: r.time_to_link_s === null || r.time_to_link_s === undefined ? "–" : `${r.time_to_link_s.toFixed(0)} s` }),
       el("td", {
         class: link.nav_state === "stuck" || link.nav_state === "unreachable" || keepOutPending(link) ? "bad" : "",
@@ -101,29 +103,73 @@ function renderRobots(robots) {
     ]);
   });
   replaceRows(document.getElementById("robots"), rows, "No robots yet", 13);
-  renderOwnMaps(robots.filter((r) => r.own_map));
 }
 
-// Robots the base has not placed yet: their own maps, so that nothing they found is hidden. An
+// Robots the base has not placed yet: their own maps, so that nothing they found is hidden, and
+// the operator's alignment of each over the global map (align.js) with the base's verdict. An
 // image is fetched again every 10 keyframes (about 10 s), not at every refresh: it is a whole
 // rendered map, the page's dearest download.
+let alignFeedback = null;  // {robot, ok, text}: what the page said when the operator sent an alignment
 function renderOwnMaps(unlinked) {
   const panel = document.getElementById("own-maps-panel");
   panel.hidden = unlinked.length === 0;
   const box = document.getElementById("own-maps");
   const shown = new Map([...box.querySelectorAll("figure")].map((f) => [f.dataset.robot, f]));
+  if (Align.aligning() !== null && !unlinked.some((r) => r.id === Align.aligning())) Align.stop();
   box.replaceChildren(...unlinked.map((r) => {
     const src = `${r.own_map}?keyframes=${Math.floor(r.keyframes / 10) * 10}`;
-    const old = shown.get(String(r.id));
-    if (old && old.dataset.src === src) return old;
-    const figure = el("figure", { class: "own-map" }, [
-      el("img", { src, alt: `Robot ${r.id}'s own map` }),
-      el("figcaption", { text: `Robot ${r.id}, not yet placed on the map: its own map, from where it entered` }),
-    ]);
-    figure.dataset.robot = String(r.id);
-    figure.dataset.src = src;
+    let figure = shown.get(String(r.id));
+    if (!figure || figure.dataset.src !== src) {
+      figure = el("figure", { class: "own-map" }, [
+        el("img", { src, alt: `Robot ${r.id}'s own map` }),
+        el("figcaption", { text: `Robot ${r.id}, not yet placed on the map: its own map, from where it entered` }),
+        el("div", { class: "align-box" }),
+      ]);
+      figure.dataset.robot = String(r.id);
+      figure.dataset.src = src;
+    }
+    figure.querySelector(".align-box").replaceChildren(...alignControls(r));
     return figure;
   }));
+}
+
+function alignmentText(a) {
+  const p = a.requested;
+  const where = `entry at (${p.x_m.toFixed(2)}, ${p.y_m.toFixed(2)}) m, heading ${p.yaw_deg.toFixed(1)} deg`;
+  if (a.state === "pending") return `Verifying your alignment (${where})…`;
+  if (a.state === "accepted") return `Placed on the map: ${a.reason}.`;
+  return `Your alignment (${where}) was refused: ${a.reason}.`;
+}
+
+function alignControls(r) {
+  const out = [];
+  if (r.alignment) out.push(el("p", { class: `align-verdict ${r.alignment.state}`, text: alignmentText(r.alignment) }));
+  if (alignFeedback && alignFeedback.robot === r.id)
+    out.push(el("p", { class: `feedback ${alignFeedback.ok ? "ok" : "bad"}`, text: alignFeedback.text }));
+  const outline = (view.layers.own_frames || {})[r.id];
+  if (!Control.canCommand() || !outline) return out;
+  const button = (cls, text, action) => {
+    const b = el("button", { class: cls, text });
+    b.addEventListener("click", action);
+    return b;
+  };
+  const rerender = () => renderOwnMaps(view.robots.filter((x) => x.own_map));
+  if (Align.aligning() === r.id) {
+    out.push(el("p", { class: "hint", text: "Drag ✥ (where it entered) and ↻ (its heading) until its walls sit on the map's." }),
+      el("p", { class: "align-readout", "data-robot": String(r.id) }),
+      button("align-verify", "Ask the base to verify", () => Align.verify((ok, text) => {
+        alignFeedback = { robot: r.id, ok, text };
+        rerender();
+      })),
+      button("align-cancel", "Cancel", () => { Align.stop(); rerender(); }));
+  } else {
+    out.push(button("align-start", "Align on the map", () => {
+      alignFeedback = null;
+      Align.start(r.id, outline, MapView.robotColour(r.id), r.alignment ? r.alignment.requested : null);
+      rerender();
+    }));
+  }
+  return out;
 }
 
 function renderObjects(objects) {
@@ -212,6 +258,8 @@ async function refresh() {
     renderRobots(robots);
     renderObjects(objects);
     Object.assign(view, { robots, objects, exploration: status.exploration, layers });
+    renderOwnMaps(robots.filter((r) => r.own_map));
+    Align.update(layers.own_frames);
     Control.updateSearch(search);
     Control.updateCommands(commands);  // redraws the map view
     MapView.refreshTiles();
@@ -248,6 +296,7 @@ function listen() {
 }
 
 MapView.init({ mapClick: Control.mapClicked, robotClick: Control.robotClicked });
+Align.init(MapView.leaflet());
 Control.init(drawMap);
 refresh();
 listen();

@@ -211,8 +211,20 @@ const Control = (() => {
     return b;
   }
 
+  /// POSTs JSON with the operator token: {status, reply} (status 0: the base is unreachable).
+  async function post(path, body) {
+    if (!token()) return { status: 401, reply: { error: "watching only: open the operator link the base printed (…/#token=…)" } };
+    const res = await fetch(path, {
+      method: "POST",
+      headers: { "Content-Type": "application/json", Authorization: `Bearer ${token()}` },
+      body: JSON.stringify(body),
+    }).catch(() => null);
+    return { status: res ? res.status : 0, reply: res ? await res.json().catch(() => ({})) : {} };
+  }
+
   return {
     init,
+    post,
     ackButton,
     verdictCell,
     mapClicked,

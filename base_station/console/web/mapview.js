@@ -155,8 +155,8 @@ const MapView = (() => {
   }
 
   // Refit only when the map outgrew the view or fills less than a quarter of it, and never while
-  // the operator is placing a point (a robot selected, or a keep-out area being drawn): the map
-  // must not move under the pointer.
+  // the operator is placing a point (a robot selected, a keep-out area being drawn, a robot's map
+  // being aligned): the map must not move under the pointer.
   function followMap(bounds) {
     if (!bounds) return;
     lastBounds = bounds;
@@ -164,7 +164,7 @@ const MapView = (() => {
     const view = map.getBounds();
     const area = (b) => (b.getEast() - b.getWest()) * (b.getNorth() - b.getSouth());
     const misfit = !view.contains(box) || area(box) < 0.25 * area(view);
-    if (follow && misfit && !Control.claimsMapClick()) fit(bounds);
+    if (follow && misfit && !Control.claimsMapClick() && Align.aligning() === null) fit(bounds);
   }
 
   function drawTrajectories(robots) {
@@ -307,6 +307,8 @@ const MapView = (() => {
   return {
     init,
     refreshTiles,
+    leaflet: () => map,
+    robotColour,
     /// Everything but the tiles, from the API's JSON.
     update({ robots, objects, exploration, layers: planLayers, commands, selected, search }) {
       if (!map) return;
