@@ -39,7 +39,7 @@ struct LandmarkOptions {
   /// Sightings of teammates (sightings.h) in the graph: the observation's sigmas times this (a few
   /// detections per second of one robot share their errors), and the seen robot's interpolated
   /// position with this sigma, expressed from a keyframe at least sighting_min_offset_m away.
-  double sighting_sigma_scale = 3.0;
+  double sighting_sigma_scale = 10.0;
   double sighting_interpolation_sigma_m = 0.03;
   double sighting_min_offset_m = 0.1;
   /// A pair refuted or deferred is judged again after this many new observations of either robot.
