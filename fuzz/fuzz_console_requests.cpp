@@ -9,7 +9,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace cairn;
   const std::string body(reinterpret_cast<const char*>(data) + 1, size - 1);
   std::string error;
-  switch (data[0] % 3) {
+  switch (data[0] % 5) {
     case 0:
       (void)base::parse_command_request(body, {RobotId(0), RobotId(1), RobotId(3)}, &error);
       break;
@@ -18,6 +18,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       break;
     case 2:
       (void)base::parse_search_request(body, &error);
+      break;
+    case 3:
+      (void)base::parse_alignment_request(RobotId(1), body, &error);
+      break;
+    case 4:  // the journal's alignment record
+      (void)base::alignment_request_from_json(body, &error);
       break;
   }
   return 0;

@@ -219,7 +219,23 @@ int BaseNode::run() {
 }
 
 int BaseNode::finish() {
+  int code = write_results();
+  if (options_.serve_after_finish) {
+    log_->info("serving the console at http://{}:{}/ until stopped (Ctrl-C)", options_.console.bind_address,
+               console_->port());
+    while (!stop_) {
+      // The operator may still align a robot the base could not place: judged, results written again.
+      if (take_alignments()) code = write_results();
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+  }
+  console_->stop();
+  return code;
+}
+
+int BaseNode::write_results() {
   OptimizeResult r = mapper_.optimize();
+  report_linking(r);  // an operator's alignment is judged here too
   // The final map: solve the last loop closures to convergence (bounded, each call iterates a few).
   for (int i = 0; i < 50 && mapper_.refinement_pending(); ++i) r = mapper_.optimize();
   plan_and_publish_goals(/*send=*/false);  // where to search next, on the final map (the robots are done)
@@ -334,12 +350,6 @@ int BaseNode::finish() {
   }
   log_->info("mission merged: {} robots, {} objects, {:.1f} m2 mapped; results in {}", mapper_.robots().size(),
              mapper_.objects().size(), mapper_.mapped_area_m2(), options_.out_dir);
-  if (options_.serve_after_finish) {
-    log_->info("serving the console at http://{}:{}/ until stopped (Ctrl-C)", options_.console.bind_address,
-               console_->port());
-    while (!stop_) std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-  console_->stop();
   return exported.ok() ? 0 : 5;
 }
 

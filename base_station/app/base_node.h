@@ -135,8 +135,9 @@ class BaseNode {
   /// The operator's alert acknowledgements not journaled yet go into the journal (kAlertAck).
   void journal_alert_acks();
   bool restore_alert_ack(const JournalRecord& r, std::string* error);
-  /// The operator's alignments of unlinked robots: to the mapper (judged at its next optimise) and the journal.
-  void take_alignments();
+  /// The operator's alignments of unlinked robots: to the mapper (judged at its next optimise) and
+  /// the journal. True when there were any.
+  bool take_alignments();
   bool restore_alignment(const JournalRecord& r, std::string* error);
   void apply_search_controls();  ///< the operator's pause, resume and keep-out areas
   bool restore_verdict(const JournalRecord& r, std::string* error);
@@ -148,7 +149,11 @@ class BaseNode {
   void report_linking(const OptimizeResult& result);
   nlohmann::json link_stats() const;
   bool all_finished() const;
+  /// The results, then (--serve) the console until stopped, writing them again after an operator's
+  /// alignment; the exit code.
   int finish();
+  /// The final optimisation, the exports and summary.json; 0, or 4 / 5 when they could not be written.
+  int write_results();
   double now_s() const;
 
   BaseNodeOptions options_;

@@ -150,7 +150,7 @@ bool BaseNode::restore_alert_ack(const JournalRecord& r, std::string* error) {
   return true;
 }
 
-void BaseNode::take_alignments() {
+bool BaseNode::take_alignments() {
   const std::vector<AlignmentRequest> requests = inbox_.take_alignments();
   for (const AlignmentRequest& a : requests) {
     if (!mapper_.request_alignment(a.robot, a.T_global_local)) continue;  // parse_alignment_request checked it
@@ -159,9 +159,10 @@ void BaseNode::take_alignments() {
     log_->info("operator: {} aligned at ({:.2f}, {:.2f}) m, {:.1f} deg: verifying", sessions_.label(a.robot),
                a.T_global_local.x(), a.T_global_local.y(), a.T_global_local.yaw() * 180.0 / M_PI);
   }
-  if (requests.empty()) return;
+  if (requests.empty()) return false;
   flush_journal();
   refresh_snapshot(/*full=*/false);  // the console shows "verifying" at once
+  return true;
 }
 
 bool BaseNode::restore_alignment(const JournalRecord& r, std::string* error) {

@@ -238,6 +238,9 @@ ExportSummary export_all(const MergedMap& merged, const std::string& out_dir, co
       run(&summary, dir + "robot" + std::to_string(m.robot.value) + "_own_frame.png",
           [&](const std::string& p, std::string* e) { return write_robot_frame_png(m, p, options, e); });
     }
+  for (const RobotSummary& r : merged.robots) {  // placed since an earlier export: its own map is not the story now
+    if (r.linked) std::filesystem::remove(dir + "robot" + std::to_string(r.id.value) + "_own_frame.png", ec);
+  }
   run(&summary, dir + "objects_robot_frame.csv", [&](const std::string& p, std::string* e) {
     return write_text(p, robot_frame_objects_csv(merged.data->keyframes, merged.data->reports), e);
   });

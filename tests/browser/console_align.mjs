@@ -3,12 +3,14 @@
 // look-alike wings, robots that do not see each other, so robot 1 is never linked by the base):
 //   - robot 1's own map is offered for alignment; dragging its two handles moves and turns its
 //     walls over the global map;
-//   - placed on the wrong wing, the base refuses it and the page says why;
-//   - placed 5 degrees and about 0.7 m off the truth where the maps overlap, the base refines it
-//     with verified scan matches and links robot 1 within 0.3 m of the truth; the page shows it
-//     linked "by your alignment", and its trajectory is on the map.
+//   - placed on the wrong wing during the mission, the base refuses it and the page says why;
+//   - after the mission (--serve), placed 5 degrees and about 0.7 m off the truth where the maps
+//     overlap, the base refines it with verified scan matches and links robot 1 within 0.3 m of the
+//     truth; the page shows it linked "by your alignment", its trajectory is on the map, and the
+//     results are written again (summary.json: robot 1 linked, the alignment accepted).
 // Exit 0 passed, 1 failed, 77 skipped (no chromium or no node_modules: said loudly).
 //   node tests/browser/console_align.mjs <bin dir> <source dir> <out dir>
+import { existsSync, readFileSync } from "node:fs";
 import { join } from "node:path";
 import { sleep, startMission, waitFor } from "./harness.mjs";
 
@@ -23,7 +25,7 @@ const WRONG = { x: 1.2, y: 7.5, yaw: 0.0 }; // robot 1's wing laid over robot 0'
 
 const { base, getJson, browser, check, finish } = await startMission(binDir,
   join(sourceDir, "tests/worlds/operator_align.yaml"), outDir,
-  ["--operator-token", TOKEN, "--speed", "2", "--timeout", "400"]);
+  ["--operator-token", TOKEN, "--speed", "2", "--timeout", "400", "--serve"]);
 const robot1 = async () => (await getJson("/api/robots")).find((r) => r.id === 1);
 
 /// Drags the page's element `selector` (a handle's centre) to map point (x, y).
@@ -42,7 +44,9 @@ async function align(page, p) {
   await page.click(".align-start");
   await page.waitForSelector(".align-handle.entry", { timeout: 10000 });
   await drag(page, ".align-handle.entry", p.x, p.y);
-  await drag(page, ".align-handle.heading", p.x + 3 * Math.cos(p.yaw), p.y + 3 * Math.sin(p.yaw));
+  // Turned by dragging the heading handle well out along the wanted heading: a pixel off then
+  // turns it little (the handle goes back to 3 m from the entry).
+  await drag(page, ".align-handle.heading", p.x + 7 * Math.cos(p.yaw), p.y + 7 * Math.sin(p.yaw));
   const readout = await page.textContent(".align-readout");
   const m = /entry at \(([-\d.]+), ([-\d.]+)\) m, heading ([-\d.]+) deg/.exec(readout);
   const turn = m ? Math.atan2(Math.sin((+m[3] * Math.PI) / 180 - p.yaw), Math.cos((+m[3] * Math.PI) / 180 - p.yaw)) : 9;
@@ -82,7 +86,12 @@ try {
   check(said.includes(wrong.reason), `the page says why ("${said}")`);
   check(!(await robot1()).linked, "robot 1 is still not on the map");
 
-  // 5 degrees and about 0.7 m off where the maps overlap: refined by the base and linked.
+  // After the mission: 5 degrees and about 0.7 m off where the maps overlap, refined and linked.
+  const summaryPath = join(outDir, "mission", "map", "summary.json");
+  const ended = await waitFor("the mission's results", 120000, async () =>
+    existsSync(summaryPath) ? JSON.parse(readFileSync(summaryPath, "utf8")) : null);
+  check(!ended.robots.find((r) => r.id === 1).linked, "the mission ended with robot 1 not on the map");
+  await page.waitForSelector(".align-start", { timeout: 20000 });
   await align(page, HAND);
   await sleep(500);
   await page.screenshot({ path: join(outDir, "console_align.png"), fullPage: false });
@@ -96,6 +105,14 @@ try {
   const row = await page.waitForSelector("#robots tr:has-text('by your alignment')", { timeout: 15000 })
     .then(() => true, () => false);
   check(row, "the robots table shows robot 1 linked by the operator's alignment");
+  const rewritten = await waitFor("the results written again", 30000, async () => {
+    const j = JSON.parse(readFileSync(summaryPath, "utf8"));
+    return j.robots.find((r) => r.id === 1).linked ? j : null;
+  });
+  check(rewritten.alignments.some((a) => a.robot === 1 && a.state === "accepted"),
+    "summary.json lists the accepted alignment, and the exports were written again");
+  check(!existsSync(join(outDir, "mission", "map", "robot1_own_frame.png")),
+    "robot 1's own-frame map is gone from the exports (it is on the map now)");
   await page.locator("#map").scrollIntoViewIfNeeded();
   await sleep(1500);  // the tiles of the map with robot 1 on it
   await page.screenshot({ path: join(outDir, "console_aligned.png"), fullPage: false });
