@@ -20,7 +20,6 @@ AgentNode::AgentNode(RobotId robot, const AgentOptions& core_options, const Agen
       navigator_(options.navigator),
       behaviour_(options.behaviour),
       own_options_(options.own_exploration) {
-  laser_timeout_s_ = core_options.dead_reckoning.laser_timeout_s;
   keyframe_window_ =
       SendWindow<cairn_msgs::Keyframe>(options.link_budget_bytes_per_sec > 0 ? options.keyframes_in_flight : 0);
 }
@@ -144,10 +143,10 @@ bool AgentNode::poll_inputs() {
   }
   if (!log_source_ && !ros2_in_) {
     // Cairn's sensor topics: odometry stamps can run far ahead of a first scan that is only late.
-    pipeline_.set_no_scan_since_start(
+    pipeline_.set_stamps_may_judge_laser(
         any_scan_arrived_ ||
-        (first_odometry_arrival_ &&
-         std::chrono::duration<double>(Clock::now() - *first_odometry_arrival_).count() >= laser_timeout_s_));
+        (first_odometry_arrival_ && std::chrono::duration<double>(Clock::now() - *first_odometry_arrival_).count() >=
+                                        pipeline_.options().dead_reckoning.laser_timeout_s));
   }
   for (const auto& m : rgbd_in_->take_all()) {
     any = true;

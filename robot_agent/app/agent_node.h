@@ -160,8 +160,7 @@ class AgentNode {
   std::unique_ptr<Ros2SensorInput> ros2_in_;  ///< set with --ros2: the robot's ROS 2 drivers
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   bool input_finished_ = false;
-  // Before the first scan, the laser counts as silent by arrival time too (set_no_scan_since_start).
-  double laser_timeout_s_ = 1.0;  ///< AgentOptions::dead_reckoning.laser_timeout_s
+  // Before the first scan, the laser counts as silent by arrival time too (set_stamps_may_judge_laser).
   std::optional<std::chrono::steady_clock::time_point> first_odometry_arrival_;
   bool any_scan_arrived_ = false;
   int32_t last_keyframe_seq_ = -1;  ///< the newest keyframe made (written, or waiting to be)

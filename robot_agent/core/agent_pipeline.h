@@ -106,12 +106,13 @@ class AgentPipeline {
   RobotId robot() const { return robot_; }
   /// The laser is silent and poses come from odometry alone (agent_pipeline_dead_reckoning.cpp).
   bool laser_lost() const { return laser_lost_; }
-  /// Live input only: whether no scan has arrived for laser_timeout_s of arrival (wall) time since
-  /// the first odometry reading. Before its first scan a laser is taken for lost only when this
-  /// says so too: by stamps alone a scan that is merely late (its reader matched after the
-  /// odometry's, a simulator running 25x real time on a loaded machine) looked lost. Default true:
-  /// a log is replayed in stamp order.
-  void set_no_scan_since_start(bool silent) { no_scan_since_start_ = silent; }
+  /// Live input only: whether the stamps may judge the laser lost before its first scan is
+  /// processed: once a scan has arrived (stamp order decides from then on), or once none arrived for
+  /// laser_timeout_s of arrival (wall) time since the first odometry reading. By stamps alone a scan
+  /// that is merely late (its reader matched after the odometry's, a simulator running 25x real
+  /// time on a loaded machine) looked lost. Default true: a log is replayed in stamp order.
+  void set_stamps_may_judge_laser(bool may) { stamps_may_judge_laser_ = may; }
+  const AgentOptions& options() const { return options_; }
 
  private:
   bool scan_ready(bool flush) const;
@@ -147,7 +148,7 @@ class AgentPipeline {
   StampNs last_scan_stamp_ns_ = 0;             ///< of the newest processed scan or dead-reckoned pose
   DeadReckoning dead_reckoning_;
   bool laser_lost_ = false;
-  bool no_scan_since_start_ = true;  ///< set_no_scan_since_start
+  bool stamps_may_judge_laser_ = true;  ///< set_stamps_may_judge_laser
   StampNs first_odometry_ns_ = -1;
   StampNs next_dead_reckoning_ns_ = 0;     ///< the next dead-reckoned pose's stamp (laser lost)
   Trajectory trajectory_;                  ///< matched poses

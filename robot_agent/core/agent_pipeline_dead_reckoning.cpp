@@ -22,7 +22,7 @@ bool AgentPipeline::dead_reckoning_ready() const {
   }
   const StampNs newest_ns = odometry_.back().stamp_ns;
   if (laser_lost_) return next_dead_reckoning_ns_ <= newest_ns;
-  if (!any_scan_processed_ && !no_scan_since_start_) return false;  // the first scan may only be late
+  if (!any_scan_processed_ && !stamps_may_judge_laser_) return false;  // the first scan may only be late
   const StampNs silent_since_ns = any_scan_processed_ ? last_scan_stamp_ns_ : first_odometry_ns_;
   return newest_ns - silent_since_ns >= to_ns(dead_reckoning_.options().laser_timeout_s);
 }

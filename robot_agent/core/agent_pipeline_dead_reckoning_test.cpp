@@ -106,11 +106,11 @@ TEST(AgentPipelineDeadReckoning, ARobotWithoutLaserSendsOdometryKeyframes) {
 TEST(AgentPipelineDeadReckoning, BeforeItsFirstScanALaserIsLostOnlyOnceTheArrivalTimeSaysSoToo) {
   // Live input: odometry stamps run seconds ahead of the first scan, which is only late.
   AgentPipeline agent(RobotId(3));
-  agent.set_no_scan_since_start(false);
+  agent.set_stamps_may_judge_laser(false);
   for (int i = 0; i <= 30; ++i) agent.add_odometry({StampNs(i) * kNsPerSec / 10, SE2(0.05 * i, 0, 0), 0, 0});
   EXPECT_TRUE(agent.process().scans.empty());
   EXPECT_FALSE(agent.laser_lost());
-  agent.set_no_scan_since_start(true);  // still no scan after the timeout on the wall clock
+  agent.set_stamps_may_judge_laser(true);  // still no scan after the timeout on the wall clock
   EXPECT_FALSE(agent.process().scans.empty());
   EXPECT_TRUE(agent.laser_lost());
 }
