@@ -33,7 +33,7 @@ std::optional<SeenPosition> position_at(const MapperData& data, RobotId robot, S
       break;
     }
   }
-  if (before == nullptr || after == nullptr) return std::nullopt;
+  if (before == nullptr || after == nullptr || after->id.seq - before->id.seq > 1) return std::nullopt;
   // Linear in the relative motion between the two keyframes (a short, locally exact stretch).
   const SE2 T_before_after = before->T_local_base.inverse() * after->T_local_base;
   const double span_ns = double(after->stamp_ns - before->stamp_ns);

@@ -33,8 +33,10 @@ std::vector<Sighting> sightings_in(const Keyframe& kf, int* invalid);
 /// Where `robot` was at `stamp_ns`, as a point in the frame of one of the two keyframes around the
 /// stamp (interpolated between them by their front-end poses): the one nearer in time, unless the
 /// point is closer than `min_offset_m` to it (a range-bearing edge needs a bearing), then the other.
-/// nullopt while the robot has no keyframe at or after the stamp yet, or none at or before it, or
-/// when neither keyframe is min_offset_m away.
+/// nullopt while the robot has no keyframe at or after the stamp yet, or none at or before it, when
+/// neither keyframe is min_offset_m away, or when keyframes between the two are missing (a straight
+/// line across the gap is no position; a long wait between two consecutive keyframes is fine: the
+/// robot stood still).
 struct SeenPosition {
   KeyframeId keyframe;
   Eigen::Vector2d point_m;

@@ -129,6 +129,11 @@ TEST(Sightings, PositionAtInterpolatesBetweenKeyframesAndWaitsForTheNextOne) {
   EXPECT_NEAR(world.x(), 0.75, 1e-9);
   EXPECT_NEAR(world.y(), 0.0, 1e-9);
   EXPECT_FALSE(position_at(data, RobotId(1), sec_to_ns(1.5))) << "no keyframe after the stamp yet";
+  Keyframe far = data.keyframes.at(KeyframeId{RobotId(1), 1});  // keyframes 2-4 never arrived
+  far.id.seq = 5;
+  far.stamp_ns = sec_to_ns(5.0);
+  data.keyframes[far.id] = far;
+  EXPECT_FALSE(position_at(data, RobotId(1), sec_to_ns(3.0))) << "keyframes missing in between";
   EXPECT_FALSE(position_at(data, RobotId(2), sec_to_ns(0.5))) << "unknown robot";
 }
 
