@@ -61,6 +61,7 @@ void BaseNode::refresh_snapshot(bool full) {
     const std::shared_ptr<const ConsoleSnapshot> last = latest_snapshot_.get();
     snapshot.map_png = last->map_png;
     snapshot.own_maps = last->own_maps;
+    snapshot.layers["own_frames"] = last->layers.value("own_frames", nlohmann::json::object());
   }
   snapshot.command_context = command_context(merged);
   for (const BlacklistedGoal& g : goals_.blacklisted())  // the map view's "could not reach" layer

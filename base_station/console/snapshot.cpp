@@ -332,11 +332,13 @@ ConsoleSnapshot make_snapshot(const MergedMap& merged, const nlohmann::json& lin
   if (g.valid)  // what the map view shows first: the known part of the map, [[x0, y0], [x1, y1]]
     s.layers["bounds_m"] = {{g.x0_m, g.y_top_m - g.height_px * g.m_per_px},
                             {g.x0_m + g.width_px * g.m_per_px, g.y_top_m}};
-  s.layers["own_frames"] = nlohmann::json::object();  // unlinked robots' maps, for the operator to align
-  if (merged.robot_frame_maps) {
-    for (const RobotFrameMap& m : *merged.robot_frame_maps) {
+  // Unlinked robots' maps as images and, for the operator to align, as points: both walk every cell
+  // of each own map, so only full snapshots make them (a quick one keeps the last ones).
+  if (options.render_images) {
+    s.layers["own_frames"] = nlohmann::json::object();
+    for (const RobotFrameMap& m : merged.robot_frame_maps ? *merged.robot_frame_maps : std::vector<RobotFrameMap>{}) {
       s.layers["own_frames"][std::to_string(m.robot.value)] = own_frame_outline(m, options.max_outline_points);
-      if (options.render_images) s.own_maps[std::to_string(m.robot.value)] = render_robot_frame_png(m);
+      s.own_maps[std::to_string(m.robot.value)] = render_robot_frame_png(m);
     }
   }
   return s;

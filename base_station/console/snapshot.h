@@ -39,8 +39,9 @@ struct SnapshotOptions {
   size_t max_trajectory_points = 500;  ///< per robot, decimated uniformly (last point kept)
   size_t max_cloud_points = 2000;      ///< per object
   size_t max_outline_points = 3000;    ///< per unlinked robot's own map (layers.own_frames)
-  /// The map image (the report's, /api/map.png) and the unlinked robots' own maps: the dearest part
-  /// of a snapshot. A quick snapshot between optimise ticks leaves them out (and keeps the last ones).
+  /// The map image (the report's, /api/map.png) and the unlinked robots' own maps (images and
+  /// layers.own_frames): the dearest part of a snapshot. A quick snapshot between optimise ticks
+  /// leaves them out (and keeps the last ones).
   bool render_images = true;
 };
 

@@ -54,7 +54,7 @@ bool has_keyframe_after(const MapperData& data, RobotId robot, StampNs stamp_ns)
 
 namespace {
 
-/// One sighting by `observer_robot` of the other robot, added as correspondence `index`.
+/// Sighting `s` as correspondence `index`: the seen point in the observer's frame and the seen robot's.
 void add_correspondence(const MapperData& data, const Sighting& s, int index, LocalLandmarks* observer_side,
                         LocalLandmarks* seen_side) {
   const std::optional<SeenPosition> seen = position_at(data, s.seen, s.observation.stamp_ns);
