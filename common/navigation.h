@@ -18,6 +18,9 @@ enum class GoalKind : uint8_t {
   kOwn = 0,      ///< no goal from the base: explore the robot's own map (it is not placed yet)
   kExplore = 1,  ///< drive to this frontier of the merged map
   kHome = 2,     ///< nothing left to explore: drive back to where you entered
+  /// Drive toward a teammate so that the base can link the two (base_station/core/active_linking.h):
+  /// sent to a robot not placed yet, and to the placed teammate it is to meet.
+  kMeet = 3,
 };
 
 /// The state of the goal a robot is driving (robot_agent/core/navigation/goal_tracker.h).
@@ -39,6 +42,7 @@ enum class RobotActivity : uint8_t {
   kHome = 5,          ///< back where it entered: its mission is over
   kOperatorGoal = 6,  ///< driving to the point the operator clicked
   kHeld = 7,          ///< held still by the operator (stopped, or at the operator's point)
+  kMeeting = 8,       ///< driving the base's kMeet goal: toward a teammate, to be linked
 };
 
 /// An operator's command from the console (cairn/operator_command). Every kind can be sent to one
@@ -71,6 +75,8 @@ inline const char* to_string(GoalKind k) {
       return "explore";
     case GoalKind::kHome:
       return "home";
+    case GoalKind::kMeet:
+      return "meet";
   }
   return "?";
 }
@@ -107,6 +113,8 @@ inline const char* to_string(RobotActivity a) {
       return "driving to the operator's point";
     case RobotActivity::kHeld:
       return "held by the operator";
+    case RobotActivity::kMeeting:
+      return "meeting a teammate";
   }
   return "?";
 }
@@ -203,13 +211,13 @@ constexpr size_t kMaxStatusPathPoints = 32;
 
 /// Wire value -> enum; nullopt for a value no version of Cairn sends.
 inline std::optional<GoalKind> goal_kind_from(uint8_t v) {
-  return v <= 2 ? std::optional<GoalKind>(GoalKind(v)) : std::nullopt;
+  return v <= 3 ? std::optional<GoalKind>(GoalKind(v)) : std::nullopt;
 }
 inline std::optional<NavState> nav_state_from(uint8_t v) {
   return v <= 4 ? std::optional<NavState>(NavState(v)) : std::nullopt;
 }
 inline std::optional<RobotActivity> robot_activity_from(uint8_t v) {
-  return v <= 7 ? std::optional<RobotActivity>(RobotActivity(v)) : std::nullopt;
+  return v <= 8 ? std::optional<RobotActivity>(RobotActivity(v)) : std::nullopt;
 }
 inline std::optional<CommandKind> command_kind_from(uint8_t v) {
   return v <= 3 ? std::optional<CommandKind>(CommandKind(v)) : std::nullopt;

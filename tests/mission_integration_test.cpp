@@ -364,5 +364,29 @@ TEST(MissionIntegration, TheOfficesThreeRobotsAllJoinTheMapBySeeingEachOther) {
   EXPECT_TRUE(std::regex_search(log, std::regex("linked via [0-9]+ shared sightings"))) << "none linked on sightings";
 }
 
+TEST(MissionIntegration, OfficeRobotsNotOnTheMapAreSentToMeetATeammateAndLinkedRight) {
+  // Active linking: with entry hints the base sends robots 1 and 2 (not placed after a few seconds)
+  // toward robot 0 where their hints put them; what they then see of each other links them, through
+  // the same checks as ever (a hint is never a link).
+  const MissionRun run = run_mission("worlds/office.yaml", "meet", "--timeout 600 --entry-hints 0.5,10");
+  const CommandResult& r = run.result;
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("NOT LINKED"), std::string::npos) << r.output;
+  const eval::MissionScore score =
+      eval::evaluate_mission((run.out / "ground_truth").string(), (run.out / "map").string());
+  ASSERT_EQ(score.robots.size(), 3u);
+  expect_every_robot_placed(score, 0.3, 0.6);
+  std::ifstream base_log(run.out / "logs" / "base.log");
+  const std::string log((std::istreambuf_iterator<char>(base_log)), std::istreambuf_iterator<char>());
+  EXPECT_TRUE(std::regex_search(log, std::regex("robot[12] not on the map [0-9]+ s after its first keyframe: sent to "
+                                                "meet robot[0-9]")))
+      << log.substr(0, 3000);
+  EXPECT_TRUE(std::regex_search(log, std::regex("robot[12] linked while meeting"))) << "no meeting ended in a link";
+  std::ifstream summary_in(run.out / "map" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(summary_in, nullptr, false);
+  ASSERT_FALSE(summary.is_discarded());
+  EXPECT_GE(summary["exploration"]["meetings"]["linked"].get<int>(), 1) << summary["exploration"].dump();
+}
+
 }  // namespace
 }  // namespace cairn::test

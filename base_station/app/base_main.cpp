@@ -88,12 +88,17 @@ int main(int argc, char** argv) {
                  "how robots get frontiers: coordinated (no two on one area), nearest (each its own nearest) or "
                  "saliency (coordinated, frontiers near salient spots the cameras saw first)")
       ->check(CLI::IsMember({"coordinated", "nearest", "saliency"}));
+  app.add_option("--meet-after", options.active_linking.after_s,
+                 "active linking: a robot not on the map this many mission seconds after its first keyframe is "
+                 "sent to meet a teammate where its entry hint or the operator's alignment puts it (0 = never)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--ros2", options.ros2,
                "publish the mission as ROS 2 topics for RViz2/Foxglove: map, tf, robotN/path, cairn/objects "
                "(MarkerArray), cairn/object_clouds (PointCloud2); docs/ros2.md");
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
   options.use_shared_memory = !no_shm;
+  options.active_linking.enabled = options.active_linking.after_s > 0;
   if (operator_token.empty()) operator_token = cairn::random_hex_token();
   if (operator_token != "off") options.operator_token = operator_token;
   options.exploration.coordination = coordination == "nearest"

@@ -31,6 +31,7 @@ int32_t contiguous_seq(const MultiRobotMapper& mapper, RobotId robot) {
 
 BaseNode::BaseNode(const BaseNodeOptions& options, const MapperOptions& mapper_options)
     : options_(options), mapper_options_(mapper_options), mapper_(mapper_options), log_(make_logger("base")) {
+  meetings_ = ActiveLinker(options.active_linking);
   for (const auto& [robot, start] : options_.robot_starts) mapper_.set_robot_start(robot, start);
   for (const auto& [robot, hint] : options_.entry_hints) mapper_.set_entry_hint(robot, hint);
 }
@@ -306,6 +307,9 @@ int BaseNode::write_results() {
   for (const auto& [id, kf] : mapper_.data().keyframes) salient_spots += kf.salient.size();
   summary["exploration"]["salient_spots_received"] = salient_spots;
   summary["exploration"]["sent_home"] = goals_.sent_home();
+  const ActiveLinkingStats& meetings = meetings_.stats();  // active linking: robots sent to meet a teammate
+  summary["exploration"]["meetings"] = {
+      {"started", meetings.started}, {"linked", meetings.linked}, {"failed", meetings.failed}};
   if (const auto home_ns = goals_.sent_home_at_ns()) summary["exploration"]["sent_home_at_s"] = ns_to_sec(*home_ns);
   summary["coverage_series"] = coverage_series_;
   summary["commands"] = commands_json(commands_.records(), commands_.records().size());

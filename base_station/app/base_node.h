@@ -20,6 +20,7 @@
 #include "base_station/console/alert_log.h"
 #include "base_station/console/console_server.h"
 #include "base_station/console/snapshot.h"
+#include "base_station/core/active_linking.h"
 #include "base_station/core/exploration.h"
 #include "base_station/core/goal_allocator.h"
 #include "base_station/core/keep_out_relay.h"
@@ -50,9 +51,10 @@ struct BaseNodeOptions {
   /// A keyframe shows in the console at most this long after it arrived (a quick snapshot between
   /// optimise ticks; the page's update latency, docs/benchmarks.md).
   double console_update_s = 0.2;
-  double exploration_period_s = 2.0;  ///< how often the exploration goals are planned anew (when the map changed)
-  ExplorationOptions exploration;     ///< how goals are chosen (coordination, victims' pull, ...)
-  SaliencyLayerOptions saliency;      ///< the saliency layer the planner weights frontiers by
+  double exploration_period_s = 2.0;    ///< how often the exploration goals are planned anew (when the map changed)
+  ExplorationOptions exploration;       ///< how goals are chosen (coordination, victims' pull, ...)
+  ActiveLinkingOptions active_linking;  ///< when and how robots not placed yet are sent to meet a teammate
+  SaliencyLayerOptions saliency;        ///< the saliency layer the planner weights frontiers by
   ConsoleOptions console;
   bool serve_after_finish = false;  ///< keep the console up after the mission ended
   std::string journal_path;         ///< default <out_dir>/journal.sqlite
@@ -122,6 +124,12 @@ class BaseNode {
   /// `send`: false plans only (the final map's "where to search next"), no orders go out.
   void plan_and_publish_goals(bool send = true);
   void add_navigation_json(RobotId robot, nlohmann::json* link) const;
+  /// Active linking: the meetings to drive now (kMeet goals by robot, placed or not); `placed_m` the
+  /// placed robots the planner may send. `send`: false decides nothing (no orders go out).
+  std::map<RobotId, MeetGoal> plan_meetings(const MergedMap& merged,
+                                            const std::map<RobotId, std::optional<SE2>>& placements,
+                                            const std::map<RobotId, Eigen::Vector2d>& placed_m, bool send);
+  void report_meeting(const MeetingEvent& event, bool live);
   /// Explored area, open frontier and victims at the newest mission time (summary, console).
   void record_coverage(const MergedMap& merged);
   // What the console sees (base_node_console.cpp): the links, the snapshot, keyframe arrival times.
@@ -191,6 +199,7 @@ class BaseNode {
   std::unique_ptr<Journal> journal_;
   ExplorationPlan plan_;                     ///< the newest exploration plan (console, goal topic, final export)
   GoalAllocator goals_;                      ///< each robot's order, the blacklist of failed goals
+  ActiveLinker meetings_;                    ///< robots not placed yet sent to meet a placed teammate
   std::map<RobotId, NavStatus> navigation_;  ///< each robot's newest navigation state
   nlohmann::json coverage_series_ = nlohmann::json::array();  ///< [{t_s, free_m2, known_m2, frontier_m, victims}]
   uint64_t planned_version_ = 0;                              ///< mapper_.version() plan_ was made for

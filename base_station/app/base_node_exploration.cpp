@@ -1,6 +1,7 @@
 // BaseNode's exploration part: the robots' navigation states in (cairn/status), the team's plan
 // (plan_exploration) and each robot's order (GoalAllocator) out on cairn/goal, in its own frame.
 #include "base_station/app/base_node.h"
+#include "base_station/core/active_linking.h"
 #include "base_station/core/merged_map.h"
 #include "base_station/core/saliency_layer.h"
 #include "dds/navigation_conversions.h"
@@ -15,6 +16,13 @@ void BaseNode::note_navigation(const NavStatus& nav, RobotId robot, bool live) {
   navigation_[robot] = nav;
   note_command_report(robot, nav.command, live);
   const int blacklisted = goals_.goals_blacklisted();
+  const auto order = goals_.orders().find(robot);
+  const bool meeting_failed = order != goals_.orders().end() && order->second.kind == GoalKind::kMeet &&
+                              order->second.goal_id == nav.goal_id &&
+                              (nav.nav_state == NavState::kUnreachable || nav.nav_state == NavState::kStuck);
+  if (meeting_failed) {
+    if (const auto event = meetings_.goal_failed(robot, mapper_.data().latest_stamp_ns)) report_meeting(*event, live);
+  }
   if (goals_.report({robot, nav.goal_id, nav.nav_state, nav.activity}, mapper_.data().latest_stamp_ns)) {
     replan_now_ = true;  // its order is over: plan again at the next optimise tick
   }
@@ -53,8 +61,13 @@ void BaseNode::plan_and_publish_goals(bool send) {
       robots_m[r.id] = trajectory.back().pose.translation();
     }
   }
-  if (robots_m.empty()) {  // nothing placed (or all driven by the operator) to plan for
-    plan_.goals.clear();   // no stale "next" goal on the map
+  // Robots not placed after a while go to meet a placed teammate (active linking); the teammates
+  // driving to a meeting are left out of the exploration plan.
+  const std::map<RobotId, MeetGoal> meet = plan_meetings(merged, placements, robots_m, send);
+  for (const RobotId teammate : meetings_.moving_teammates()) robots_m.erase(teammate);
+  if (robots_m.empty() && meet.empty()) {  // nothing placed (or all driven by the operator) to plan for
+    plan_.goals.clear();                   // no stale "next" goal on the map
+    plan_.meetings.clear();
     return;
   }
   std::vector<Eigen::Vector2d> victims_m;
@@ -72,13 +85,18 @@ void BaseNode::plan_and_publish_goals(bool send) {
   context.keep_out = search_.keep_out();
   plan_ = plan_exploration(*merged.grid, robots_m, victims_m, options_.exploration, context);
   plan_.saliency = std::move(saliency);
+  for (const auto& [robot, m] : meetings_.meetings()) {  // shown on the console's map and goal list
+    if (m.met_ns) continue;
+    plan_.meetings.push_back({robot, m.teammate, m.robot_goal_global_m});
+    if (meet.count(m.teammate)) plan_.meetings.push_back({m.teammate, robot, meet.at(m.teammate).global_m});
+  }
   planned_version_ = mapper_.version();
   replan_now_ = false;
   if (!send || search_.paused()) return;  // paused: the plan is shown, no robot is sent
   const bool was_home = goals_.sent_home();
   CAIRN_LOG_EVERY_N_SEC(log_, spdlog::level::info, 10.0, "exploration: {} frontiers, {} goals for {} placed robots",
                         plan_.frontiers.size(), plan_.goals.size(), robots_m.size());
-  for (const GoalOrder& order : goals_.assign(plan_, placements, now_ns)) {
+  for (const GoalOrder& order : goals_.assign(plan_, placements, now_ns, meet)) {
     GoalMessage msg;
     msg.robot = order.robot;
     msg.goal_id = order.goal_id;
@@ -91,6 +109,62 @@ void BaseNode::plan_and_publish_goals(bool send) {
     if (address(order.robot, &out)) goal_out_->write(out);  // to the robot id and session on the wire
   }
   if (goals_.sent_home() && !was_home) log_->info("no reachable frontier left: every placed robot is sent home");
+}
+
+std::map<RobotId, MeetGoal> BaseNode::plan_meetings(const MergedMap& merged,
+                                                    const std::map<RobotId, std::optional<SE2>>& placements,
+                                                    const std::map<RobotId, Eigen::Vector2d>& placed_m, bool send) {
+  std::vector<UnlinkedRobot> unlinked;
+  for (const RobotSummary& r : merged.robots) {
+    const auto nav = navigation_.find(r.id);
+    if (r.linked || r.keyframes == 0 || !sessions_.is_current(r.id) || commands_.under_operator(r.id) ||
+        nav == navigation_.end())
+      continue;
+    UnlinkedRobot u{r.id, r.first_stamp_ns, nav->second.pose, std::nullopt};
+    // The guess of its placement: the operator's alignment while it is judged, or refused only for
+    // want of overlap; else the entry hint.
+    const auto alignment = merged.alignments.find(r.id);
+    const auto hint = merged.data->entry_hints.find(r.id);
+    if (alignment != merged.alignments.end() &&
+        (alignment->second.state == AlignmentState::kPending || alignment->second.plausible)) {
+      u.hypothesis = LinkHypothesis{alignment->second.requested, "the operator's alignment"};
+    } else if (hint != merged.data->entry_hints.end()) {
+      u.hypothesis = LinkHypothesis{hint->second.T_global_local, "its entry hint"};
+    }
+    unlinked.push_back(u);
+  }
+  std::map<RobotId, MeetGoal> meet;
+  if (!send || search_.paused()) return meet;  // no orders go out: no meeting starts either
+  for (const MeetingEvent& event : meetings_.update(unlinked, placed_m, merged.data->latest_stamp_ns)) {
+    report_meeting(event, true);
+  }
+  for (const auto& [robot, m] : meetings_.meetings()) {
+    if (!m.met_ns) meet[robot] = {m.robot_goal_global_m, m.robot_goal_local_m};
+    const auto placement = placements.find(m.teammate);
+    if (m.teammate_goal_m && placement != placements.end() && placement->second) {
+      meet[m.teammate] = {*m.teammate_goal_m, placement->second->inverse() * *m.teammate_goal_m};
+    }
+  }
+  return meet;
+}
+
+void BaseNode::report_meeting(const MeetingEvent& event, bool live) {
+  if (!live) return;
+  const Meeting& m = event.meeting;
+  const std::string robot = sessions_.label(m.robot), teammate = sessions_.label(m.teammate);
+  switch (event.kind) {
+    case MeetingEvent::Kind::kStarted:
+      log_->info("{} not on the map {:.0f} s after its first keyframe: sent to meet {} ({:.1f} m away by {})", robot,
+                 ns_to_sec(m.started_ns - m.first_keyframe_ns), teammate, m.distance_m, m.hypothesis.source);
+      break;
+    case MeetingEvent::Kind::kLinked:
+      log_->info("{} linked while meeting {}", robot, teammate);
+      break;
+    case MeetingEvent::Kind::kFailed:
+      log_->info("{}'s meeting with {} given up: {}; not sent again for {:.0f} s", robot, teammate, event.why,
+                 meetings_.options().retry_s);
+      break;
+  }
 }
 
 }  // namespace cairn::base

@@ -80,6 +80,7 @@ TEST(Snapshot, ShowsWhereEachRobotShouldSearchNext) {
   plan.frontiers.push_back({{6.0, 1.0}, 30, 1.5, 1.0});
   plan.goals.push_back({RobotId(0), 0, {6.0, 1.0}, 4.2, 0.3});
   plan.idle.push_back(RobotId(3));
+  plan.meetings.push_back({RobotId(2), RobotId(0), {4.0, 2.5}});  // active linking
   const ConsoleSnapshot s = make_snapshot(mapper.merged(), nlohmann::json::object(), {}, &plan);
   const nlohmann::json& e = s.status["exploration"];
   EXPECT_EQ(e["frontiers"], 1);
@@ -89,6 +90,10 @@ TEST(Snapshot, ShowsWhereEachRobotShouldSearchNext) {
   EXPECT_DOUBLE_EQ(e["goals"][0]["path_m"].get<double>(), 4.2);
   EXPECT_DOUBLE_EQ(e["goals"][0]["frontier_m"].get<double>(), 1.5);
   EXPECT_EQ(e["idle"], nlohmann::json::array({3}));
+  ASSERT_EQ(e["meetings"].size(), 1u);
+  EXPECT_EQ(e["meetings"][0]["robot"], 2);
+  EXPECT_EQ(e["meetings"][0]["teammate"], 0);
+  EXPECT_DOUBLE_EQ(e["meetings"][0]["y_m"].get<double>(), 2.5);
   // The map view's layers: the frontier where it is, and the known part of the map to show first.
   ASSERT_EQ(s.layers["frontiers"].size(), 1u);
   EXPECT_DOUBLE_EQ(s.layers["frontiers"][0]["x_m"].get<double>(), 6.0);

@@ -261,8 +261,17 @@ nlohmann::json exploration_json(const ExplorationPlan& plan) {
   }
   std::vector<int> idle;
   for (RobotId r : plan.idle) idle.push_back(r.value);
+  nlohmann::json meetings = nlohmann::json::array();
+  for (const MeetingGoal& m : plan.meetings) {
+    meetings.push_back(
+        {{"robot", m.robot.value}, {"teammate", m.teammate.value}, {"x_m", m.goal_m.x()}, {"y_m", m.goal_m.y()}});
+  }
   const int salient_cells = plan.saliency ? plan.saliency->cells_above(0.1) : 0;
-  return {{"frontiers", plan.frontiers.size()}, {"goals", goals}, {"idle", idle}, {"salient_cells", salient_cells}};
+  return {{"frontiers", plan.frontiers.size()},
+          {"goals", goals},
+          {"idle", idle},
+          {"meetings", meetings},
+          {"salient_cells", salient_cells}};
 }
 
 nlohmann::json plan_layers_json(const ExplorationPlan& plan) {

@@ -78,10 +78,18 @@ struct ExplorationGoal {
   double utility = 0;            ///< weight x length / (path + 1 m)
 };
 
+/// A robot driving toward a teammate instead of exploring (active_linking.h), as shown and exported.
+struct MeetingGoal {
+  RobotId robot;
+  RobotId teammate;        ///< the robot it is to meet
+  Eigen::Vector2d goal_m;  ///< where it drives, global frame (under the hypothesis if not placed yet)
+};
+
 struct ExplorationPlan {
   std::vector<Frontier> frontiers;     ///< largest first
   std::vector<ExplorationGoal> goals;  ///< at most one per robot, best first
   std::vector<RobotId> idle;           ///< robots with no reachable frontier left (or none for them)
+  std::vector<MeetingGoal> meetings;   ///< robots sent to meet a teammate (set by the caller)
   /// The saliency layer the base had when it planned (drawn on the map; set by the caller).
   std::shared_ptr<const SaliencyLayer> saliency;
 };

@@ -37,22 +37,28 @@ std::map<RobotId, Eigen::Vector2d> GoalAllocator::current_goals_m() const {
 }
 
 std::vector<GoalOrder> GoalAllocator::assign(const ExplorationPlan& plan,
-                                             const std::map<RobotId, std::optional<SE2>>& placements, StampNs now_ns) {
+                                             const std::map<RobotId, std::optional<SE2>>& placements, StampNs now_ns,
+                                             const std::map<RobotId, MeetGoal>& meet) {
   blacklisted_.erase(std::remove_if(blacklisted_.begin(), blacklisted_.end(),
                                     [&](const BlacklistedGoal& b) { return b.until_ns <= now_ns; }),
                      blacklisted_.end());
-  const bool any_linked =
-      std::any_of(placements.begin(), placements.end(), [](const auto& p) { return p.second.has_value(); });
   // No frontier left that a placed robot can reach: the search is over, everyone placed goes home.
-  // (Frontiers behind gaps no robot fits through cannot be explored by this team.)
+  // (Frontiers behind gaps no robot fits through cannot be explored by this team.) A plan made for
+  // no robot (the only placed one is off to a meeting) says nothing of that.
+  const bool planned_for_some = !plan.goals.empty() || !plan.idle.empty();
   const bool was_home = sent_home_;
-  sent_home_ = any_linked && plan.goals.empty();
+  sent_home_ = planned_for_some && plan.goals.empty();
   if (sent_home_ && !was_home) sent_home_at_ns_ = now_ns;
   std::vector<GoalOrder> changed;
   for (const auto& [robot, placement] : placements) {
     GoalOrder want;
     want.robot = robot;
-    if (!placement) {
+    const auto meeting = meet.find(robot);
+    if (meeting != meet.end()) {
+      want.kind = GoalKind::kMeet;
+      want.goal_global_m = meeting->second.global_m;
+      want.goal_local_m = meeting->second.local_m;
+    } else if (!placement) {
       want.kind = GoalKind::kOwn;  // its goal would be in a frame the base cannot place yet
     } else if (sent_home_) {
       want.kind = GoalKind::kHome;
@@ -75,8 +81,10 @@ std::vector<GoalOrder> GoalAllocator::assign(const ExplorationPlan& plan,
     if (current != orders_.end() && current->second.kind == want.kind) {
       const GoalOrder& c = current->second;
       const bool open = order_open_[robot];
-      if (want.kind != GoalKind::kExplore) continue;  // still "own" / still home: nothing new
-      if (open && (c.goal_global_m - want.goal_global_m).norm() < options_.same_goal_m) continue;
+      const bool same = (c.goal_global_m - want.goal_global_m).norm() < options_.same_goal_m;
+      if (want.kind == GoalKind::kOwn || want.kind == GoalKind::kHome) continue;  // nothing new
+      if (want.kind == GoalKind::kMeet && same) continue;  // reached or not, the same meeting point
+      if (open && same) continue;
     }
     want.goal_id = next_goal_id_++;
     orders_[robot] = want;

@@ -5,9 +5,9 @@
 // again at once (the failure explore_lite's users keep reporting: robots that spin at an unreachable
 // frontier for ever); so is a goal reached, as its frontier, if it is still there, cannot be resolved.
 // Robots the base cannot place yet, or with no frontier left for them while others have one, are
-// told to explore their own maps (GoalKind::kOwn); when no linked robot can reach a frontier any
-// more, every linked robot is sent home. The caller plans only once it knows where a placed robot is.
-// Pure: plans and statuses in, orders out.
+// told to explore their own maps (GoalKind::kOwn), unless they are sent to meet a teammate (kMeet);
+// when no linked robot the plan had can reach a frontier any more, every linked robot is sent home. The caller plans
+// only once it knows where a placed robot is. Pure: plans and statuses in, orders out.
 #include <Eigen/Core>
 #include <map>
 #include <optional>
@@ -49,6 +49,13 @@ struct GoalOrder {
   double frontier_m = 0;
 };
 
+/// A goal toward a teammate (GoalKind::kMeet), in both frames: the robot's own, and global (for a
+/// robot not placed yet, under the guess of its placement).
+struct MeetGoal {
+  Eigen::Vector2d global_m{0, 0};
+  Eigen::Vector2d local_m{0, 0};
+};
+
 struct BlacklistedGoal {
   Eigen::Vector2d position_m{0, 0};  ///< global frame
   StampNs until_ns = 0;
@@ -70,9 +77,10 @@ class GoalAllocator {
   std::map<RobotId, Eigen::Vector2d> current_goals_m() const;
 
   /// New orders from `plan` for every robot: `placements` has every robot the base knows, with
-  /// T_global_local for the linked ones. Returns only the orders that changed.
+  /// T_global_local for the linked ones. A robot in `meet` drives that goal instead (kMeet: to be
+  /// linked, active_linking.h), placed or not. Returns only the orders that changed.
   std::vector<GoalOrder> assign(const ExplorationPlan& plan, const std::map<RobotId, std::optional<SE2>>& placements,
-                                StampNs now_ns);
+                                StampNs now_ns, const std::map<RobotId, MeetGoal>& meet = {});
 
   /// `robot` is taken out of the plan (the operator drives it): its order is dropped, so its goal is
   /// free for the others and it gets a fresh order when it is handed back.

@@ -16,6 +16,13 @@ ExplorationPlan plan_with(std::vector<std::pair<RobotId, Eigen::Vector2d>> goals
   return plan;
 }
 
+/// The plan when none of `robots` can reach a frontier any more.
+ExplorationPlan no_frontier_for(std::vector<RobotId> robots) {
+  ExplorationPlan plan;
+  plan.idle = std::move(robots);
+  return plan;
+}
+
 const RobotId kA(0), kB(1), kC(2);
 
 TEST(GoalAllocator, LinkedRobotsGetTheirGoalInTheirOwnFrameUnplacedOnesExploreOnTheirOwn) {
@@ -77,7 +84,7 @@ TEST(GoalAllocator, NoReachableFrontierSendsEveryPlacedRobotHomeOnce) {
   EXPECT_FALSE(g.sent_home());
   ASSERT_EQ(first.size(), 2u);
   EXPECT_EQ(first[1].kind, GoalKind::kOwn);
-  const auto home = g.assign(ExplorationPlan{}, {{kA, SE2()}, {kB, T_b}, {kC, std::nullopt}}, at(9));
+  const auto home = g.assign(no_frontier_for({kA, kB}), {{kA, SE2()}, {kB, T_b}, {kC, std::nullopt}}, at(9));
   EXPECT_TRUE(g.sent_home());
   ASSERT_EQ(home.size(), 3u);
   EXPECT_EQ(home[0].kind, GoalKind::kHome);
@@ -86,7 +93,7 @@ TEST(GoalAllocator, NoReachableFrontierSendsEveryPlacedRobotHomeOnce) {
   EXPECT_TRUE(home[1].goal_local_m.isZero());
   EXPECT_EQ(home[2].kind, GoalKind::kOwn) << "an unplaced robot finds its own way home";
   g.report({kA, home[0].goal_id, NavState::kReached, RobotActivity::kHome}, at(20));
-  EXPECT_TRUE(g.assign(ExplorationPlan{}, {{kA, SE2()}, {kB, T_b}, {kC, std::nullopt}}, at(21)).empty());
+  EXPECT_TRUE(g.assign(no_frontier_for({kA, kB}), {{kA, SE2()}, {kB, T_b}, {kC, std::nullopt}}, at(21)).empty());
   EXPECT_TRUE(g.blacklist_m(at(21)).empty()) << "home is never blacklisted";
   ASSERT_TRUE(g.sent_home_at_ns());
   EXPECT_EQ(*g.sent_home_at_ns(), at(9));
@@ -104,6 +111,45 @@ TEST(GoalAllocator, NoPlacedRobotMeansNobodyIsSentHome) {
   EXPECT_FALSE(g.sent_home_at_ns());
   ASSERT_EQ(orders.size(), 1u);
   EXPECT_EQ(orders[0].kind, GoalKind::kOwn);
+}
+
+TEST(GoalAllocator, APlanForNoRobotSendsNobodyHome) {
+  // The only placed robot is off to a meeting, so the plan was made for nobody: not "nothing left".
+  GoalAllocator g;
+  const auto orders = g.assign(ExplorationPlan{}, {{kA, SE2()}, {kB, std::nullopt}}, at(1),
+                               {{kA, {{3, 0}, {3, 0}}}, {kB, {{1, 0}, {-2, 0}}}});
+  EXPECT_FALSE(g.sent_home());
+  ASSERT_EQ(orders.size(), 2u);
+  EXPECT_EQ(orders[0].kind, GoalKind::kMeet);
+}
+
+TEST(GoalAllocator, AMeetingGoalGoesToPlacedAndUnplacedRobotsAndIsResentOnlyWhenItMoves) {
+  GoalAllocator g;
+  const SE2 T_b(4.0, 0.0, M_PI);
+  const auto first = g.assign(plan_with({{kA, {5, 0}}}), {{kA, SE2()}, {kB, T_b}, {kC, std::nullopt}}, at(1),
+                              {{kB, {{2, 0}, T_b.inverse() * Eigen::Vector2d(2, 0)}}, {kC, {{9, 9}, {1, 1}}}});
+  ASSERT_EQ(first.size(), 3u);
+  EXPECT_EQ(first[0].kind, GoalKind::kExplore);
+  EXPECT_EQ(first[1].kind, GoalKind::kMeet);
+  EXPECT_TRUE(first[1].goal_local_m.isApprox(Eigen::Vector2d(2, 0))) << first[1].goal_local_m.transpose();
+  EXPECT_EQ(first[2].kind, GoalKind::kMeet);
+  EXPECT_TRUE(first[2].goal_local_m.isApprox(Eigen::Vector2d(1, 1)));
+  // Reached: the same point is not sent again (no goal every plan); a moved one is.
+  EXPECT_TRUE(g.report({kC, first[2].goal_id, NavState::kReached, RobotActivity::kMeeting}, at(2)));
+  EXPECT_TRUE(g.blacklist_m(at(2)).empty()) << "a meeting point is no frontier to blacklist";
+  const std::map<RobotId, std::optional<SE2>> placements{{kA, SE2()}, {kB, T_b}, {kC, std::nullopt}};
+  EXPECT_TRUE(
+      g.assign(plan_with({{kA, {5, 0}}}), placements, at(3), {{kB, {{2.2, 0}, {1.8, 0}}}, {kC, {{9, 9.5}, {1, 1.5}}}})
+          .empty());
+  const auto moved =
+      g.assign(plan_with({{kA, {5, 0}}}), placements, at(5), {{kB, {{2, 0}, {2, 0}}}, {kC, {{9, 12}, {1, 4}}}});
+  ASSERT_EQ(moved.size(), 1u);
+  EXPECT_EQ(moved[0].robot, kC);
+  // The meeting over: the placed teammate gets its frontier, the unplaced robot its own map again.
+  const auto after = g.assign(plan_with({{kA, {5, 0}}, {kB, {0, 4}}}), placements, at(7));
+  ASSERT_EQ(after.size(), 2u);
+  EXPECT_EQ(after[0].kind, GoalKind::kExplore);
+  EXPECT_EQ(after[1].kind, GoalKind::kOwn);
 }
 
 }  // namespace

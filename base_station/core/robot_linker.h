@@ -84,6 +84,9 @@ struct AlignmentVerdict {
   SE2 placed;          ///< accepted: T_global_local the verified matches gave
   int closures = 0;    ///< verified scan matches that agreed
   std::string reason;  ///< why refused, or how it was placed
+  /// Refused only for want of evidence (its map does not overlap the global map there yet, or the
+  /// map check is inconclusive): still a fair guess, which active linking may act on.
+  bool plausible = false;
 };
 
 /// The pose-graph edge of a loop closure: its covariance inverted (identity if not positive definite).

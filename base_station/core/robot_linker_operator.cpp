@@ -44,6 +44,7 @@ void RobotLinker::judge_alignment(MapperData* data, AlignmentVerdict* v, LinkUpd
   const RobotId rb = v->robot;
   const std::string name = "robot " + std::to_string(rb.value);
   v->state = AlignmentState::kRefused;
+  v->plausible = false;
   if (!data->anchor || data->robot_keyframes(*data->anchor).empty()) {
     v->reason = "nothing is on the global map yet";
     return;
@@ -63,6 +64,7 @@ void RobotLinker::judge_alignment(MapperData* data, AlignmentVerdict* v, LinkUpd
   if (int(found.size()) < o.min_closures) {
     v->reason = std::to_string(found.size()) + " verified scan matches within " + window + " of the alignment (" +
                 std::to_string(o.min_closures) + " needed): its map does not overlap the global map there";
+    v->plausible = true;
     return;
   }
   // The matches' rigid fit, then only the matches that agree with it (a look-alike spot is off).
@@ -81,6 +83,7 @@ void RobotLinker::judge_alignment(MapperData* data, AlignmentVerdict* v, LinkUpd
   if (!map.accepted) {
     v->reason =
         std::string(map.inconclusive ? "the map check is inconclusive: " : "the map check refutes it: ") + map.reason;
+    v->plausible = map.inconclusive;
     return;
   }
   const SE2 placed = link_hypothesis(*data, ra, agreeing);

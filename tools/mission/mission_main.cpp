@@ -41,7 +41,8 @@ struct Options {
   std::string world;
   std::string routes;  ///< scripted routes instead of autonomous exploration
   std::string exploration = "coordinated";
-  int64_t seed = -1;  ///< the world's own when negative
+  double meet_after_s = -1;  ///< active linking's delay; negative: the base's default
+  int64_t seed = -1;         ///< the world's own when negative
   std::string out;
   double speed = 0.0;
   bool serve = false;
@@ -74,6 +75,10 @@ int main(int argc, char** argv) {
                  "coordinated: the base spreads the robots over the frontiers; nearest: each robot its own nearest; "
                  "saliency: coordinated, and frontiers near salient spots the cameras saw go first")
       ->check(CLI::IsMember({"coordinated", "nearest", "saliency"}));
+  app.add_option("--meet-after", opt.meet_after_s,
+                 "active linking: a robot not on the map this many mission seconds after its first keyframe is "
+                 "sent to meet a teammate (0 = never; default: the base's)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--seed", opt.seed, "override the world's random seed (sensor noise)");
   app.add_option("--out", opt.out, "output folder (default out/<world name>)");
   app.add_option("--speed", opt.speed, "simulator speed, times real time (0 = as fast as possible)");
@@ -193,6 +198,7 @@ int main(int argc, char** argv) {
   base_cmd.insert(base_cmd.end(), {(bin / "cairn_base").string(), "--domain", std::to_string(opt.domain), "--out",
                                    (out / "map").string(), "--robots", std::to_string(robots), "--port",
                                    std::to_string(opt.port), "--exploration", opt.exploration});
+  if (opt.meet_after_s >= 0) base_cmd.insert(base_cmd.end(), {"--meet-after", std::to_string(opt.meet_after_s)});
   // The team knows where the first robot entered (it anchors the map in world coordinates); where
   // the others started is not told: the base links them by cross-robot loop closures.
   const auto& anchor = wf.world.robots.front();

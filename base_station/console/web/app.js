@@ -214,6 +214,14 @@ function renderGoals(exploration) {
     el("td", { text: `${g.path_m.toFixed(1)} m` }),
     el("td", { text: `${g.frontier_m.toFixed(1)} m` }),
   ]));
+  for (const m of exploration.meetings || []) {  // active linking: driving toward a teammate instead
+    rows.push(el("tr", {}, [
+      el("td", { text: `Robot ${m.robot}` }),
+      el("td", { class: "num", text: m.x_m.toFixed(1) }),
+      el("td", { class: "num", text: m.y_m.toFixed(1) }),
+      el("td", { colspan: 2, class: "muted", text: `meeting Robot ${m.teammate}, to link their maps` }),
+    ]));
+  }
   for (const r of exploration.idle || []) {
     rows.push(el("tr", {}, [el("td", { text: `Robot ${r}` }), el("td", { colspan: 4, class: "muted", text: "nothing reachable left to explore" })]));
   }

@@ -209,7 +209,8 @@ const MapView = (() => {
     }
   }
 
-  // Each robot's next goal (the plan's, dashed) and the point the operator sent it to (ringed);
+  // Each robot's next goal (the plan's, dashed; a meeting with a teammate, dotted to a filled dot)
+  // and the point the operator sent it to (ringed);
   // the path its own planner drives there (solid, from where it is: what it reported last).
   function drawGoals(robots, exploration, commands) {
     layers.goals.clearLayers();
@@ -226,6 +227,13 @@ const MapView = (() => {
       const colour = robotColour(g.robot);
       if (from) L.polyline([ll(from[0], from[1]), ll(g.x_m, g.y_m)], { color: colour, weight: 2, dashArray: "6 6", interactive: false }).addTo(layers.goals);
       L.circleMarker(ll(g.x_m, g.y_m), { radius: 6, color: colour, weight: 2, fill: false, interactive: false }).addTo(layers.goals);
+    }
+    for (const m of (exploration && exploration.meetings) || []) {  // active linking: toward a teammate
+      const from = pose.get(m.robot);
+      const colour = robotColour(m.robot);
+      if (from) L.polyline([ll(from[0], from[1]), ll(m.x_m, m.y_m)], { color: colour, weight: 2, dashArray: "2 6", interactive: false }).addTo(layers.goals);
+      L.circleMarker(ll(m.x_m, m.y_m), { radius: 4, color: colour, weight: 2, fill: true, fillOpacity: 0.6, interactive: false })
+        .addTo(layers.goals);
     }
     const latest = new Map();
     for (const c of commands) if (!latest.has(c.robot)) latest.set(c.robot, c);  // newest first

@@ -45,6 +45,7 @@ std::optional<DriveTarget> MissionBehaviour::update(StampNs now_ns, const Eigen:
     target_.reset();
     switch (done.activity) {
       case RobotActivity::kExploring:
+      case RobotActivity::kMeeting:
         base_goal_ended_ns_ = now_ns;
         break;
       case RobotActivity::kOwnExploration:
@@ -88,7 +89,10 @@ std::optional<DriveTarget> MissionBehaviour::choose(StampNs now_ns, const OwnFro
       t.activity = RobotActivity::kGoingHome;
       t.tolerance_m = options_.home_tolerance_m;
     }
-    return set(t, base_goal_.kind == GoalKind::kHome ? "the base sends it home" : "the base's goal");
+    if (base_goal_.kind == GoalKind::kMeet) t.activity = RobotActivity::kMeeting;
+    return set(t, base_goal_.kind == GoalKind::kHome   ? "the base sends it home"
+                  : base_goal_.kind == GoalKind::kMeet ? "the base sends it to meet a teammate"
+                                                       : "the base's goal");
   }
   if (idle_activity_ == RobotActivity::kHome) return std::nullopt;  // its mission is over
   if (home_retry_) {

@@ -3,8 +3,9 @@
 // sends goals (explore this frontier, go home, or "explore on your own" while it cannot place the
 // robot); the radio is often cut, so the robot also decides alone (the comms-aware behaviour of the
 // DARPA SubT teams):
-//   - base goal kExplore: drive it; once it is reached or failed, wait base_wait_s for the next one,
-//     then take the nearest frontier of the robot's own map until one comes;
+//   - base goal kExplore (or kMeet, toward a teammate to be linked): drive it; once it is reached or
+//     failed, wait base_wait_s for the next one, then take the nearest frontier of the robot's own
+//     map until one comes;
 //   - kOwn, or no word from the base for autonomy_after_s: the nearest frontier of its own map
 //     (failed ones are blacklisted on board); none left: go home;
 //   - no word for return_after_s: back to where it last heard the base, then wait there;

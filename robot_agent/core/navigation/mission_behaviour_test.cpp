@@ -50,6 +50,26 @@ TEST(MissionBehaviour, DrivesTheBaseGoalThenWaitsForTheNextOne) {
   EXPECT_EQ(t->goal_id, 8u);
 }
 
+TEST(MissionBehaviour, AMeetingGoalIsDrivenAsMeetingThenItWaitsForTheBaseLikeAnyBaseGoal) {
+  MissionBehaviour b;
+  // Not placed yet: the base sends it toward a teammate (active linking), in its own frame.
+  b.on_base_goal({4, GoalKind::kMeet, true, {6, -2}}, at(1), kHere);
+  auto t = b.update(at(1), kFar, NavState::kIdle, frontiers({{9, 9}}));
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->goal_id, 4u);
+  EXPECT_EQ(t->activity, RobotActivity::kMeeting);
+  EXPECT_EQ(t->position_m, Eigen::Vector2d(6, -2));
+  EXPECT_EQ(std::string(to_string(b.activity())), "meeting a teammate");
+  // Reached (they met): it waits for the base, which links it and sends its next goal.
+  b.on_contact(at(5), kHere);
+  EXPECT_FALSE(b.update(at(5), kFar, NavState::kReached, frontiers({{9, 9}})));
+  EXPECT_EQ(b.activity(), RobotActivity::kWaiting);
+  b.on_contact(at(9.5), kHere);
+  t = b.update(at(9.5), kFar, NavState::kIdle, frontiers({{9, 9}}));
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->activity, RobotActivity::kOwnExploration) << "no word after base_wait_s: its own frontiers";
+}
+
 TEST(MissionBehaviour, AnUnplacedRobotExploresItsOwnMapBlacklistingFailuresThenGoesHome) {
   MissionBehaviour b;
   b.on_base_goal({1, GoalKind::kOwn, false, {0, 0}}, at(0), kHere);
