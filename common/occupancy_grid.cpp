@@ -74,15 +74,19 @@ void OccupancyGrid::update_cell(int col, int row, float delta) {
   if (v == 0.f) v = delta > 0 ? 1e-6f : -1e-6f;  // stays "known"
 }
 
-void OccupancyGrid::trace_ray(const Eigen::Vector2i& from, const Eigen::Vector2i& to, bool hit_at_end) {
-  // Bresenham line from `from` to `to`; the end cell gets a hit (or a miss when no return).
+namespace {
+
+/// Bresenham line from `from` to `to`, the end cell excluded: visit(col, row) for each cell until it
+/// returns false. Returns whether every cell was visited.
+template <typename Visit>
+bool walk_line(const Eigen::Vector2i& from, const Eigen::Vector2i& to, Visit visit) {
   int x0 = from.x(), y0 = from.y();
   const int x1 = to.x(), y1 = to.y();
   const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
   const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
   int err = dx + dy;
   while (!(x0 == x1 && y0 == y1)) {
-    update_cell(x0, y0, options_.miss_log_odds);
+    if (!visit(x0, y0)) return false;
     const int e2 = 2 * err;
     if (e2 >= dy) {
       err += dy;
@@ -93,7 +97,24 @@ void OccupancyGrid::trace_ray(const Eigen::Vector2i& from, const Eigen::Vector2i
       y0 += sy;
     }
   }
-  update_cell(x1, y1, hit_at_end ? options_.hit_log_odds : options_.miss_log_odds);
+  return true;
+}
+
+}  // namespace
+
+void OccupancyGrid::trace_ray(const Eigen::Vector2i& from, const Eigen::Vector2i& to, bool hit_at_end) {
+  // The cells up to the end get a miss; the end cell a hit (or a miss when no return).
+  walk_line(from, to, [this](int col, int row) {
+    update_cell(col, row, options_.miss_log_odds);
+    return true;
+  });
+  update_cell(to.x(), to.y(), hit_at_end ? options_.hit_log_odds : options_.miss_log_odds);
+}
+
+bool OccupancyGrid::line_clear(const Eigen::Vector2d& a_m, const Eigen::Vector2d& b_m, double occupied_above) const {
+  const Eigen::Vector2i b = cell_of(b_m);
+  const auto free = [&](int col, int row) { return !contains(col, row) || probability(col, row) <= occupied_above; };
+  return walk_line(cell_of(a_m), b, free) && free(b.x(), b.y());
 }
 
 void OccupancyGrid::insert_scan(const SE2& T_map_sensor, const std::vector<Eigen::Vector2f>& points,

@@ -59,6 +59,9 @@ class OccupancyGrid {
   float log_odds(int col, int row) const;  ///< 0 (unknown) outside the grid
   bool known(int col, int row) const { return log_odds(col, row) != 0.f; }
   double probability(int col, int row) const;
+  /// No cell with occupancy probability above `occupied_above` on the straight line a-b (unknown
+  /// cells, and cells outside the grid, do not block): whether a robot at a could see one at b.
+  bool line_clear(const Eigen::Vector2d& a_m, const Eigen::Vector2d& b_m, double occupied_above = 0.65) const;
   /// Area of cells that were observed (free or occupied), square metres.
   double known_area_m2() const;
 

@@ -20,6 +20,17 @@ TEST(OccupancyGrid, RayCastMarksFreeThenHit) {
   EXPECT_FALSE(grid.known(unknown.x(), unknown.y()));
 }
 
+TEST(OccupancyGrid, ALineIsClearUnlessAnOccupiedCellLiesOnIt) {
+  OccupancyGrid grid;
+  // A scan from the origin with one return 3 m east: free cells up to a wall cell there.
+  for (int i = 0; i < 3; ++i) grid.insert_scan(SE2(), {Eigen::Vector2f(3, 0)});
+  EXPECT_TRUE(grid.line_clear({0, 0}, {2.5, 0}));
+  EXPECT_FALSE(grid.line_clear({0, 0}, {4, 0})) << "the wall at 3 m";
+  EXPECT_FALSE(grid.line_clear({4, 0}, {0, 0})) << "either way";
+  EXPECT_TRUE(grid.line_clear({0, 1}, {4, 1})) << "a line north of it (unknown cells do not block)";
+  EXPECT_TRUE(grid.line_clear({50, 50}, {60, 60})) << "outside the grid";
+}
+
 TEST(OccupancyGrid, GrowsInEveryDirectionKeepingContent) {
   OccupancyGrid grid;
   grid.insert_scan(SE2(0, 0, 0), {Eigen::Vector2f(1.0f, 0.0f)});

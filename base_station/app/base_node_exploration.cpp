@@ -86,9 +86,9 @@ void BaseNode::plan_and_publish_goals(bool send) {
   plan_ = plan_exploration(*merged.grid, robots_m, victims_m, options_.exploration, context);
   plan_.saliency = std::move(saliency);
   for (const auto& [robot, m] : meetings_.meetings()) {  // shown on the console's map and goal list
-    if (m.met_ns) continue;
     plan_.meetings.push_back({robot, m.teammate, m.robot_goal_global_m});
-    if (meet.count(m.teammate)) plan_.meetings.push_back({m.teammate, robot, meet.at(m.teammate).global_m});
+    if (m.teammate_goal_m && meet.count(m.teammate))
+      plan_.meetings.push_back({m.teammate, robot, meet.at(m.teammate).global_m});
   }
   planned_version_ = mapper_.version();
   replan_now_ = false;
@@ -135,11 +135,15 @@ std::map<RobotId, MeetGoal> BaseNode::plan_meetings(const MergedMap& merged,
   }
   std::map<RobotId, MeetGoal> meet;
   if (!send || search_.paused()) return meet;  // no orders go out: no meeting starts either
-  for (const MeetingEvent& event : meetings_.update(unlinked, placed_m, merged.data->latest_stamp_ns)) {
+  // They have met when they can see each other: no wall between them on the global map.
+  const LineOfSight in_sight = [&merged](const Eigen::Vector2d& a_m, const Eigen::Vector2d& b_m) {
+    return merged.grid->line_clear(a_m, b_m);
+  };
+  for (const MeetingEvent& event : meetings_.update(unlinked, placed_m, merged.data->latest_stamp_ns, in_sight)) {
     report_meeting(event, true);
   }
   for (const auto& [robot, m] : meetings_.meetings()) {
-    if (!m.met_ns) meet[robot] = {m.robot_goal_global_m, m.robot_goal_local_m};
+    meet[robot] = {m.robot_goal_global_m, m.robot_goal_local_m};
     const auto placement = placements.find(m.teammate);
     if (m.teammate_goal_m && placement != placements.end() && placement->second) {
       meet[m.teammate] = {*m.teammate_goal_m, placement->second->inverse() * *m.teammate_goal_m};

@@ -60,8 +60,10 @@ void ActiveLinker::set_goals(Meeting* m, const SE2& pose_local,
   const Eigen::Vector2d robot_m = m->hypothesis.T_global_local * pose_local.translation();
   const Eigen::Vector2d teammate_m = placed_m.at(m->teammate);
   m->distance_m = (teammate_m - robot_m).norm();
+  // They met: the goals stay where they stopped, facing each other (a camera sees the other's
+  // marker, the scans overlap) while the linker judges what they saw.
+  if (m->met_ns) return;
   m->teammate_goal_m.reset();
-  if (m->met_ns) return;  // they met: both go back to exploring while the linker judges what they saw
   // Each toward the other, stopping short; coincident (distance 0) cannot happen before met_m.
   const Eigen::Vector2d towards_robot = (robot_m - teammate_m) / m->distance_m;
   const double short_m = std::min(options_.stop_short_m, 0.5 * m->distance_m);
@@ -75,7 +77,11 @@ void ActiveLinker::set_goals(Meeting* m, const SE2& pose_local,
 }
 
 std::vector<MeetingEvent> ActiveLinker::update(const std::vector<UnlinkedRobot>& unlinked,
-                                               const std::map<RobotId, Eigen::Vector2d>& placed_m, StampNs now_ns) {
+                                               const std::map<RobotId, Eigen::Vector2d>& placed_m, StampNs now_ns,
+                                               const LineOfSight& in_sight) {
+  const auto together = [&](const Meeting& m, const Eigen::Vector2d& robot_m) {
+    return m.distance_m <= options_.met_m && (!in_sight || in_sight(robot_m, placed_m.at(m.teammate)));
+  };
   std::vector<MeetingEvent> events;
   if (!options_.enabled) return events;
   // The meetings under way: ended by a link, a timeout or a lost hypothesis; else new goals.
@@ -117,9 +123,11 @@ std::vector<MeetingEvent> ActiveLinker::update(const std::vector<UnlinkedRobot>&
       continue;
     }
     set_goals(&m, u->pose_local, placed_m);
-    if (!m.met_ns && m.distance_m <= options_.met_m) {
+    if (!m.met_ns && together(m, at_m)) {  // met: both stop where they are, facing each other
       m.met_ns = now_ns;
-      set_goals(&m, u->pose_local, placed_m);  // met: no goals any more
+      m.robot_goal_global_m = at_m;
+      m.robot_goal_local_m = u->pose_local.translation();
+      if (m.teammate_goal_m) m.teammate_goal_m = placed_m.at(m.teammate);
     }
   }
   // New meetings: robots unlinked for after_s with a hypothesis and a teammate not resting from a
@@ -138,7 +146,7 @@ std::vector<MeetingEvent> ActiveLinker::update(const std::vector<UnlinkedRobot>&
     m.first_keyframe_ns = u.first_keyframe_ns;
     m.started_ns = now_ns;
     set_goals(&m, u.pose_local, placed_m);
-    if (m.distance_m <= options_.met_m) continue;  // together already: a meeting adds nothing
+    if (together(m, u.hypothesis->T_global_local * u.pose_local.translation())) continue;  // a meeting adds nothing
     meetings_[u.robot] = m;
     ++stats_.started;
     events.push_back({MeetingEvent::Kind::kStarted, m, ""});

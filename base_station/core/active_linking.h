@@ -3,16 +3,16 @@
 // so that the overlap of their scans, or one seeing the other's marker, links it soon. Where to meet
 // needs a guess of where the robot is: a hypothesis of its placement (an entry hint, or the
 // operator's alignment still being judged). Under it, each of the two drives toward the other and
-// stops stop_short_m before it; the teammate drives only while it is the nearest placed robot not
-// meeting another. A hypothesis is never a link: the linker's verification alone decides. A meeting
-// that brings no link (the guess was wrong, or the place looks like many others) is given up and the
-// pair is not sent to meet again for retry_s (the robot may meet another teammate meanwhile, or
-// explore its own map, as before). A meeting switches to a placed robot much nearer than its
-// teammate (one linked since, often on the way).
-// A robot with no hypothesis is not sent anywhere: without one, "toward the others" has no direction
-// in its own frame.
-// Pure: positions and hypotheses in, meetings out; the class keeps the meetings over time.
+// stops stop_short_m before it; they have met when within met_m with no wall between them, and
+// then stop where they are (facing each other) until the link comes or met_wait_s passes; the teammate drives only
+// while it is the nearest placed robot not meeting another. A hypothesis is never a link: the linker's verification
+// alone decides. A meeting that brings no link (the guess was wrong, or the place looks like many others) is given up
+// and the pair is not sent to meet again for retry_s (the robot may meet another teammate meanwhile, or explore its own
+// map, as before). A meeting switches to a placed robot much nearer than its teammate (one linked since, often on the
+// way). A robot with no hypothesis is not sent anywhere: without one, "toward the others" has no direction in its own
+// frame. Pure: positions and hypotheses in, meetings out; the class keeps the meetings over time.
 #include <Eigen/Core>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -28,7 +28,7 @@ struct ActiveLinkingOptions {
   bool enabled = true;
   double after_s = 5.0;         ///< not linked this long after its first keyframe (mission time): sent to meet
   double stop_short_m = 1.5;    ///< each drives to this far short of the other: they must not collide
-  double met_m = 3.0;           ///< this close under the hypothesis: they met, the link should follow
+  double met_m = 3.0;           ///< this close under the hypothesis, in sight: they met, the link should follow
   double met_wait_s = 15.0;     ///< met and still not linked this long after: the meeting failed
   double max_meeting_s = 90.0;  ///< nor met after this long: the meeting failed
   double retry_s = 60.0;        ///< a pair whose meeting failed is not sent to meet again for this long
@@ -67,6 +67,9 @@ struct Meeting {
   std::optional<Eigen::Vector2d> teammate_goal_m;
 };
 
+/// Whether a robot at a could see one at b (no wall between them on the global map).
+using LineOfSight = std::function<bool(const Eigen::Vector2d& a_m, const Eigen::Vector2d& b_m)>;
+
 /// What changed at an update, for the log and the results.
 struct MeetingEvent {
   enum class Kind { kStarted, kLinked, kFailed } kind = Kind::kStarted;
@@ -85,10 +88,12 @@ class ActiveLinker {
   explicit ActiveLinker(const ActiveLinkingOptions& options = {}) : options_(options) {}
 
   /// One decision at mission time now_ns: `unlinked` are the robots not placed yet, `placed_m` the
-  /// placed robots the planner may send (global positions). Returns what changed; meetings() then
-  /// holds the meetings to drive.
+  /// placed robots the planner may send (global positions); `in_sight` (none: always) tells
+  /// whether two close robots can see each other, for they have met only then. Returns what
+  /// changed; meetings() then holds the meetings to drive.
   std::vector<MeetingEvent> update(const std::vector<UnlinkedRobot>& unlinked,
-                                   const std::map<RobotId, Eigen::Vector2d>& placed_m, StampNs now_ns);
+                                   const std::map<RobotId, Eigen::Vector2d>& placed_m, StampNs now_ns,
+                                   const LineOfSight& in_sight = {});
   /// The goal of a meeting ended unreachable or stuck for `robot` (either side): the meeting fails.
   std::optional<MeetingEvent> goal_failed(RobotId robot, StampNs now_ns);
 

@@ -36,12 +36,19 @@ TEST(ActiveLinking, AnUnlinkedRobotWithAHypothesisIsSentToMeetTheNearestPlacedTe
   ASSERT_TRUE(m.teammate_goal_m);
   EXPECT_TRUE(m.teammate_goal_m->isApprox(Eigen::Vector2d(17.5, 0))) << m.teammate_goal_m->transpose();
   EXPECT_EQ(linker.moving_teammates(), std::vector<RobotId>{kA});
-  // As they close in, the goals follow; once within met_m both are let go (no goals, no mover).
-  linker.update({robot_b(8)}, {{kA, {9, 0}}, {kC, {30, 15}}}, at(12));
-  EXPECT_TRUE(linker.meetings().at(kB).robot_goal_global_m.isApprox(Eigen::Vector2d(10.5, 0)));
+  // As they close in, the goals follow; once within met_m (2.5 m) both stop where they are, facing
+  // each other, and stay there.
+  linker.update({robot_b(8)}, {{kA, {8, 0}}, {kC, {30, 15}}}, at(12));  // 4 m apart
+  EXPECT_FALSE(linker.meetings().at(kB).met_ns);
+  EXPECT_TRUE(linker.meetings().at(kB).robot_goal_global_m.isApprox(Eigen::Vector2d(9.5, 0)));
   linker.update({robot_b(9.5)}, {{kA, {8, 0}}, {kC, {30, 15}}}, at(14));
   ASSERT_TRUE(linker.meetings().at(kB).met_ns);
-  EXPECT_TRUE(linker.moving_teammates().empty());
+  linker.update({robot_b(9.6)}, {{kA, {8.5, 0}}, {kC, {30, 15}}}, at(15));
+  EXPECT_TRUE(linker.meetings().at(kB).robot_goal_global_m.isApprox(Eigen::Vector2d(10.5, 0)));
+  EXPECT_TRUE(linker.meetings().at(kB).robot_goal_local_m.isApprox(Eigen::Vector2d(9.5, 0)));
+  ASSERT_TRUE(linker.meetings().at(kB).teammate_goal_m);
+  EXPECT_TRUE(linker.meetings().at(kB).teammate_goal_m->isApprox(Eigen::Vector2d(8, 0)));
+  EXPECT_EQ(linker.moving_teammates(), std::vector<RobotId>{kA}) << "held out of the exploration plan";
   // Linked: the meeting ends well.
   const auto linked = linker.update({}, placed, at(16));
   ASSERT_EQ(linked.size(), 1u);
@@ -138,6 +145,20 @@ TEST(ActiveLinking, AMeetingSwitchesToAMuchNearerPlacedRobotAndAFailedPairRestsW
 TEST(ActiveLinking, ARobotAlreadyNearItsTeammateUnderTheHypothesisIsNotSent) {
   ActiveLinker linker;
   EXPECT_TRUE(linker.update({robot_b(0)}, {{kA, {19, 1}}}, at(10)).empty());
+}
+
+TEST(ActiveLinking, CloseWithAWallBetweenThemIsNotMet) {
+  // A wall along x = 10 (global): nobody on one side sees the other side.
+  const LineOfSight wall_at_10 = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - 10) * (b.x() - 10) > 0;
+  };
+  ActiveLinker linker;
+  EXPECT_EQ(linker.update({robot_b(9)}, {{kA, {9, 1}}}, at(10), wall_at_10).size(), 1u)
+      << "B (at x = 11) is 2.2 m from A, but behind the wall: sent";
+  linker.update({robot_b(9)}, {{kA, {9, 1}}}, at(12), wall_at_10);
+  EXPECT_FALSE(linker.meetings().at(kB).met_ns);
+  linker.update({robot_b(10.5)}, {{kA, {9, 1}}}, at(14), wall_at_10);  // B came round: x = 9.5
+  EXPECT_TRUE(linker.meetings().at(kB).met_ns);
 }
 
 }  // namespace
