@@ -67,13 +67,19 @@ void ActiveLinker::set_goals(Meeting* m, const SE2& pose_local,
   // Each toward the other, stopping short; coincident (distance 0) cannot happen before met_m.
   const Eigen::Vector2d towards_robot = (robot_m - teammate_m) / m->distance_m;
   const double short_m = std::min(options_.stop_short_m, 0.5 * m->distance_m);
-  m->robot_goal_global_m = teammate_m + short_m * towards_robot;
+  const auto leg = [&](const Eigen::Vector2d& from_m, const Eigen::Vector2d& to_m) -> Eigen::Vector2d {
+    const double d = (to_m - from_m).norm();
+    return d <= options_.max_leg_m ? to_m : Eigen::Vector2d(from_m + (options_.max_leg_m / d) * (to_m - from_m));
+  };
+  m->robot_goal_global_m = leg(robot_m, teammate_m + short_m * towards_robot);
   m->robot_goal_local_m = m->hypothesis.T_global_local.inverse() * m->robot_goal_global_m;
   std::set<RobotId> busy;
   for (const auto& [other, o] : meetings_) {
     if (other != m->robot && o.teammate_goal_m) busy.insert(o.teammate);  // whoever holds it keeps it
   }
-  if (options_.move_teammate && !busy.count(m->teammate)) m->teammate_goal_m = robot_m - short_m * towards_robot;
+  if (options_.move_teammate && !busy.count(m->teammate)) {
+    m->teammate_goal_m = leg(teammate_m, robot_m - short_m * towards_robot);
+  }
 }
 
 std::vector<MeetingEvent> ActiveLinker::update(const std::vector<UnlinkedRobot>& unlinked,

@@ -26,8 +26,11 @@ namespace cairn::base {
 
 struct ActiveLinkingOptions {
   bool enabled = true;
-  double after_s = 5.0;         ///< not linked this long after its first keyframe (mission time): sent to meet
-  double stop_short_m = 1.5;    ///< each drives to this far short of the other: they must not collide
+  double after_s = 5.0;       ///< not linked this long after its first keyframe (mission time): sent to meet
+  double stop_short_m = 1.5;  ///< each drives to this far short of the other: they must not collide
+  /// Each goal lies at most this far from its robot, toward the other (the goals follow as they
+  /// drive): a robot plans on its own map, and refuses a goal far outside it.
+  double max_leg_m = 10.0;
   double met_m = 3.0;           ///< this close under the hypothesis, in sight: they met, the link should follow
   double met_wait_s = 15.0;     ///< met and still not linked this long after: the meeting failed
   double max_meeting_s = 90.0;  ///< nor met after this long: the meeting failed

@@ -30,11 +30,12 @@ TEST(ActiveLinking, AnUnlinkedRobotWithAHypothesisIsSentToMeetTheNearestPlacedTe
   const Meeting& m = linker.meetings().at(kB);
   EXPECT_EQ(m.teammate, kA) << "A is 17 m from B's guessed position, C 18.6 m";
   EXPECT_NEAR(m.distance_m, 17.0, 1e-9);
-  // B drives west to 1.5 m short of A: x = 3.5 in the world, 16.5 m along its own x axis.
-  EXPECT_TRUE(m.robot_goal_global_m.isApprox(Eigen::Vector2d(3.5, 0))) << m.robot_goal_global_m.transpose();
-  EXPECT_TRUE(m.robot_goal_local_m.isApprox(Eigen::Vector2d(16.5, 0))) << m.robot_goal_local_m.transpose();
+  // B drives west toward 1.5 m short of A (x = 3.5), a leg of at most 10 m at a time: x = 9 in the
+  // world, 11 m along its own x axis; A likewise east, to x = 12.
+  EXPECT_TRUE(m.robot_goal_global_m.isApprox(Eigen::Vector2d(9, 0))) << m.robot_goal_global_m.transpose();
+  EXPECT_TRUE(m.robot_goal_local_m.isApprox(Eigen::Vector2d(11, 0))) << m.robot_goal_local_m.transpose();
   ASSERT_TRUE(m.teammate_goal_m);
-  EXPECT_TRUE(m.teammate_goal_m->isApprox(Eigen::Vector2d(17.5, 0))) << m.teammate_goal_m->transpose();
+  EXPECT_TRUE(m.teammate_goal_m->isApprox(Eigen::Vector2d(12, 0))) << m.teammate_goal_m->transpose();
   EXPECT_EQ(linker.moving_teammates(), std::vector<RobotId>{kA});
   // As they close in, the goals follow; once within met_m (2.5 m) both stop where they are, facing
   // each other, and stay there.
@@ -112,7 +113,7 @@ TEST(ActiveLinking, OneTeammateDrivesToOneMeetingAtATimeTheOtherRobotDrivesToItA
   ASSERT_EQ(events.size(), 2u);
   EXPECT_TRUE(linker.meetings().at(kB).teammate_goal_m);
   EXPECT_FALSE(linker.meetings().at(kC).teammate_goal_m);
-  EXPECT_TRUE(linker.meetings().at(kC).robot_goal_global_m.isApprox(Eigen::Vector2d(2, 1.5)));
+  EXPECT_TRUE(linker.meetings().at(kC).robot_goal_global_m.isApprox(Eigen::Vector2d(2, 10)));  // 10 m of 18.5
   EXPECT_EQ(linker.moving_teammates(), std::vector<RobotId>{kA});
   // B links: A is free, and now drives toward C.
   linker.update({c}, {{kA, {2, 0}}}, at(12));
