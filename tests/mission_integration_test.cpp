@@ -84,6 +84,22 @@ void expect_every_robot_placed(const eval::MissionScore& score, double max_rmse_
   }
 }
 
+/// A whole text file (a process's log); empty when it cannot be read.
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// The office mission (3 robots) ended well with every robot on the map, right.
+void expect_office_mission_placed_every_robot(const MissionRun& run) {
+  ASSERT_EQ(run.result.exit_code, 0) << run.result.output;
+  EXPECT_EQ(run.result.output.find("NOT LINKED"), std::string::npos) << run.result.output;
+  const eval::MissionScore score =
+      eval::evaluate_mission((run.out / "ground_truth").string(), (run.out / "map").string());
+  ASSERT_EQ(score.robots.size(), 3u);
+  expect_every_robot_placed(score, 0.3, 0.6);
+}
+
 /// Fraction of the merged map's occupied cells that lie within `tolerance_m` of a floor-plan wall.
 double wall_agreement(const fs::path& map_dir, const std::string& world_yaml, double tolerance_m) {
   const auto map_cfg = YamlConfig::load((map_dir / "map.yaml").string());
@@ -137,8 +153,7 @@ TEST(MissionIntegration, TwoRobotsOverSecureDdsMatchGroundTruth) {
     EXPECT_TRUE(fs::exists(out / "security" / who / "cert.pem")) << who;
   }
   // The base plans where to search next and sends each linked robot its goal (cairn/goal).
-  std::ifstream agent0(out / "logs" / "agent0.log");
-  const std::string agent0_log((std::istreambuf_iterator<char>(agent0)), std::istreambuf_iterator<char>());
+  const std::string agent0_log = read_text(out / "logs" / "agent0.log");
   EXPECT_NE(agent0_log.find(" from the base, id "), std::string::npos) << agent0_log;
   std::ifstream summary_in(out / "map" / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(summary_in);
@@ -302,8 +317,7 @@ TEST(MissionIntegration, ARobotWhoseLaserBreaksGoesHomeByOdometryAndItsDataReach
   const fs::path& out = run.out;
   const CommandResult& r = run.result;
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  std::ifstream agent_log(out / "logs" / "agent1.log");
-  const std::string agent1((std::istreambuf_iterator<char>(agent_log)), std::istreambuf_iterator<char>());
+  const std::string agent1 = read_text(out / "logs" / "agent1.log");
   EXPECT_NE(agent1.find("laser silent"), std::string::npos) << agent1.substr(0, 2000);
   std::ifstream summary_in(out / "map" / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(summary_in, nullptr, false);
@@ -340,8 +354,7 @@ TEST(MissionIntegration, RobotsThatNeverMeetInLookAlikeWingsAreNotMergedWrongly)
   EXPECT_LT(score.robots[0].global->ate_rmse_m, 0.20);
   if (score.robots[1].global) {
     EXPECT_LT(score.robots[1].global->ate_max_m, 0.5) << "robot 1 was merged in the wrong place";
-    std::ifstream base_log(out / "logs" / "base.log");
-    const std::string log((std::istreambuf_iterator<char>(base_log)), std::istreambuf_iterator<char>());
+    const std::string log = read_text(out / "logs" / "base.log");
     EXPECT_TRUE(std::regex_search(log, std::regex("linked via [0-9]+ shared sightings"))) << "linked, not on sightings";
   } else {
     EXPECT_NE(r.output.find("robot 1 (NOT LINKED to the map)"), std::string::npos) << r.output;
@@ -352,15 +365,8 @@ TEST(MissionIntegration, TheOfficesThreeRobotsAllJoinTheMapBySeeingEachOther) {
   // Robot 1 enters from the far end: its rooms overlap the others' only in look-alike corridor
   // pieces, so no scan closure ever links it; the robots' markers seen by each other's cameras do.
   const MissionRun run = run_mission("worlds/office.yaml", "office", "--timeout 600");
-  const CommandResult& r = run.result;
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(r.output.find("NOT LINKED"), std::string::npos) << r.output;
-  const eval::MissionScore score =
-      eval::evaluate_mission((run.out / "ground_truth").string(), (run.out / "map").string());
-  ASSERT_EQ(score.robots.size(), 3u);
-  expect_every_robot_placed(score, 0.3, 0.6);
-  std::ifstream base_log(run.out / "logs" / "base.log");
-  const std::string log((std::istreambuf_iterator<char>(base_log)), std::istreambuf_iterator<char>());
+  ASSERT_NO_FATAL_FAILURE(expect_office_mission_placed_every_robot(run));
+  const std::string log = read_text(run.out / "logs" / "base.log");
   EXPECT_TRUE(std::regex_search(log, std::regex("linked via [0-9]+ shared sightings"))) << "none linked on sightings";
 }
 
@@ -369,15 +375,8 @@ TEST(MissionIntegration, OfficeRobotsNotOnTheMapAreSentToMeetATeammateAndLinkedR
   // toward robot 0 where their hints put them; what they then see of each other links them, through
   // the same checks as ever (a hint is never a link).
   const MissionRun run = run_mission("worlds/office.yaml", "meet", "--timeout 600 --entry-hints 0.5,10");
-  const CommandResult& r = run.result;
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(r.output.find("NOT LINKED"), std::string::npos) << r.output;
-  const eval::MissionScore score =
-      eval::evaluate_mission((run.out / "ground_truth").string(), (run.out / "map").string());
-  ASSERT_EQ(score.robots.size(), 3u);
-  expect_every_robot_placed(score, 0.3, 0.6);
-  std::ifstream base_log(run.out / "logs" / "base.log");
-  const std::string log((std::istreambuf_iterator<char>(base_log)), std::istreambuf_iterator<char>());
+  ASSERT_NO_FATAL_FAILURE(expect_office_mission_placed_every_robot(run));
+  const std::string log = read_text(run.out / "logs" / "base.log");
   EXPECT_TRUE(std::regex_search(log, std::regex("robot[12] not on the map [0-9]+ s after its first keyframe: sent to "
                                                 "meet robot[0-9]")))
       << log.substr(0, 3000);
