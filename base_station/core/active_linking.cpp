@@ -26,6 +26,14 @@ std::vector<RobotId> ActiveLinker::moving_teammates() const {
   return out;
 }
 
+std::set<RobotId> ActiveLinker::busy_teammates(RobotId robot) const {
+  std::set<RobotId> busy;
+  for (const auto& [other, m] : meetings_) {
+    if (other != robot && m.teammate_goal_m) busy.insert(m.teammate);
+  }
+  return busy;
+}
+
 MeetingEvent ActiveLinker::fail(RobotId robot, StampNs now_ns, std::string why) {
   MeetingEvent event{MeetingEvent::Kind::kFailed, meetings_.at(robot), std::move(why)};
   not_before_ns_[{robot, meetings_.at(robot).teammate}] = now_ns + sec_to_ns(options_.retry_s);
@@ -39,10 +47,7 @@ std::optional<RobotId> ActiveLinker::choose_teammate(const Eigen::Vector2d& at_m
                                                      StampNs now_ns) const {
   // The nearest placed robot that no other meeting drives; failing that, the nearest at all (the
   // robot then drives toward it alone). Never one whose meeting with it failed lately.
-  std::set<RobotId> busy;
-  for (const auto& [other, m] : meetings_) {
-    if (other != robot && m.teammate_goal_m) busy.insert(m.teammate);
-  }
+  const std::set<RobotId> busy = busy_teammates(robot);
   std::optional<RobotId> best, best_free;
   double best_d = std::numeric_limits<double>::infinity(), best_free_d = best_d;
   for (const auto& [id, p] : placed_m) {
@@ -73,11 +78,7 @@ void ActiveLinker::set_goals(Meeting* m, const SE2& pose_local,
   };
   m->robot_goal_global_m = leg(robot_m, teammate_m + short_m * towards_robot);
   m->robot_goal_local_m = m->hypothesis.T_global_local.inverse() * m->robot_goal_global_m;
-  std::set<RobotId> busy;
-  for (const auto& [other, o] : meetings_) {
-    if (other != m->robot && o.teammate_goal_m) busy.insert(o.teammate);  // whoever holds it keeps it
-  }
-  if (options_.move_teammate && !busy.count(m->teammate)) {
+  if (options_.move_teammate && !busy_teammates(m->robot).count(m->teammate)) {  // whoever holds it keeps it
     m->teammate_goal_m = leg(teammate_m, robot_m - short_m * towards_robot);
   }
 }

@@ -15,6 +15,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -108,6 +109,8 @@ class ActiveLinker {
 
  private:
   MeetingEvent fail(RobotId robot, StampNs now_ns, std::string why);
+  /// The teammates other meetings than `robot`'s drive (one meeting at a time each).
+  std::set<RobotId> busy_teammates(RobotId robot) const;
   std::optional<RobotId> choose_teammate(const Eigen::Vector2d& at_m,
                                          const std::map<RobotId, Eigen::Vector2d>& placed_m, RobotId robot,
                                          StampNs now_ns) const;
