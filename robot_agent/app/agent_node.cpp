@@ -12,12 +12,21 @@ namespace cairn::agent {
 
 using Clock = std::chrono::steady_clock;
 
+namespace {
+
+NavigatorOptions with_teammate_threshold(NavigatorOptions navigator, const AgentOptions& core) {
+  navigator.map.teammate_min_intensity = core.teammate_min_intensity;  // one threshold for SLAM and navigation
+  return navigator;
+}
+
+}  // namespace
+
 AgentNode::AgentNode(RobotId robot, const AgentOptions& core_options, const AgentNodeOptions& options)
     : robot_(robot),
       options_(options),
       pipeline_(robot, core_options),
       log_(make_logger("agent", robot)),
-      navigator_(options.navigator),
+      navigator_(with_teammate_threshold(options.navigator, core_options)),
       behaviour_(options.behaviour),
       own_options_(options.own_exploration) {
   keyframe_window_ =

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace cairn::agent {
 namespace {
@@ -23,19 +24,25 @@ NavMap::NavMap(const NavMapOptions& options) : options_(options), grid_(grid_opt
 
 void NavMap::insert(const SE2& T_local_base, const LaserScan& scan) {
   // Hits as the SLAM front end sees them; beams without a return (+inf or at/over range_max) clear
-  // free space up to no_return_clear_m, as the base's global map does (global_map_renderer.cpp).
-  const std::vector<Eigen::Vector2f> hits = scan_to_points(scan);
+  // free space up to no_return_clear_m, as the base's global map does (global_map_renderer.cpp);
+  // a teammate's beam clears up to it.
+  const bool tagged = options_.teammate_min_intensity > 0.f && scan.intensities.size() == scan.ranges_m.size();
+  LaserScan walls = scan;
   std::vector<Eigen::Vector2f> no_return;
   const float clear_m = float(std::min<double>(scan.range_max_m, options_.no_return_clear_m));
-  if (clear_m > 0.f) {
-    for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
-      const float r = scan.ranges_m[i];
-      if (std::isnan(r) || r < scan.range_max_m) continue;
-      const float a = beam_angle_rad(scan, i);
+  for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
+    const float r = scan.ranges_m[i];
+    if (std::isnan(r)) continue;
+    const float a = beam_angle_rad(scan, i);
+    if (tagged && scan.intensities[i] >= options_.teammate_min_intensity && r < scan.range_max_m) {
+      walls.ranges_m[i] = std::numeric_limits<float>::quiet_NaN();  // not a wall
+      const float to_m = r - float(options_.teammate_clear_short_m);
+      if (to_m > 0.f) no_return.emplace_back(to_m * std::cos(a), to_m * std::sin(a));
+    } else if (r >= scan.range_max_m && clear_m > 0.f) {
       no_return.emplace_back(clear_m * std::cos(a), clear_m * std::sin(a));
     }
   }
-  grid_.insert_scan(T_local_base, hits, no_return);
+  grid_.insert_scan(T_local_base, scan_to_points(walls), no_return);
   ++scans_;
 }
 

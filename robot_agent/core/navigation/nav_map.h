@@ -2,7 +2,8 @@
 // The robot's own navigation map: an OccupancyGrid (0.1 m cells) in the robot's local frame into
 // which every processed scan is inserted at its SLAM pose. Coarser than the SLAM submaps (planning
 // needs no more), with log odds clamped tighter so rubble that appears, or an obstacle that
-// leaves, changes a cell within a few scans. Pure: scans in, a grid out.
+// leaves, changes a cell within a few scans. Teammates (bright beams) are not walls. Pure: scans
+// in, a grid out.
 #include "common/laser_scan.h"
 #include "common/occupancy_grid.h"
 #include "common/se2.h"
@@ -19,6 +20,13 @@ struct NavMapOptions {
   float miss_log_odds = -0.4f;
   float min_log_odds = -2.0f;  ///< ~3 hits turn a well-seen free cell occupied
   float max_log_odds = 3.5f;
+  /// Beams at least this bright hit a teammate's reflective tape (AgentOptions::teammate_min_intensity,
+  /// the same threshold): a teammate moves on, so its beam clears the free space up to it and marks
+  /// nothing occupied (the path follower still stops for it: it reads the scan itself). Marked as
+  /// walls, teammates crossing a doorway closed it for good: on the building site robots spent a
+  /// minute refusing every goal behind doors their own maps had closed. 0: every beam a wall.
+  float teammate_min_intensity = 0.9f;
+  double teammate_clear_short_m = 0.1;  ///< a teammate's beam clears up to this short of the hit
 };
 
 class NavMap {

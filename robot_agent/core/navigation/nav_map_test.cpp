@@ -73,5 +73,33 @@ TEST(NavMap, RubbleThatAppearsIsOccupiedWithinAFewScans) {
   EXPECT_LT(probability_at(map, {0.5, 0.0}), 0.25);  // still free in front of it
 }
 
+TEST(NavMap, ATeammateInADoorwayIsNoWallTheDoorStaysOpen) {
+  // A wall along x = 3 with a 1 m door (y in [-0.5, 0.5]); a teammate (bright beams) stands in it.
+  std::vector<Segment> world{{{3, -5}, {3, -0.5}}, {{3, 0.5}, {3, 5}}};
+  const SE2 pose(0, 0, 0);
+  const auto with_teammate = [&](int seed) {
+    std::vector<Segment> w = world;
+    w.push_back({{2.8, -0.2}, {2.8, 0.2}});
+    LaserScan scan = ray_cast(w, pose, seed);
+    scan.intensities.assign(scan.ranges_m.size(), 0.2f);
+    for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
+      const double a = beam_angle_rad(scan, i), r = scan.ranges_m[i];
+      if (std::abs(r * std::cos(a) - 2.8) < 0.02 && std::abs(r * std::sin(a)) <= 0.2) scan.intensities[i] = 1.0f;
+    }
+    return scan;
+  };
+  NavMap map;
+  for (int i = 0; i < 10; ++i) map.insert(pose, with_teammate(i));
+  EXPECT_LT(probability_at(map, {2.65, 0.0}), 0.25) << "free up to the teammate";
+  EXPECT_LE(probability_at(map, {2.82, 0.0}), 0.5) << "the teammate is not a wall";
+  EXPECT_GT(probability_at(map, {3.02, 2.0}), 0.65) << "the walls are";
+  // Without the tag (or with it turned off) the same teammate would close the door.
+  NavMapOptions untagged;
+  untagged.teammate_min_intensity = 0.f;
+  NavMap closed(untagged);
+  for (int i = 0; i < 10; ++i) closed.insert(pose, with_teammate(i));
+  EXPECT_GT(probability_at(closed, {2.82, 0.0}), 0.65);
+}
+
 }  // namespace
 }  // namespace cairn::agent
