@@ -89,7 +89,10 @@ std::optional<DriveTarget> MissionBehaviour::choose(StampNs now_ns, const OwnFro
       t.activity = RobotActivity::kGoingHome;
       t.tolerance_m = options_.home_tolerance_m;
     }
-    if (base_goal_.kind == GoalKind::kMeet) t.activity = RobotActivity::kMeeting;
+    if (base_goal_.kind == GoalKind::kMeet) {
+      t.activity = RobotActivity::kMeeting;
+      t.tolerance_m = options_.meet_tolerance_m;
+    }
     return set(t, base_goal_.kind == GoalKind::kHome   ? "the base sends it home"
                   : base_goal_.kind == GoalKind::kMeet ? "the base sends it to meet a teammate"
                                                        : "the base's goal");

@@ -36,6 +36,10 @@ struct MissionBehaviourOptions {
   /// A drive home that ends stuck or unreachable this close to home counts as home: the entry is
   /// where the team's robots park, and a parked robot blocks the last metres of another's way.
   double home_area_m = 3.0;
+  /// A meeting goal is reached within this, and one in rubble moves to a free cell this near: it is a
+  /// guess under the robot's placement hypothesis (an entry hint's sigma is 0.5 m), often a leg's end
+  /// on the way (with 0.4 m, a leg's end beside rubble on the collapsed floor ended a meeting).
+  double meet_tolerance_m = 1.0;
 };
 
 /// A goal for the navigator, in the robot's own frame.

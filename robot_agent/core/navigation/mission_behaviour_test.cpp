@@ -59,6 +59,7 @@ TEST(MissionBehaviour, AMeetingGoalIsDrivenAsMeetingThenItWaitsForTheBaseLikeAny
   EXPECT_EQ(t->goal_id, 4u);
   EXPECT_EQ(t->activity, RobotActivity::kMeeting);
   EXPECT_EQ(t->position_m, Eigen::Vector2d(6, -2));
+  EXPECT_EQ(t->tolerance_m, MissionBehaviourOptions{}.meet_tolerance_m) << "a guess: any free cell near it";
   EXPECT_EQ(std::string(to_string(b.activity())), "meeting a teammate");
   // Reached (they met): it waits for the base, which links it and sends its next goal.
   b.on_contact(at(5), kHere);

@@ -161,11 +161,13 @@ TEST(PathPlanner, AGoalFarOutsideTheMapIsRefusedWithoutPlanningOutThere) {
   const GridDrawing d = room();                                                // a 10 m x 6 m map
   const PlannedPath far = PathPlanner().plan(d.grid, {3, 3}, {5000, 3}, 0.4);  // 2.5 G cells if planned
   EXPECT_EQ(far.status, PlanStatus::kGoalOutsideMap);
-  EXPECT_NE(far.reason.find("outside the map (at most 15.00 m)"), std::string::npos) << far.reason;
+  EXPECT_NE(far.reason.find("outside the map (at most 30.00 m)"), std::string::npos) << far.reason;
   const PlannedPath nan = PathPlanner().plan(d.grid, {3, 3}, {std::nan(""), 3}, 0.4);
   EXPECT_EQ(nan.status, PlanStatus::kGoalOutsideMap);
   // Just outside: planned through unknown space as before (the room is closed: no path).
   EXPECT_EQ(PathPlanner().plan(d.grid, {3, 3}, {14, 3}, 0.4).status, PlanStatus::kNoPath);
+  // 25 m out, where the team's map may reach beyond this robot's own: planned too.
+  EXPECT_EQ(PathPlanner().plan(d.grid, {3, 3}, {35, 3}, 0.4).status, PlanStatus::kNoPath);
 }
 
 TEST(PathPlanner, ARobotBoxedInIsToldApartFromAnUnreachableGoal) {
