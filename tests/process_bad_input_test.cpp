@@ -259,6 +259,9 @@ TEST(ProcessBadInput, AgentRejectsBadConfigAndRobotId) {
   r = run_command(bin("cairn_agent") + " --robot -4");
   EXPECT_NE(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("--robot"), std::string::npos) << r.output;
+  r = run_command(bin("cairn_agent") + " --robot 0 --teammate-intensity nan");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--teammate-intensity: not finite"), std::string::npos) << r.output;
 }
 
 TEST(ProcessBadInput, SlamBlamesALogWithoutScansNotTheOutputFolder) {

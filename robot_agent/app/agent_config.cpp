@@ -52,4 +52,9 @@ AgentOptions load_agent_options(const std::string& yaml_path) {
   return o;
 }
 
+float teammate_min_intensity(std::optional<float> given, bool ros2_input, float configured) {
+  if (given) return *given;
+  return ros2_input ? 0.f : configured;
+}
+
 }  // namespace cairn::agent

@@ -61,5 +61,12 @@ TEST(AgentConfig, BadValuesNameTheKey) {
   EXPECT_THROW(load_agent_options(write_file("agent_typo.yaml", "keyframer: {min_distance: 1}\n")), InputError);
 }
 
+TEST(AgentConfig, TeammateTapeIsOffForARos2LaserUnlessGiven) {
+  EXPECT_FLOAT_EQ(teammate_min_intensity(std::nullopt, false, 0.9f), 0.9f) << "the simulator's 0-1 scale";
+  EXPECT_FLOAT_EQ(teammate_min_intensity(std::nullopt, true, 0.9f), 0.f) << "a real laser's own units";
+  EXPECT_FLOAT_EQ(teammate_min_intensity(3000.f, true, 0.9f), 3000.f);
+  EXPECT_FLOAT_EQ(teammate_min_intensity(0.f, false, 0.9f), 0.f);
+}
+
 }  // namespace
 }  // namespace cairn::agent

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <csignal>
 #include <iostream>
+#include <optional>
 
 #include "common/carmen_log.h"
 #include "common/errors.h"
@@ -65,6 +66,12 @@ int main(int argc, char** argv) {
                "reliable scan and odometry readers: nothing lost, but only reliable publishers match (cairn_replay)");
   app.add_option("--ros2-idle-end", ros2_options.idle_end_s,
                  "end the input after this many seconds without a scan (a replayed bag; 0 = never)");
+  std::optional<float> teammate_intensity;
+  app.add_option("--teammate-intensity", teammate_intensity,
+                 "beams at least this bright hit a teammate's reflective tape: left out of SLAM and of the "
+                 "navigation map (0 = none; default 0.9 on the simulator's 0-1 scale, none with --ros2: a real "
+                 "laser reports intensity in its own units)")
+      ->check(CLI::Range(0.0, 1e9));
   app.add_flag("--no-navigation", no_navigation, "do not steer the robot (its data is recorded: it drove already)");
   app.add_option("--ack-timeout", node.ack_timeout_s,
                  "at the end, give up waiting for the base station's acknowledgements after this many seconds and "
@@ -78,6 +85,10 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   node.link_budget_bytes_per_sec = uint32_t(link_budget_kbit * 1000.0 / 8.0);
   if (node.link_budget_bytes_per_sec > 0) node.status_period_s = std::max(node.status_period_s, 1.0);
+  if (teammate_intensity && !std::isfinite(*teammate_intensity)) {
+    std::cerr << "cairn_agent: --teammate-intensity: not finite\n";
+    return 2;
+  }
   if (ros2) {
     if (!log_path.empty()) {
       std::cerr << "cairn_agent: --ros2 and --log are two inputs: choose one\n";
@@ -133,6 +144,8 @@ int main(int argc, char** argv) {
     log->error("{}", e.what());
     return 2;
   }
+  options.teammate_min_intensity =
+      cairn::agent::teammate_min_intensity(teammate_intensity, ros2, options.teammate_min_intensity);
   node.navigate = log_path.empty() && !no_navigation;  // a recorded robot drove already: nothing to steer
   std::string error;
   auto agent = cairn::agent::AgentNode::create(cairn::RobotId(robot), options, node, input, &error);
