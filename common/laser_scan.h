@@ -18,7 +18,7 @@ struct LaserScan {
   std::vector<float> ranges_m;
   /// Per beam, same length as ranges_m, or empty when the sensor gives none. The team's robots carry
   /// retro-reflective tape: beams that hit a teammate come back brighter than any wall
-  /// (robot_agent's AgentOptions::teammate_min_intensity leaves them out of SLAM).
+  /// (on_teammate; robot_agent's AgentOptions::teammate_min_intensity leaves them out of SLAM).
   std::vector<float> intensities;
 };
 
@@ -47,6 +47,12 @@ std::vector<Eigen::Vector2f> voxel_filter_2d(const std::vector<Eigen::Vector2f>&
 /// Angle of beam i.
 inline float beam_angle_rad(const LaserScan& scan, size_t i) {
   return scan.angle_min_rad + float(i) * scan.angle_increment_rad;
+}
+
+/// Beam i came back from a teammate's reflective tape: at least `min_intensity` bright. None is
+/// when min_intensity is 0 or the scan has no intensities (SLAM and the navigation map ask alike).
+inline bool on_teammate(const LaserScan& scan, size_t i, float min_intensity) {
+  return min_intensity > 0.f && scan.intensities.size() == scan.ranges_m.size() && scan.intensities[i] >= min_intensity;
 }
 
 }  // namespace cairn

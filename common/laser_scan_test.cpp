@@ -36,5 +36,18 @@ TEST(VoxelFilter2d, KeepsTheFirstPointOfEachCellInScanOrder) {
   EXPECT_EQ(voxel_filter_2d(points, 0.0).size(), points.size());
 }
 
+TEST(LaserScan, ABeamOnATeammateIsOneAtLeastThatBright) {
+  LaserScan scan;
+  scan.ranges_m = {1.f, 2.f, 3.f};
+  EXPECT_FALSE(on_teammate(scan, 0, 0.9f)) << "no intensities: no teammate";
+  scan.intensities = {0.2f, 0.9f, 1.f};
+  EXPECT_FALSE(on_teammate(scan, 0, 0.9f));
+  EXPECT_TRUE(on_teammate(scan, 1, 0.9f));
+  EXPECT_TRUE(on_teammate(scan, 2, 0.9f));
+  EXPECT_FALSE(on_teammate(scan, 2, 0.f)) << "threshold 0: off";
+  scan.intensities.pop_back();
+  EXPECT_FALSE(on_teammate(scan, 1, 0.9f)) << "intensities that do not match the ranges are not trusted";
+}
+
 }  // namespace
 }  // namespace cairn

@@ -8,10 +8,9 @@
 namespace cairn::agent {
 
 LaserScan without_teammates(const LaserScan& scan, float min_intensity, int* dropped) {
-  if (min_intensity <= 0.f || scan.intensities.size() != scan.ranges_m.size()) return scan;
   LaserScan out = scan;
   for (size_t i = 0; i < out.ranges_m.size(); ++i) {
-    if (out.intensities[i] >= min_intensity) {
+    if (on_teammate(scan, i, min_intensity)) {
       out.ranges_m[i] = std::numeric_limits<float>::infinity();  // as if no return
       ++*dropped;
     }

@@ -26,7 +26,6 @@ void NavMap::insert(const SE2& T_local_base, const LaserScan& scan) {
   // Hits as the SLAM front end sees them; beams without a return (+inf or at/over range_max) clear
   // free space up to no_return_clear_m, as the base's global map does (global_map_renderer.cpp);
   // a teammate's beam clears up to it.
-  const bool tagged = options_.teammate_min_intensity > 0.f && scan.intensities.size() == scan.ranges_m.size();
   LaserScan walls = scan;
   std::vector<Eigen::Vector2f> no_return;
   const float clear_m = float(std::min<double>(scan.range_max_m, options_.no_return_clear_m));
@@ -34,7 +33,7 @@ void NavMap::insert(const SE2& T_local_base, const LaserScan& scan) {
     const float r = scan.ranges_m[i];
     if (std::isnan(r)) continue;
     const float a = beam_angle_rad(scan, i);
-    if (tagged && scan.intensities[i] >= options_.teammate_min_intensity && r < scan.range_max_m) {
+    if (on_teammate(scan, i, options_.teammate_min_intensity) && r < scan.range_max_m) {
       walls.ranges_m[i] = std::numeric_limits<float>::quiet_NaN();  // not a wall
       const float to_m = r - float(options_.teammate_clear_short_m);
       if (to_m > 0.f) no_return.emplace_back(to_m * std::cos(a), to_m * std::sin(a));
