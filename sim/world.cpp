@@ -328,4 +328,10 @@ void load_routes_file(const std::string& routes_path, WorldFile* file) {
   file->sim.drive_mode = DriveMode::kWaypoints;
 }
 
+SE2 entry_hint_guess(const World& world, size_t index, double sigma_xy_m, double sigma_yaw_rad) {
+  const double a = 2.0 * M_PI * double(index) / double(world.robots.size());
+  return world.robots.at(index).T_world_start *
+         SE2(sigma_xy_m * std::cos(a), sigma_xy_m * std::sin(a), 0.5 * sigma_yaw_rad);
+}
+
 }  // namespace cairn::sim

@@ -59,6 +59,10 @@ struct WorldFile {
   SimOptions sim;
 };
 
+/// The entry hint a rescue team would give for robot `index` (> 0) of `world`: its true start off
+/// by about one sigma, in a different direction for each robot, and half a sigma of heading.
+SE2 entry_hint_guess(const World& world, size_t index, double sigma_xy_m, double sigma_yaw_rad);
+
 /// Loads a world YAML (and the image it names, relative to the YAML file). Throws InputError naming
 /// the file and key for a missing/malformed file or an invalid value (non-positive resolution, a
 /// start pose inside or too close to a wall, overlapping starts, an unknown object class or shape,

@@ -146,7 +146,11 @@ bool BaseNode::all_finished() const {
 
 void BaseNode::report_linking(const OptimizeResult& r) {
   for (const LinkEvent& e : r.link_events) {
-    if (e.accepted) continue;  // acceptance is reported below, once per robot
+    if (e.accepted) {  // reported below, once per robot; here only how, when that was not scan closures
+      if (e.reason != "linked")
+        log_->info("link {} <-> {}: {}", sessions_.label(e.robot), sessions_.label(e.other), e.reason);
+      continue;
+    }
     log_->info("link {} <-> {} via {} closures {}: {} (map contradiction {:.1f} %)", sessions_.label(e.robot),
                sessions_.label(e.other), e.closures, e.inconclusive ? "deferred" : "rejected", e.reason,
                100.0 * e.contradiction_ratio);

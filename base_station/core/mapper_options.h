@@ -41,6 +41,10 @@ struct GuidedLinkOptions {
   /// reference was left 0.59 m off, the right ones at most 0.27 m / 1.5 deg.
   double max_residual_m = 0.2;
   double max_residual_rad = 0.035;
+  /// Each query's linear window grows by this per metre of its keyframe from its robot's start (a
+  /// heading error's lever arm: 0.17 m per metre for 10 deg), up to max_linear_window_m. 0: fixed.
+  double linear_window_m_per_m = 0.0;
+  double max_linear_window_m = 4.0;
   /// Windows around the hypothesis: a robot's own drift (decimetres, a few degrees), not aliasing.
   LoopVerifierOptions verifier = [] {
     LoopVerifierOptions o;
@@ -65,6 +69,27 @@ struct OperatorAlignmentOptions {
     return o;
   }();
   int min_closures = 3;  ///< verified matches that agree with each other, needed before the map check
+};
+
+/// A tight entry hint searched as the operator's alignment is (robot_linker_hints.cpp): Scan
+/// Context finds closures only where two robots stood in nearly the same spot; the hint says where
+/// to look, and scan matches between keyframes up to 6 m apart are found around it. Only hints
+/// within max_sigma_* are searched, with windows of 3 sigma in position (widened by 2 sigma of
+/// heading per metre of the keyframe from its robot's start: the heading's lever arm) and 2 sigma
+/// in heading (set from each hint over search.search.verifier); the placement found must still
+/// agree with the hint (MapperOptions::entry_hint_chi2) and pass the map check.
+struct EntryHintSearchOptions {
+  bool enabled = true;
+  double max_sigma_xy_m = 0.5;
+  double max_sigma_yaw_rad = 10.0 * M_PI / 180.0;
+  /// A robot's hint is searched again once this many keyframes (of any robot) arrived since its last
+  /// search: each search costs up to search.search.max_verifications scan matches.
+  int retry_after_keyframes = 8;
+  OperatorAlignmentOptions search = [] {
+    OperatorAlignmentOptions o;
+    o.search.max_verifications = 40;
+    return o;
+  }();
 };
 
 struct MapperOptions {
@@ -103,14 +128,12 @@ struct MapperOptions {
   double min_link_spread_m = 2.0;
   /// Entry hints (MultiRobotMapper::set_entry_hint): an inter-robot closure whose implied start of
   /// the hinted robot is off the hint by more than this chi-square (3 dof, 99 %: 11.34; sigmas from
-  /// the hint) is refused before PCM. A clique that agrees with a hint at least as tight as the two
-  /// bounds below needs no min_link_spread_m (the hint pins the rotation and rules out look-alike
-  /// places metres away); it still needs min_link_clique closures and the map check. A looser hint
-  /// (1 m / 20 deg) lets the chi-square pass a look-alike 3 m and 60 deg off, which a clique from one
-  /// spot cannot tell apart: it only narrows the search (a robot was linked 1.5 m off under load).
+  /// the hint) is refused before PCM; a tight hint is also searched around (entry_hint_search).
+  /// A clique under a hint still needs min_link_spread_m: robots that enter side by side down one
+  /// corridor see the same walls from spots 1.25 m apart, and a clique from one spot that a tight
+  /// hint let through (its gate passes 1.7 m at 0.5 m sigma) placed a robot 1.25 m off for seconds
+  /// in 4 of 7 building-site missions (bench_link_replay).
   double entry_hint_chi2 = 11.34;
-  double hint_replaces_spread_max_sigma_xy_m = 0.5;
-  double hint_replaces_spread_max_sigma_yaw_rad = 10.0 * M_PI / 180.0;
   /// Map-level check of every link hypothesis (map_consistency.h) over all keyframes seen so far;
   /// a refuted clique's closures are dropped. Also applied to an inter-robot closure into an
   /// already linked pair when it disagrees with the current estimate by more than the gate below.
@@ -118,6 +141,7 @@ struct MapperOptions {
   MapConsistencyOptions map_check;
   GuidedLinkOptions guided_link;
   OperatorAlignmentOptions operator_alignment;
+  EntryHintSearchOptions entry_hint_search;
   double linked_closure_gate_m = 0.3;
   double linked_closure_gate_rad = 0.1;
   /// ...but one that disagrees by more than this is no drift correction of the linked robots: it is

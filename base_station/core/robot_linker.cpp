@@ -47,9 +47,10 @@ bool RobotLinker::note_keyframe(const Keyframe& kf, MapperData* data) {
 LinkUpdate RobotLinker::update(MapperData* data) {
   LinkUpdate update;
   choose_anchor(data);
-  link_by_landmarks(data, &update);  // robot_linker_landmarks.cpp
-  link_by_sightings(data, &update);  // robot_linker_landmarks.cpp
-  judge_alignments(data, &update);   // robot_linker_operator.cpp
+  link_by_landmarks(data, &update);   // robot_linker_landmarks.cpp
+  link_by_sightings(data, &update);   // robot_linker_landmarks.cpp
+  judge_alignments(data, &update);    // robot_linker_operator.cpp
+  search_entry_hints(data, &update);  // robot_linker_hints.cpp
   if (options_.detect_loops) {
     detect_new_loops(data, &update);
     refresh_own_frames(data);
@@ -175,9 +176,7 @@ bool RobotLinker::try_link_pair(MapperData* data, RobotId ra, RobotId rb, std::v
     if (int(clique.size()) < options_.min_link_clique) return false;
     std::vector<LoopClosure> members;
     for (size_t i : clique) members.push_back((*candidates)[i]);
-    // A clique that agrees with a tight entry hint needs no spread: the hint pins the link's rotation.
-    const bool hinted = hint_chi2(*data, members.front()).has_value() && hint_is_tight(*data, members.front());
-    const std::string deficit = hinted ? std::string() : spread_deficit(*data, members);
+    const std::string deficit = spread_deficit(*data, members);
     if (!deficit.empty()) {  // maybe right, but too local to tell aliasing apart: wait
       if (last_verdict_[key] != deficit) {
         last_verdict_[key] = deficit;

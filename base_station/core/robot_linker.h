@@ -128,9 +128,6 @@ class RobotLinker {
   /// the start it implies for an unplaced hinted robot, from the other robot's placement (or hint,
   /// variances added), against that robot's hint. nullopt when no hint applies.
   std::optional<double> hint_chi2(const MapperData& data, const LoopClosure& c) const;
-  /// Whether every unplaced hinted robot of closure c has a hint within
-  /// MapperOptions::hint_replaces_spread_max_sigma_* (robot_linker_checks.cpp).
-  bool hint_is_tight(const MapperData& data, const LoopClosure& c) const;
   /// Re-solves the own frame of each unlinked robot whose accepted intra-robot closures changed.
   void refresh_own_frames(MapperData* data) const;
   void link_robot_pairs(MapperData* data, LinkUpdate* update);
@@ -156,8 +153,24 @@ class RobotLinker {
                           const std::string& kind, LinkUpdate* update);
   // The operator's alignments (robot_linker_operator.cpp).
   void judge_alignments(MapperData* data, LinkUpdate* update);
-  /// Verified matches around the alignment, their rigid fit, the map check; links rb when all pass.
+  /// judge_placement of the operator's alignment; links rb when it is accepted.
   void judge_alignment(MapperData* data, AlignmentVerdict* verdict, LinkUpdate* update);
+  /// A placement hypothesis of unlinked rb in the global frame, judged: verified matches around it
+  /// (o.search), their rigid fit, the matches that agree with it, the map check. `what` names the
+  /// hypothesis in the reason ("the alignment").
+  struct PlacementJudgement {
+    bool accepted = false;
+    bool plausible = false;  ///< refused only for want of evidence (AlignmentVerdict::plausible)
+    std::string reason;
+    SE2 placed;                                 ///< accepted: T_global_local the agreeing matches give
+    std::vector<LoopClosure> agreeing, guided;  ///< a on the placed side
+  };
+  PlacementJudgement judge_placement(const MapperData& data, RobotId rb, const SE2& T_global_local,
+                                     const OperatorAlignmentOptions& o, const std::string& what) const;
+  /// Links rb to the anchor's component by an accepted judgement: its matches join data->loops.
+  void link_placement(MapperData* data, RobotId rb, const PlacementJudgement& j, LinkUpdate* update);
+  /// Searches around every tight entry hint of an unlinked robot, when due (robot_linker_hints.cpp).
+  void search_entry_hints(MapperData* data, LinkUpdate* update);
   // Checks of link hypotheses and closures (robot_linker_checks.cpp).
   /// Why the clique `closures` (a = ra, b = rb) covers too little of a trajectory; empty if not.
   std::string spread_deficit(const MapperData& data, const std::vector<LoopClosure>& closures) const;
@@ -207,6 +220,8 @@ class RobotLinker {
   std::map<RobotId, int> sighting_counts_;  ///< sightings each robot made
   std::map<RobotId, AlignmentVerdict> alignments_;
   std::map<std::pair<RobotId, RobotId>, int> sighting_pair_judged_at_;
+  std::map<RobotId, size_t> hint_searched_at_;    ///< keyframes stored at each robot's last hint search
+  std::map<RobotId, std::string> hint_verdicts_;  ///< each robot's last hint search verdict (dedupes events)
 };
 
 }  // namespace cairn::base

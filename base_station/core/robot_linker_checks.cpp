@@ -173,17 +173,6 @@ std::optional<double> RobotLinker::hint_chi2(const MapperData& data, const LoopC
   return E.translation().squaredNorm() / var_xy + E.yaw() * E.yaw() / var_yaw;
 }
 
-bool RobotLinker::hint_is_tight(const MapperData& data, const LoopClosure& c) const {
-  for (RobotId r : {c.a.robot, c.b.robot}) {
-    const auto hint = data.entry_hints.find(r);
-    if (data.linked(r) || hint == data.entry_hints.end()) continue;
-    if (hint->second.sigma_xy_m > options_.hint_replaces_spread_max_sigma_xy_m ||
-        hint->second.sigma_yaw_rad > options_.hint_replaces_spread_max_sigma_yaw_rad + 1e-9)
-      return false;
-  }
-  return true;
-}
-
 bool RobotLinker::accept_intra_robot_closure(const MapperData& data, const LoopClosure& c) {
   ++stats_.intra_closures;
   // Path length between the two keyframes, over the stored ones (a gap counts its straight line).

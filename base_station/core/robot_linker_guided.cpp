@@ -69,8 +69,13 @@ std::vector<LoopClosure> RobotLinker::guided_closures(const MapperData& data, Ro
   const size_t stride = (queries.size() + budget - 1) / budget;
   for (size_t q = 0; q < queries.size(); q += std::max<size_t>(stride, 1)) {
     const Query& query = queries[q];
+    LoopVerifierOptions verifier = o.verifier;
+    const double from_start_m = data.refined_local_pose(query.kb).translation().norm();
+    verifier.linear_window_m =
+        std::max(verifier.linear_window_m,
+                 std::min(o.max_linear_window_m, verifier.linear_window_m + o.linear_window_m_per_m * from_start_m));
     const std::optional<LoopClosure> c = loop_closer_.verify_guided(
-        query.nearest->first, query.kb, query.nearest->second.between(query.T_A_b), data.keyframes, o.verifier);
+        query.nearest->first, query.kb, query.nearest->second.between(query.T_A_b), data.keyframes, verifier);
     if (c) out.push_back(*c);
   }
   return out;

@@ -40,67 +40,84 @@ void RobotLinker::judge_alignments(MapperData* data, LinkUpdate* update) {
 }
 
 void RobotLinker::judge_alignment(MapperData* data, AlignmentVerdict* v, LinkUpdate* update) {
-  const OperatorAlignmentOptions& o = options_.operator_alignment;
-  const RobotId rb = v->robot;
-  const std::string name = "robot " + std::to_string(rb.value);
+  const std::string name = "robot " + std::to_string(v->robot.value);
   v->state = AlignmentState::kRefused;
   v->plausible = false;
-  if (!data->anchor || data->robot_keyframes(*data->anchor).empty()) {
-    v->reason = "nothing is on the global map yet";
-    return;
-  }
-  if (data->linked(rb)) {
+  if (data->linked(v->robot)) {
     v->reason = name + " is already on the map";
     return;
   }
-  if (data->robot_keyframes(rb).empty()) {
-    v->reason = "no keyframes from " + name + " yet";
-    return;
+  const PlacementJudgement j =
+      judge_placement(*data, v->robot, v->requested, options_.operator_alignment, "the alignment");
+  v->reason = j.reason;
+  v->plausible = j.plausible;
+  if (!j.accepted) return;
+  v->state = AlignmentState::kAccepted;
+  v->placed = j.placed;
+  v->closures = int(j.agreeing.size());
+  link_placement(data, v->robot, j, update);
+}
+
+RobotLinker::PlacementJudgement RobotLinker::judge_placement(const MapperData& data, RobotId rb,
+                                                             const SE2& T_global_local,
+                                                             const OperatorAlignmentOptions& o,
+                                                             const std::string& what) const {
+  PlacementJudgement j;
+  if (!data.anchor || data.robot_keyframes(*data.anchor).empty()) {
+    j.reason = "nothing is on the global map yet";
+    return j;
   }
-  const RobotId ra = *data->anchor;  // frame A: the global frame
-  const std::vector<LoopClosure> found = guided_closures(*data, ra, rb, v->requested, o.search);
+  if (data.robot_keyframes(rb).empty()) {
+    j.reason = "no keyframes from robot " + std::to_string(rb.value) + " yet";
+    return j;
+  }
+  const RobotId ra = *data.anchor;  // frame A: the global frame
+  const std::vector<LoopClosure> found = guided_closures(data, ra, rb, T_global_local, o.search);
   const std::string window = format_number("%.1f m", o.search.verifier.linear_window_m) + " / " +
                              format_number("%.0f deg", o.search.verifier.angular_window_rad * 180.0 / M_PI);
   if (int(found.size()) < o.min_closures) {
-    v->reason = std::to_string(found.size()) + " verified scan matches within " + window + " of the alignment (" +
-                std::to_string(o.min_closures) + " needed): its map does not overlap the global map there";
-    v->plausible = true;
-    return;
+    j.reason = std::to_string(found.size()) + " verified scan matches within " + window + " of " + what + " (" +
+               std::to_string(o.min_closures) + " needed): its map does not overlap the global map there";
+    j.plausible = true;
+    return j;
   }
   // The matches' rigid fit, then only the matches that agree with it (a look-alike spot is off).
-  const SE2 fit = link_hypothesis(*data, ra, found);
-  std::vector<LoopClosure> agreeing;
+  const SE2 fit = link_hypothesis(data, ra, found);
   for (const LoopClosure& c : found) {
-    if (link_misfit(*data, ra, fit, c) <= 1.0) agreeing.push_back(c);
+    if (link_misfit(data, ra, fit, c) <= 1.0) j.agreeing.push_back(c);
   }
-  if (int(agreeing.size()) < o.min_closures) {
-    v->reason = "the " + std::to_string(found.size()) + " verified scan matches near the alignment disagree (" +
-                std::to_string(agreeing.size()) + " agree with their best fit, " + std::to_string(o.min_closures) +
-                " needed)";
-    return;
+  if (int(j.agreeing.size()) < o.min_closures) {
+    j.reason = "the " + std::to_string(found.size()) + " verified scan matches near " + what + " disagree (" +
+               std::to_string(j.agreeing.size()) + " agree with their best fit, " + std::to_string(o.min_closures) +
+               " needed)";
+    return j;
   }
-  const LinkEvent map = judge_link(*data, ra, rb, agreeing);
+  const LinkEvent map = judge_link(data, ra, rb, j.agreeing);
   if (!map.accepted) {
-    v->reason =
+    j.reason =
         std::string(map.inconclusive ? "the map check is inconclusive: " : "the map check refutes it: ") + map.reason;
-    v->plausible = map.inconclusive;
-    return;
+    j.plausible = map.inconclusive;
+    return j;
   }
-  const SE2 placed = link_hypothesis(*data, ra, agreeing);
-  const SE2 moved = v->requested.between(placed);
-  v->state = AlignmentState::kAccepted;
-  v->placed = placed;
-  v->closures = int(agreeing.size());
-  v->reason = "placed by " + std::to_string(agreeing.size()) + " verified scan matches, " +
-              format_number("%.2f m", (placed.translation() - v->requested.translation()).norm()) + " and " +
-              format_number("%.1f deg", std::abs(moved.yaw()) * 180.0 / M_PI) +
-              " from the alignment; the map check agrees";
+  j.accepted = true;
+  j.guided = map.guided;
+  j.placed = link_hypothesis(data, ra, j.agreeing);
+  const SE2 moved = T_global_local.between(j.placed);
+  j.reason = "placed by " + std::to_string(j.agreeing.size()) + " verified scan matches, " +
+             format_number("%.2f m", (j.placed.translation() - T_global_local.translation()).norm()) + " and " +
+             format_number("%.1f deg", std::abs(moved.yaw()) * 180.0 / M_PI) + " from " + what +
+             "; the map check agrees";
+  return j;
+}
+
+void RobotLinker::link_placement(MapperData* data, RobotId rb, const PlacementJudgement& j, LinkUpdate* update) {
+  const RobotId ra = *data->anchor;
   ++stats_.hypotheses;
   ++stats_.linked;
-  data->loops.insert(data->loops.end(), agreeing.begin(), agreeing.end());
-  for (const LoopClosure& g : map.guided) {  // the guided check's own matches, unless already in
-    const bool in =
-        std::any_of(agreeing.begin(), agreeing.end(), [&](const LoopClosure& c) { return c.a == g.a && c.b == g.b; });
+  data->loops.insert(data->loops.end(), j.agreeing.begin(), j.agreeing.end());
+  for (const LoopClosure& g : j.guided) {  // the guided check's own matches, unless already in
+    const bool in = std::any_of(j.agreeing.begin(), j.agreeing.end(),
+                                [&](const LoopClosure& c) { return c.a == g.a && c.b == g.b; });
     if (!in) data->loops.push_back(g);
   }
   join_components(*data, ra, rb);

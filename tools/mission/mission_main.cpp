@@ -214,11 +214,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     for (size_t i = 1; i < wf.world.robots.size(); ++i) {
-      // The guess is off by about one sigma, in a different direction for each robot.
-      const double a = 2.0 * M_PI * double(i) / double(wf.world.robots.size());
-      const cairn::SE2 guess =
-          wf.world.robots[i].T_world_start *
-          cairn::SE2(sigma_xy_m * std::cos(a), sigma_xy_m * std::sin(a), 0.5 * sigma_yaw_deg * M_PI / 180.0);
+      const cairn::SE2 guess = cairn::sim::entry_hint_guess(wf.world, i, sigma_xy_m, sigma_yaw_deg * M_PI / 180.0);
       std::ostringstream hint;
       hint << wf.world.robots[i].id.value << ',' << guess.x() << ',' << guess.y() << ',' << guess.yaw() * 180.0 / M_PI
            << ',' << sigma_xy_m << ',' << sigma_yaw_deg;

@@ -1,0 +1,56 @@
+// RobotLinker: the search around entry hints (see MapperOptions::entry_hint_search). Scan Context
+// recognises a place only from nearly the same spot, so robots that enter far apart are linked by
+// it only once one drives where the other drove. A tight hint already says where a robot's map lies
+// to within a metre or two; around it, verified scan matches between keyframes up to 6 m apart
+// place the robot as soon as the two maps share a few walls. The hint is only where to look: the
+// placement comes from the matches, must agree with the hint (the chi-square gate every closure
+// under a hint passes) and must pass the map check, like every other link.
+#include <cmath>
+
+#include "base_station/core/robot_linker.h"
+
+namespace cairn::base {
+
+void RobotLinker::search_entry_hints(MapperData* data, LinkUpdate* update) {
+  const EntryHintSearchOptions& o = options_.entry_hint_search;
+  if (!o.enabled || !data->anchor) return;
+  for (const auto& [robot, hint] : data->entry_hints) {
+    if (data->linked(robot) || robot == *data->anchor) continue;
+    if (hint.sigma_xy_m > o.max_sigma_xy_m || hint.sigma_yaw_rad > o.max_sigma_yaw_rad + 1e-9)
+      continue;  // a loose hint only narrows Scan Context's candidates (MapperOptions::entry_hint_chi2)
+    const auto searched = hint_searched_at_.find(robot);
+    if (searched != hint_searched_at_.end() &&
+        data->keyframes.size() < searched->second + size_t(std::max(o.retry_after_keyframes, 1)))
+      continue;
+    hint_searched_at_[robot] = data->keyframes.size();
+    // Windows of 3 sigma in position and 2 in heading, the position's widened along the robot's
+    // path by the heading's lever arm.
+    OperatorAlignmentOptions search = o.search;
+    search.search.verifier.linear_window_m = 3.0 * hint.sigma_xy_m;
+    search.search.verifier.angular_window_rad = 2.0 * hint.sigma_yaw_rad;
+    search.search.linear_window_m_per_m = 2.0 * hint.sigma_yaw_rad;
+    PlacementJudgement j = judge_placement(*data, robot, hint.T_global_local, search, "its entry hint");
+    if (j.accepted) {
+      const SE2 E = hint.T_global_local.between(j.placed);
+      const double chi2 = E.translation().squaredNorm() / (hint.sigma_xy_m * hint.sigma_xy_m) +
+                          E.yaw() * E.yaw() / (hint.sigma_yaw_rad * hint.sigma_yaw_rad);
+      if (chi2 > options_.entry_hint_chi2) {
+        j.accepted = false;
+        j.reason = "placed " + format_number("%.2f m", E.translation().norm()) + " and " +
+                   format_number("%.1f deg", std::abs(E.yaw()) * 180.0 / M_PI) + " off its entry hint (chi-square " +
+                   format_number("%.1f", chi2) + " > " + format_number("%.2f", options_.entry_hint_chi2) + ")";
+      }
+    }
+    if (j.accepted) link_placement(data, robot, j, update);
+    // Refusals for want of overlap repeat on every search until the maps meet: not reported; the
+    // others once each.
+    std::string& said = hint_verdicts_[robot];
+    if (j.accepted || (!j.plausible && said != j.reason)) {
+      update->events.push_back(
+          LinkEvent{robot, *data->anchor, int(j.agreeing.size()), j.accepted, false, 0.0, j.reason});
+    }
+    said = j.reason;
+  }
+}
+
+}  // namespace cairn::base
