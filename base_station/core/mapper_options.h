@@ -73,15 +73,14 @@ struct OperatorAlignmentOptions {
 
 /// A tight entry hint searched as the operator's alignment is (robot_linker_hints.cpp): Scan
 /// Context finds closures only where two robots stood in nearly the same spot; the hint says where
-/// to look, and scan matches between keyframes up to 6 m apart are found around it. Only hints
-/// within max_sigma_* are searched, with windows of 3 sigma in position (widened by 2 sigma of
-/// heading per metre of the keyframe from its robot's start: the heading's lever arm) and 2 sigma
-/// in heading (set from each hint over search.search.verifier); the placement found must still
-/// agree with the hint (MapperOptions::entry_hint_chi2) and pass the map check.
+/// to look, and scan matches between keyframes up to 6 m apart are found around it. Only tight
+/// hints (MapperOptions::tight_hint_max_sigma_*) are searched, with windows of 3 sigma in position
+/// (widened by 2 sigma of heading per metre of the keyframe from its robot's start: the heading's
+/// lever arm) and 2 sigma in heading (set from each hint over search.search.verifier); the
+/// placement found must still agree with the hint (MapperOptions::entry_hint_chi2) and pass the
+/// map check.
 struct EntryHintSearchOptions {
   bool enabled = true;
-  double max_sigma_xy_m = 0.5;
-  double max_sigma_yaw_rad = 10.0 * M_PI / 180.0;
   /// A robot's hint is searched again once this many keyframes (of any robot) arrived since its last
   /// search: each search costs up to search.search.max_verifications scan matches.
   int retry_after_keyframes = 8;
@@ -128,12 +127,17 @@ struct MapperOptions {
   double min_link_spread_m = 2.0;
   /// Entry hints (MultiRobotMapper::set_entry_hint): an inter-robot closure whose implied start of
   /// the hinted robot is off the hint by more than this chi-square (3 dof, 99 %: 11.34; sigmas from
-  /// the hint) is refused before PCM; a tight hint is also searched around (entry_hint_search).
-  /// A clique under a hint still needs min_link_spread_m: robots that enter side by side down one
-  /// corridor see the same walls from spots 1.25 m apart, and a clique from one spot that a tight
-  /// hint let through (its gate passes 1.7 m at 0.5 m sigma) placed a robot 1.25 m off for seconds
-  /// in 4 of 7 building-site missions (bench_link_replay).
+  /// the hint) is refused before PCM. A tight hint (sigmas within the two bounds below) is also
+  /// searched around (entry_hint_search), and a clique under it needs no min_link_spread_m when
+  /// each of its closures is also the match found around the hint (a window of the hints' sigmas):
+  /// robots that enter side by side down one corridor see the same walls from spots 1.25 m apart,
+  /// and a clique from one spot that the hint's gate let through (it passes 1.7 m at 0.5 m sigma)
+  /// placed a robot 1.25 m off for seconds in 4 of 7 building-site missions (bench_link_replay).
+  /// A looser hint (1 m / 20 deg) lets the gate pass a look-alike 3 m and 60 deg off: it only
+  /// narrows the search.
   double entry_hint_chi2 = 11.34;
+  double tight_hint_max_sigma_xy_m = 0.5;
+  double tight_hint_max_sigma_yaw_rad = 10.0 * M_PI / 180.0;
   /// Map-level check of every link hypothesis (map_consistency.h) over all keyframes seen so far;
   /// a refuted clique's closures are dropped. Also applied to an inter-robot closure into an
   /// already linked pair when it disagrees with the current estimate by more than the gate below.

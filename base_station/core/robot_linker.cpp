@@ -176,7 +176,10 @@ bool RobotLinker::try_link_pair(MapperData* data, RobotId ra, RobotId rb, std::v
     if (int(clique.size()) < options_.min_link_clique) return false;
     std::vector<LoopClosure> members;
     for (size_t i : clique) members.push_back((*candidates)[i]);
-    const std::string deficit = spread_deficit(*data, members);
+    // A clique under tight hints that each of its closures confirms needs no spread: the hint
+    // pins the link's rotation and rules out look-alike spots.
+    std::string deficit = spread_deficit(*data, members);
+    if (!deficit.empty() && hint_confirms(*data, members)) deficit.clear();
     if (!deficit.empty()) {  // maybe right, but too local to tell aliasing apart: wait
       if (last_verdict_[key] != deficit) {
         last_verdict_[key] = deficit;

@@ -169,8 +169,15 @@ class RobotLinker {
                                      const OperatorAlignmentOptions& o, const std::string& what) const;
   /// Links rb to the anchor's component by an accepted judgement: its matches join data->loops.
   void link_placement(MapperData* data, RobotId rb, const PlacementJudgement& j, LinkUpdate* update);
-  /// Searches around every tight entry hint of an unlinked robot, when due (robot_linker_hints.cpp).
+  // Entry hints (robot_linker_hints.cpp).
+  /// Searches around every tight entry hint of an unlinked robot, when due.
   void search_entry_hints(MapperData* data, LinkUpdate* update);
+  /// Sigmas within MapperOptions::tight_hint_max_sigma_*.
+  bool is_tight(const EntryHint& hint) const;
+  /// Whether each closure of the clique is also the match found within the hints' sigmas of where
+  /// the placements and tight hints put its keyframes (a clique from one spot may be a look-alike
+  /// spot a metre off, which the hint's chi-square gate passes; see MapperOptions::entry_hint_chi2).
+  bool hint_confirms(const MapperData& data, const std::vector<LoopClosure>& clique) const;
   // Checks of link hypotheses and closures (robot_linker_checks.cpp).
   /// Why the clique `closures` (a = ra, b = rb) covers too little of a trajectory; empty if not.
   std::string spread_deficit(const MapperData& data, const std::vector<LoopClosure>& closures) const;

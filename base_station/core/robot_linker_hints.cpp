@@ -11,13 +11,49 @@
 
 namespace cairn::base {
 
+bool RobotLinker::is_tight(const EntryHint& hint) const {
+  return hint.sigma_xy_m <= options_.tight_hint_max_sigma_xy_m &&
+         hint.sigma_yaw_rad <= options_.tight_hint_max_sigma_yaw_rad + 1e-9;
+}
+
+bool RobotLinker::hint_confirms(const MapperData& data, const std::vector<LoopClosure>& clique) const {
+  // A keyframe's global pose under its robot's placement, or else its tight hint (and the hint's
+  // variances); nullopt when neither.
+  struct Guess {
+    SE2 T_global;
+    double var_xy = 0.0, var_yaw = 0.0;
+  };
+  const auto guess = [&](KeyframeId id) -> std::optional<Guess> {
+    if (data.linked(id.robot)) return Guess{*data.global_pose(id)};
+    const auto hint = data.entry_hints.find(id.robot);
+    if (hint == data.entry_hints.end() || !is_tight(hint->second)) return std::nullopt;
+    const EntryHint& h = hint->second;
+    return Guess{h.T_global_local * data.refined_local_pose(id), h.sigma_xy_m * h.sigma_xy_m,
+                 h.sigma_yaw_rad * h.sigma_yaw_rad};
+  };
+  for (const LoopClosure& c : clique) {
+    const auto a = guess(c.a), b = guess(c.b);
+    if (!a || !b || (a->var_xy == 0.0 && b->var_xy == 0.0)) return false;
+    // Searched within one sigma of where the hints put b: a look-alike spot a metre off the truth
+    // lies outside, the true one (the hint off by up to a sigma) inside.
+    LoopVerifierOptions verifier = options_.entry_hint_search.search.search.verifier;
+    verifier.linear_window_m = std::sqrt(a->var_xy + b->var_xy);
+    verifier.angular_window_rad = std::sqrt(a->var_yaw + b->var_yaw);
+    const auto found = loop_closer_.verify_guided(c.a, c.b, a->T_global.between(b->T_global), data.keyframes, verifier);
+    if (!found) return false;
+    const SE2 E = found->T_a_b.between(c.T_a_b);
+    if (E.translation().norm() > options_.linked_closure_gate_m || std::abs(E.yaw()) > options_.linked_closure_gate_rad)
+      return false;
+  }
+  return true;
+}
+
 void RobotLinker::search_entry_hints(MapperData* data, LinkUpdate* update) {
   const EntryHintSearchOptions& o = options_.entry_hint_search;
   if (!o.enabled || !data->anchor) return;
   for (const auto& [robot, hint] : data->entry_hints) {
     if (data->linked(robot) || robot == *data->anchor) continue;
-    if (hint.sigma_xy_m > o.max_sigma_xy_m || hint.sigma_yaw_rad > o.max_sigma_yaw_rad + 1e-9)
-      continue;  // a loose hint only narrows Scan Context's candidates (MapperOptions::entry_hint_chi2)
+    if (!is_tight(hint)) continue;  // a loose hint only narrows Scan Context's candidates (entry_hint_chi2)
     const auto searched = hint_searched_at_.find(robot);
     if (searched != hint_searched_at_.end() &&
         data->keyframes.size() < searched->second + size_t(std::max(o.retry_after_keyframes, 1)))
