@@ -48,6 +48,13 @@ struct EntryHint {
   SE2 T_global_local;  ///< the robot's local frame (where it entered) in the global frame
   double sigma_xy_m = 1.0;
   double sigma_yaw_rad = 0.2;
+  /// Chi-square of a placement of the robot's local frame against the hint (error at the entry),
+  /// with other variances (another robot's hint) added to the hint's.
+  double chi2(const SE2& placed_T_global_local, double extra_var_xy_m2 = 0.0, double extra_var_yaw_rad2 = 0.0) const {
+    const SE2 E = T_global_local.between(placed_T_global_local);
+    return E.translation().squaredNorm() / (sigma_xy_m * sigma_xy_m + extra_var_xy_m2) +
+           E.yaw() * E.yaw() / (sigma_yaw_rad * sigma_yaw_rad + extra_var_yaw_rad2);
+  }
 };
 
 struct MapperData {

@@ -155,7 +155,7 @@ std::optional<double> RobotLinker::hint_chi2(const MapperData& data, const LoopC
   const LoopClosure l = hinted(c.b.robot) ? c : hinted(c.a.robot) ? reversed(c) : c;
   if (!hinted(l.b.robot)) return std::nullopt;
   const EntryHint& hb = data.entry_hints.at(l.b.robot);
-  double var_xy = hb.sigma_xy_m * hb.sigma_xy_m, var_yaw = hb.sigma_yaw_rad * hb.sigma_yaw_rad;
+  double var_xy = 0.0, var_yaw = 0.0;  // of the other side's hint, if that places it
   SE2 T_global_a;
   if (data.linked(l.a.robot)) {
     T_global_a = *data.global_pose(l.a);
@@ -168,9 +168,7 @@ std::optional<double> RobotLinker::hint_chi2(const MapperData& data, const LoopC
     return std::nullopt;  // nothing places the other side
   }
   // The start of b this closure implies, against b's hint (error at b's entry).
-  const SE2 implied = T_global_a * l.T_a_b * data.refined_local_pose(l.b).inverse();
-  const SE2 E = hb.T_global_local.between(implied);
-  return E.translation().squaredNorm() / var_xy + E.yaw() * E.yaw() / var_yaw;
+  return hb.chi2(T_global_a * l.T_a_b * data.refined_local_pose(l.b).inverse(), var_xy, var_yaw);
 }
 
 bool RobotLinker::accept_intra_robot_closure(const MapperData& data, const LoopClosure& c) {

@@ -68,8 +68,7 @@ void RobotLinker::search_entry_hints(MapperData* data, LinkUpdate* update) {
     PlacementJudgement j = judge_placement(*data, robot, hint.T_global_local, search, "its entry hint");
     if (j.accepted) {
       const SE2 E = hint.T_global_local.between(j.placed);
-      const double chi2 = E.translation().squaredNorm() / (hint.sigma_xy_m * hint.sigma_xy_m) +
-                          E.yaw() * E.yaw() / (hint.sigma_yaw_rad * hint.sigma_yaw_rad);
+      const double chi2 = hint.chi2(j.placed);
       if (chi2 > options_.entry_hint_chi2) {
         j.accepted = false;
         j.reason = "placed " + format_number("%.2f m", E.translation().norm()) + " and " +
