@@ -21,7 +21,10 @@ void BaseNode::note_navigation(const NavStatus& nav, RobotId robot, bool live) {
                               order->second.goal_id == nav.goal_id &&
                               (nav.nav_state == NavState::kUnreachable || nav.nav_state == NavState::kStuck);
   if (meeting_failed) {
-    if (const auto event = meetings_.goal_failed(robot, mapper_.data().latest_stamp_ns)) report_meeting(*event, live);
+    const auto placed = [this](RobotId r) { return mapper_.linked(r); };
+    if (const auto event = meetings_.goal_failed(robot, mapper_.data().latest_stamp_ns, placed)) {
+      report_meeting(*event, live);
+    }
   }
   if (goals_.report({robot, nav.goal_id, nav.nav_state, nav.activity}, mapper_.data().latest_stamp_ns)) {
     replan_now_ = true;  // its order is over: plan again at the next optimise tick

@@ -161,8 +161,10 @@ std::vector<MeetingEvent> ActiveLinker::update(const std::vector<UnlinkedRobot>&
   return events;
 }
 
-std::optional<MeetingEvent> ActiveLinker::goal_failed(RobotId robot, StampNs now_ns) {
+std::optional<MeetingEvent> ActiveLinker::goal_failed(RobotId robot, StampNs now_ns,
+                                                      const std::function<bool(RobotId)>& placed) {
   for (const auto& [unlinked, m] : meetings_) {
+    if (placed && placed(unlinked) && (unlinked == robot || m.teammate == robot)) return std::nullopt;
     if (unlinked == robot) return fail(unlinked, now_ns, "it could not drive there");
     if (m.teammate == robot && m.teammate_goal_m) return fail(unlinked, now_ns, "its teammate could not drive there");
   }

@@ -98,8 +98,11 @@ class ActiveLinker {
   std::vector<MeetingEvent> update(const std::vector<UnlinkedRobot>& unlinked,
                                    const std::map<RobotId, Eigen::Vector2d>& placed_m, StampNs now_ns,
                                    const LineOfSight& in_sight = {});
-  /// The goal of a meeting ended unreachable or stuck for `robot` (either side): the meeting fails.
-  std::optional<MeetingEvent> goal_failed(RobotId robot, StampNs now_ns);
+  /// The goal of a meeting ended unreachable or stuck for `robot` (either side): the meeting fails,
+  /// unless its unlinked robot is `placed` by now (linked since the last update(), which then
+  /// reports the meeting linked: a robot may give up its goal in the same second it was linked).
+  std::optional<MeetingEvent> goal_failed(RobotId robot, StampNs now_ns,
+                                          const std::function<bool(RobotId)>& placed = {});
 
   const std::map<RobotId, Meeting>& meetings() const { return meetings_; }  ///< by the unlinked robot
   /// The teammates driving to a meeting: the planner leaves them out.

@@ -104,6 +104,21 @@ TEST(ActiveLinking, AGoalEitherSideCannotReachEndsTheMeeting) {
   EXPECT_TRUE(linker.meetings().empty());
 }
 
+TEST(ActiveLinking, AGoalGivenUpByARobotLinkedMeanwhileEndsTheMeetingLinkedNotFailed) {
+  ActiveLinker linker;
+  const std::map<RobotId, Eigen::Vector2d> placed{{kA, {2, 0}}};
+  linker.update({robot_b(0)}, placed, at(10));
+  ASSERT_EQ(linker.meetings().size(), 1u);
+  // B was linked (say by the search around its hint) and gave up its goal before the next update.
+  const auto b_placed = [](RobotId r) { return r == kB; };
+  EXPECT_FALSE(linker.goal_failed(kB, at(11), b_placed));
+  EXPECT_FALSE(linker.goal_failed(kA, at(11), b_placed));
+  const auto events = linker.update({}, {{kA, {2, 0}}, {kB, {0, 0}}}, at(12));
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events.front().kind, MeetingEvent::Kind::kLinked);
+  EXPECT_EQ(linker.stats().linked, 1);
+}
+
 TEST(ActiveLinking, OneTeammateDrivesToOneMeetingAtATimeTheOtherRobotDrivesToItAlone) {
   ActiveLinker linker;
   UnlinkedRobot c = robot_b(0);
