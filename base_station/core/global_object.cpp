@@ -57,17 +57,27 @@ GlobalObject fuse(const std::vector<PlacedObjectReport>& placed, const std::vect
 MergeCheck check_same_object(const PlacedObjectReport& a, const PlacedObjectReport& b, const ObjectMergeOptions& o) {
   MergeCheck c;
   if (a.report->class_name != b.report->class_name) return c.reason = "different class", c;
-  const double d = (a.T_global_object.translation() - b.T_global_object.translation()).norm();
+  const ColoredCloud ca = placed_cloud(a), cb = placed_cloud(b);
+  const bool clouds = int(ca.size()) >= o.min_cloud_points && int(cb.size()) >= o.min_cloud_points;
+  // A report without a cloud was seen beyond the depth camera's range and placed by the ground
+  // homography alone (robot_agent ObjectDetector): its height is the floor's, not the object's
+  // (an exit's centre is 1 m up), so only the distance across the floor can be compared.
+  const Eigen::Vector3d between = a.T_global_object.translation() - b.T_global_object.translation();
+  const bool floor_height = a.report->cloud.empty() || b.report->cloud.empty();
+  const double d = floor_height ? between.head<2>().norm() : between.norm();
   const double extent = std::max(a.report->size_m.maxCoeff(), b.report->size_m.maxCoeff());
   const bool cross_robot = a.report->id.robot != b.report->id.robot;
   // Two robots' placements may disagree by a few decimetres: their gate is the widest one.
   const double gate =
       cross_robot ? o.max_gate_m : std::min(o.max_gate_m, std::max(o.min_gate_m, o.size_factor * extent));
-  const ColoredCloud ca = placed_cloud(a), cb = placed_cloud(b);
-  const bool clouds = int(ca.size()) >= o.min_cloud_points && int(cb.size()) >= o.min_cloud_points;
   const Eigen::AlignedBox3d ba = bounds(ca), bb = bounds(cb);
   const bool boxes = clouds && ba.exteriorDistance(bb) <= o.bbox_margin_m;
-  c.candidate = d <= gate || (boxes && d <= o.max_gate_m);
+  // Touching boxes: a partial view of one end of a long object (a lying victim is 1.6 m) has its
+  // centroid up to half the object's length from the whole object's centre. Such a part must then
+  // lie on the whole's surface (min_part_fitness), not merely touch it.
+  const bool part = boxes && d > o.max_gate_m && d <= o.max_gate_m + 0.5 * extent;
+  c.candidate = d <= gate || (boxes && d <= o.max_gate_m) || part;
+  const double min_fitness = part ? o.min_part_fitness : o.min_fitness;
   if (!c.candidate) return c.reason = "no overlap: centroids " + std::to_string(d) + " m apart", c;
   if (!clouds) {
     c.accepted = true;
@@ -98,7 +108,7 @@ MergeCheck check_same_object(const PlacedObjectReport& a, const PlacedObjectRepo
     const double dr = Eigen::AngleAxisd(r.T_target_source.linear()).angle();
     const double max_dt = cross_robot ? o.max_cross_robot_correction_m : o.max_correction_m;
     const std::string attempt = k == 0 ? "from the placements: " : "; from the centres: ";
-    if (r.score < o.min_fitness) {
+    if (r.score < min_fitness) {
       why += attempt + "ICP fitness " + std::to_string(r.score) + " too low (" + r.reason + ")";
     } else if (r.rmse_m > o.max_rmse_m) {
       why += attempt + "ICP RMSE " + std::to_string(r.rmse_m) + " m too high";

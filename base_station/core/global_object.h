@@ -71,6 +71,9 @@ struct ObjectMergeOptions {
   /// partial views from different sides must not slide around the object.
   double icp_min_eigen_ratio = 1e-2;
   double min_fitness = 0.3;  ///< fraction of the smaller cloud within the gate after ICP
+  /// A report farther than max_gate_m whose box touches a larger report's (a part of a long object
+  /// seen alone, its centroid up to half the object's length off) must lie on the other's surface.
+  double min_part_fitness = 0.8;
   double max_rmse_m = 0.04;
   double max_correction_m = 0.3;  ///< larger ICP corrections mean another object (same robot)
   /// Reports of different robots: their placements come from different pose-graph links and may be

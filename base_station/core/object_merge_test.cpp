@@ -151,6 +151,68 @@ TEST(ObjectMerge, TwoRobotsVictimsOneMetreApartStayTwo) {
   EXPECT_EQ(merge_object_reports(placed, {}).size(), 2u);
 }
 
+/// The visible surface of a box lying on the floor (top and the four sides), centred, in its own frame.
+ColoredCloud lying_box(double length_m, double width_m, double height_m) {
+  ColoredCloud c;
+  const auto add = [&](double x, double y, double z) {
+    c.push_back(ColoredPoint{float(x), float(y), float(z), 220, uint8_t(30 + 60 * (int(x * 10) % 2)), 30});
+  };
+  for (double x = -length_m / 2; x <= length_m / 2 + 1e-9; x += 0.02) {
+    for (double y = -width_m / 2; y <= width_m / 2 + 1e-9; y += 0.02) add(x, y, height_m / 2);
+    for (double z = -height_m / 2; z <= height_m / 2 + 1e-9; z += 0.02) add(x, -width_m / 2, z), add(x, width_m / 2, z);
+  }
+  for (double y = -width_m / 2; y <= width_m / 2 + 1e-9; y += 0.02)
+    for (double z = -height_m / 2; z <= height_m / 2 + 1e-9; z += 0.02)
+      add(-length_m / 2, y, z), add(length_m / 2, y, z);
+  return c;
+}
+
+TEST(ObjectMerge, AnEndOfALyingVictimSeenAloneJoinsTheWholeVictim) {
+  // A victim lying diagonally (1.6 x 0.5 m, the collapsed floor's); early, from far, the robot saw
+  // only its north-east end and reported it as an object of its own, the fitted centre 0.85 m from
+  // the whole victim's (the demo left such ends as second victims).
+  ObjectReport whole = report({RobotId(0), 0}, lying_box(1.6, 0.5, 0.3), 60);
+  whole.size_m = Eigen::Vector3f(1.35f, 1.6f, 0.3f);
+  ColoredCloud end_cloud;
+  for (ColoredPoint p : whole.cloud)
+    if (p.x > 0.6f) p.x -= 0.85f, end_cloud.push_back(p);  // in the end report's frame
+  ObjectReport end = report({RobotId(0), 1}, end_cloud, 4);
+  end.size_m = Eigen::Vector3f(0.3f, 0.4f, 0.3f);
+  const Eigen::Isometry3d T_whole = pose(6.6, 1.8, 0.15, -0.9);
+  Eigen::Isometry3d T_end = T_whole;
+  T_end.translation() += T_whole.linear() * Eigen::Vector3d(0.85, 0.0, 0.0);
+  const std::vector<PlacedObjectReport> placed{{&whole, T_whole}, {&end, T_end}};
+  const MergeCheck check = check_same_object(placed[0], placed[1], {});
+  EXPECT_TRUE(check.accepted) << check.reason;
+  std::printf("end of a lying victim: %s\n", check.reason.c_str());
+  EXPECT_EQ(merge_object_reports(placed, {}).size(), 1u);
+
+  // A second victim (a 0.5 m cylinder) lying against the same end, its box touching the first's,
+  // is a candidate now but stays its own: no surface of the first victim matches it.
+  const ObjectReport other = report({RobotId(0), 2}, half_cylinder(0.25, 0.5, -0.9 + M_PI), 20);
+  Eigen::Isometry3d T_other = T_whole;
+  T_other.translation() += T_whole.linear() * Eigen::Vector3d(1.07, 0.0, 0.1);
+  const MergeCheck against = check_same_object(placed[0], {&other, T_other}, {});
+  EXPECT_TRUE(against.candidate) << against.reason;
+  EXPECT_FALSE(against.accepted) << against.reason;
+}
+
+TEST(ObjectMerge, AReportPlacedByTheFloorAloneIsComparedAcrossTheFloor) {
+  // From 8.5 m, beyond the depth camera, robot 3 placed an exit by the ground homography: no cloud,
+  // its centre on the floor. Robot 0 saw the door's cloud, centred 1 m up, 0.3 m across from it.
+  ObjectReport door = report({RobotId(0), 4}, half_cylinder(0.4, 2.0, M_PI), 90);
+  door.class_name = "exit";
+  ObjectReport far = report({RobotId(3), 0}, {}, 3);
+  far.class_name = "exit";
+  const std::vector<PlacedObjectReport> placed{{&door, pose(10.7, 9.95, 1.0)}, {&far, pose(10.7, 9.65, 0.0)}};
+  const MergeCheck check = check_same_object(placed[0], placed[1], {});
+  EXPECT_TRUE(check.accepted) << check.reason;
+  EXPECT_EQ(merge_object_reports(placed, {}).size(), 1u);
+  // 1.2 m across the floor is another door.
+  const std::vector<PlacedObjectReport> apart{{&door, pose(10.7, 9.95, 1.0)}, {&far, pose(10.7, 8.75, 0.0)}};
+  EXPECT_FALSE(check_same_object(apart[0], apart[1], {}).accepted);
+}
+
 TEST(ObjectMerge, EmptyAndDegenerateCloudsDoNotCrash) {
   ObjectReport a = report({RobotId(0), 0}, {}, 3);
   ObjectReport b = report({RobotId(1), 0}, {}, 3);
