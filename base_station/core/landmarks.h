@@ -33,9 +33,14 @@ struct LandmarkOptions {
   int min_link_landmarks_map_confirmed = 2;
   double max_link_rms_m = 0.35;    ///< RMS of the aligned landmark positions
   double min_link_spread_m = 1.5;  ///< the shared landmarks span at least this (rotation accuracy)
-  /// The closure that places a robot linked on markers (the landmark residuals then do the work).
-  double link_sigma_xy_m = 0.5;
-  double link_sigma_yaw_rad = 0.2;
+  /// The closure that places a robot linked on markers or sightings: it gives the solver the robot's
+  /// first placement and the graph its connection, and the landmark and sighting residuals and the
+  /// scan closures then do the work. Wide, because it keeps the link-time alignment of a few early
+  /// points: at 0.5 m / 0.2 rad one 0.57 m off outweighed the anchor robot's chain of keyframe edges
+  /// and turned the whole demo map 1.6 deg about its start (every robot 0.53-0.75 m RMSE; wide,
+  /// 0.05-0.07 m).
+  double link_sigma_xy_m = 5.0;
+  double link_sigma_yaw_rad = 2.0;
   /// Sightings of teammates (sightings.h) in the graph: the observation's sigmas times this (a few
   /// detections per second of one robot share their errors), and the seen robot's interpolated
   /// position with this sigma, expressed from a keyframe at least sighting_min_offset_m away.
