@@ -141,6 +141,7 @@ void AgentNode::drive(const AgentOutputs& outputs) {
       const bool going_back =
           target->activity == RobotActivity::kGoingHome || target->activity == RobotActivity::kReturningToContact;
       if (going_back) goal.fallback_path_m = breadcrumbs_.way(pose_.translation(), target->position_m);
+      if (target->activity == RobotActivity::kGoingHome) goal.settle_within_m = options_.behaviour.home_area_m;
       navigator_.set_goal(goal);
       reported_goal_ = *target;
       reported_state_ = NavState::kDriving;

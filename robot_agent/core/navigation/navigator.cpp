@@ -52,6 +52,11 @@ Navigator::Navigator(const NavigatorOptions& options)
     : options_(options),
       map_(options.map),
       planner_(planner_options(options)),
+      known_planner_([&] {
+        PathPlannerOptions known = planner_options(options);
+        known.unknown_cost = 0;
+        return known;
+      }()),
       follower_(follower_options(options)),
       tracker_(tracker_options(options)) {}
 
@@ -86,7 +91,13 @@ void Navigator::set_keep_out(std::vector<KeepOutPolygon> areas) {
 bool Navigator::replan(StampNs stamp_ns, const Eigen::Vector2d& position_m) {
   CAIRN_CHECK(goal_.has_value(), "planning without a goal");
   keep_out_changed_ = false;
-  last_plan_ = planner_.plan(map_, position_m, goal_->position_m, tolerance_m(), keep_out_);
+  if (goal_->settle_within_m > 0) {
+    last_plan_ =
+        known_planner_.plan(map_, position_m, goal_->position_m, tolerance_m(), keep_out_, goal_->settle_within_m);
+  }
+  if (goal_->settle_within_m <= 0 || !last_plan_.ok()) {
+    last_plan_ = planner_.plan(map_, position_m, goal_->position_m, tolerance_m(), keep_out_);
+  }
   ++counters_.plans;
   if (planned_once_) ++counters_.replans;
   const bool first = !planned_once_;
@@ -127,7 +138,11 @@ VelocityCommand Navigator::update(StampNs stamp_ns, const SE2& T_local_base, con
   char buf[96];
   const double to_goal_m = (position - goal_->position_m).norm();
   const bool moved_goal = have_path_ && last_plan_.goal_m != goal_->position_m;
-  if (to_goal_m <= tolerance_m() || (moved_goal && (position - last_plan_.goal_m).norm() <= kMovedGoalReachedM)) {
+  // A point settled for short of an unreachable goal lies by the obstacle, nearer than the laser's
+  // safety stop lets the robot go (safety_distance_m from its edge): that near is as near as it gets.
+  const double moved_reach_m =
+      last_plan_.settled ? options_.robot_radius_m + options_.safety_distance_m : kMovedGoalReachedM;
+  if (to_goal_m <= tolerance_m() || (moved_goal && (position - last_plan_.goal_m).norm() <= moved_reach_m)) {
     std::snprintf(buf, sizeof(buf), ": %.2f m from it (tolerance %.2f m)%s", to_goal_m, tolerance_m(),
                   to_goal_m <= tolerance_m() ? "" : ", as near as its free space allows");
     tracker_.reached(stamp_ns, describe(*goal_) + buf);

@@ -32,6 +32,10 @@ struct NavGoal {
   /// Followed when the map shows no path (Breadcrumbs::way, the robot's own steps back), from the
   /// robot's position to the goal; empty: none.
   std::vector<Eigen::Vector2d> fallback_path_m;
+  /// > 0 (going home): planned first on the known free space alone, settling for its reachable
+  /// point nearest the goal when within this (PathPlanner::plan): a teammate parked at its own entry
+  /// across the corridor must not send the robot round the building through unknown space.
+  double settle_within_m = 0;
 };
 
 struct NavigatorOptions {
@@ -107,6 +111,7 @@ class Navigator {
   NavigatorOptions options_;
   NavMap map_;
   PathPlanner planner_;
+  PathPlanner known_planner_;  ///< the same on known free space only (NavGoal::settle_within_m)
   PathFollower follower_;
   GoalTracker tracker_;
   std::optional<NavGoal> goal_;

@@ -8,6 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
 #include "robot_agent/core/navigation/nav_test_util.h"
 
 namespace cairn::agent {
@@ -282,6 +286,52 @@ TEST(Navigator, WhenItsMapShowsNoWayItFollowsItsFallbackPathOnlyIfItHasOne) {
     EXPECT_EQ(nav.state(), NavState::kReached) << nav.reason();
     EXPECT_LT((pose.translation() - Eigen::Vector2d(12, 0)).norm(), 0.4);
     EXPECT_EQ(nav.counters().fallbacks, 1);
+  }
+}
+
+TEST(Navigator, GoingHomePastATeammateParkedAcrossTheCorridorItStopsAsNearAsTheCorridorAllows) {
+  // The office in CI: robot 1 home, parked across the corridor 1.9 m short of robot 0's entry; robot
+  // 0, sent home from 11 m east, planned round it through unknown space (holes in walls seen at a
+  // grazing angle, and an open door into the unknown) and ended stuck in a far room.
+  std::vector<Segment> world;
+  add_box(&world, 0, 0, 14, 1.5);
+  world.erase(std::remove_if(world.begin(), world.end(), [](const Segment& s) { return s.a.y() == 1.5; }), world.end());
+  world.push_back({{0, 1.5}, {10, 1.5}});  // the north wall, with a door at x = 10-11 into the unknown
+  world.push_back({{11, 1.5}, {14, 1.5}});
+  const std::vector<Segment> empty = world;  // as the robot saw it when it set out from home
+  add_ring(&world, {3.0, 0.75}, 0.5);        // the teammate (and what it carries): 0.25 m either side
+  for (const double settle_m : {0.0, 3.0}) {
+    Navigator nav;
+    StampNs stamp = 0;
+    for (double x = 1.0; x <= 12.0; x += 0.5) {  // its way out from home, before the teammate came
+      stamp += sec_to_ns(0.1);
+      const SE2 on_the_way(x, 0.75, 0.0);
+      nav.update(stamp, on_the_way, ray_cast(empty, on_the_way, stamp));
+    }
+    SE2 pose(12, 0.75, M_PI);
+    NavGoal home = goal_at(7, {1.0, 0.75}, GoalKind::kHome);
+    home.tolerance_m = 1.0;
+    home.settle_within_m = settle_m;
+    nav.set_goal(home);
+    DriveOptions o;
+    o.max_s = 60;
+    double max_path_y = 0;  // (the harness moves the robot through walls: its plans are what count)
+    drive(&nav, world, &pose, &stamp, o, [&] {
+      for (const Eigen::Vector2d& p : nav.path()) max_path_y = std::max(max_path_y, p.y());
+      return false;
+    });
+    std::printf("settle %.0f m: %s at (%.2f, %.2f), %s\n", settle_m, to_string(nav.state()), pose.x(), pose.y(),
+                nav.reason().c_str());
+    if (settle_m == 0.0) {
+      EXPECT_GT(max_path_y, 1.6) << "no plan left the corridor: the test lost its point";
+      continue;
+    }
+    EXPECT_EQ(nav.state(), NavState::kReached) << nav.reason();
+    EXPECT_NE(nav.reason().find("as near as its free space allows"), std::string::npos) << nav.reason();
+    EXPECT_LT(max_path_y, 1.5) << "a plan left the corridor";
+    EXPECT_GT(pose.x(), 3.5);  // short of the teammate
+    // Within the robot's radius and safety distance (0.5 m) of the point nearest home it can reach.
+    EXPECT_LT((pose.translation() - home.position_m).norm(), 3.0 + 0.5);
   }
 }
 

@@ -1,6 +1,7 @@
 #include "robot_agent/core/navigation/path_planner.h"
 
 #include <cstdio>
+#include <optional>
 
 #include "common/grid_planning.h"
 
@@ -17,6 +18,19 @@ std::string metres(double m) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.2f m", m);
   return buf;
+}
+
+/// The cell the search reached whose centre is nearest to `goal_m`, if within `radius_m`.
+std::optional<Eigen::Vector2i> nearest_reached(const PlanningGrid& g, const DistanceField& field,
+                                               const Eigen::Vector2d& goal_m, double radius_m) {
+  std::optional<Eigen::Vector2i> best;
+  double best_m = radius_m;
+  for (size_t i = 0; i < g.size(); ++i) {
+    if (!field.reached(i)) continue;
+    const double d = (g.centre_m(g.cell(i)) - goal_m).norm();
+    if (d <= best_m) best_m = d, best = g.cell(i);
+  }
+  return best;
 }
 
 }  // namespace
@@ -44,7 +58,8 @@ const char* to_string(PlanStatus status) {
 PathPlanner::PathPlanner(const PathPlannerOptions& options) : options_(options) {}
 
 PlannedPath PathPlanner::plan(const OccupancyGrid& map, const Eigen::Vector2d& from_m, const Eigen::Vector2d& goal_m,
-                              double goal_tolerance_m, const std::vector<KeepOutPolygon>& keep_out) const {
+                              double goal_tolerance_m, const std::vector<KeepOutPolygon>& keep_out,
+                              double settle_within_m) const {
   const PathPlannerOptions& o = options_;
   GridPlanningOptions gp;
   gp.free_below = o.free_below;
@@ -99,6 +114,16 @@ PlannedPath PathPlanner::plan(const OccupancyGrid& map, const Eigen::Vector2d& f
     out.boxed_in = true;
     out.reason = "boxed in: no free cell within " + metres(o.start_search_m) + " of the robot at " + point(from_m);
     return out;
+  }
+  // No way to the goal: settle for the reachable cell nearest to it, when near enough (the search
+  // ran out, so every reachable cell has its length).
+  const std::optional<Eigen::Vector2i> settled = field.reached(g.index(goal)) || settle_within_m <= 0
+                                                     ? std::nullopt
+                                                     : nearest_reached(g, field, goal_m, settle_within_m);
+  if (settled) {
+    goal = *settled;
+    out.goal_m = g.centre_m(goal);
+    out.settled = true;
   }
   if (!field.reached(g.index(goal))) {
     out.status = PlanStatus::kNoPath;

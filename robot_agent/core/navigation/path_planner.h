@@ -50,6 +50,7 @@ struct PlannedPath {
   std::vector<Eigen::Vector2d> path_m;  ///< the robot's position, then cell centres to the goal
   double length_m = 0;                  ///< weighted length (near-wall and unknown costs included)
   Eigen::Vector2d goal_m{0, 0};         ///< the goal planned to (moved when the asked cell was blocked)
+  bool settled = false;                 ///< goal_m is the reachable point nearest an unreachable goal
   /// No path, and the robot cannot get farther than boxed_in_m from where it stands.
   bool boxed_in = false;
   double reachable_m = 0;  ///< how far the failed search got (straight line from the robot)
@@ -60,12 +61,16 @@ class PathPlanner {
  public:
   explicit PathPlanner(const PathPlannerOptions& options = {});
   /// From `from_m` to `goal_m` (both in the map's frame). The goal counts as reached by any
-  /// traversable cell whose centre is within `goal_tolerance_m` of it.
+  /// traversable cell whose centre is within `goal_tolerance_m` of it. With `settle_within_m` > 0,
+  /// a goal with no way to it is replaced by the reachable cell nearest to it when that lies within
+  /// settle_within_m (PlannedPath::goal_m moved): home, with a teammate parked across the corridor.
   PlannedPath plan(const OccupancyGrid& map, const Eigen::Vector2d& from_m, const Eigen::Vector2d& goal_m,
-                   double goal_tolerance_m, const std::vector<KeepOutPolygon>& keep_out = {}) const;
+                   double goal_tolerance_m, const std::vector<KeepOutPolygon>& keep_out = {},
+                   double settle_within_m = 0.0) const;
   PlannedPath plan(const NavMap& map, const Eigen::Vector2d& from_m, const Eigen::Vector2d& goal_m,
-                   double goal_tolerance_m, const std::vector<KeepOutPolygon>& keep_out = {}) const {
-    return plan(map.grid(), from_m, goal_m, goal_tolerance_m, keep_out);
+                   double goal_tolerance_m, const std::vector<KeepOutPolygon>& keep_out = {},
+                   double settle_within_m = 0.0) const {
+    return plan(map.grid(), from_m, goal_m, goal_tolerance_m, keep_out, settle_within_m);
   }
   const PathPlannerOptions& options() const { return options_; }
 

@@ -128,6 +128,28 @@ TEST(PathPlanner, ABlockedCorridorHasNoPathAndSaysWhy) {
   EXPECT_TRUE(PathPlanner().plan(d.grid, {2, 2.5}, {8, 2.5}, 0.4).ok());
 }
 
+TEST(PathPlanner, WithNoWayToTheGoalItSettlesForTheReachableCellNearestItWhenNearEnough) {
+  GridDrawing d;
+  d.free(1, 2, 9, 3);  // the closed corridor of the test above, rubble across it at x = 6
+  d.wall(0.9, 1.9, 9.1, 2);
+  d.wall(0.9, 3, 9.1, 3.1);
+  d.wall(0.9, 1.9, 1, 3.1);
+  d.wall(9, 1.9, 9.1, 3.1);
+  d.wall(6, 2, 6.2, 3);
+  const PlannedPath p = PathPlanner().plan(d.grid, {2, 2.5}, {8, 2.5}, 0.4, {}, 3.0);
+  ASSERT_TRUE(p.ok()) << p.reason;
+  EXPECT_TRUE(p.settled);
+  EXPECT_NEAR(p.goal_m.x(), 5.65, 0.11);  // the last cell 0.28 m clear of the rubble
+  EXPECT_NEAR(p.goal_m.y(), 2.5, 0.11);
+  EXPECT_TRUE(p.path_m.back().isApprox(p.goal_m));
+  // Farther than settle_within_m: no path, as without it.
+  EXPECT_EQ(PathPlanner().plan(d.grid, {2, 2.5}, {8, 2.5}, 0.4, {}, 2.0).status, PlanStatus::kNoPath);
+  // A reachable goal is planned to as asked.
+  const PlannedPath q = PathPlanner().plan(d.grid, {2, 2.5}, {4, 2.5}, 0.4, {}, 3.0);
+  ASSERT_TRUE(q.ok());
+  EXPECT_FALSE(q.settled);
+}
+
 TEST(PathPlanner, AGoalInAWallIsMovedToTheNearestFreeCellWithinTheTolerance) {
   const GridDrawing d = room();
   const Eigen::Vector2d goal(8.95, 3.05);  // in the band along the east wall (cells at x = 9.05)
