@@ -73,9 +73,9 @@ TEST(Ros2Bag, TheCsailLogAsARos2BagGivesTheKeyframesOfTheLogItself) {
       "(" + base("ros2") + " & timeout 300 " + bin("cairn_agent") + " --robot 0 --domain " + domain + " --config " +
       config.string() + " --ros2 --ros2-namespace robot0 --ros2-reliable --ros2-idle-end 3 --no-navigation > " +
       (dir / "agent.log").string() + " 2>&1 & timeout 300 " + bin("cairn_record") + " --domain " + domain +
-      " --robots 1 --ros2 --topics /robot0/ --out " + rerecorded.string() + " > " + (dir / "record.log").string() +
-      " 2>&1 & rec=$!; timeout 300 " + bin("cairn_replay") + " " + bag.string() + " --domain " + domain +
-      " --speed 20 --wait 10 --subscribers 2; s=$?; kill -INT $rec; wait; exit $s)");
+      " --robots 1 --ros2 --ros2-reliable --topics /robot0/ --out " + rerecorded.string() + " > " +
+      (dir / "record.log").string() + " 2>&1 & rec=$!; timeout 300 " + bin("cairn_replay") + " " + bag.string() +
+      " --domain " + domain + " --speed 20 --wait 10 --subscribers 2; s=$?; kill -INT $rec; wait; exit $s)");
   ASSERT_EQ(b.exit_code, 0) << b.output << run_command("cat " + (dir / "agent.log").string()).output;
 
   const auto from_log = journaled_keyframes(dir / "log" / "journal.sqlite");

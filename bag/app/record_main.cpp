@@ -42,6 +42,10 @@ int main(int argc, char** argv) {
   app.add_flag("--ros2", ros2,
                "also the ROS 2 topics: a base's with --ros2 (map, tf, paths, objects) and each ROS 2 robot's under "
                "namespace robotN (scan, odom, cmd_vel)");
+  bool ros2_reliable = false;
+  app.add_flag("--ros2-reliable", ros2_reliable,
+               "reliable robots' scan and odometry taps: nothing lost, but only reliable publishers match "
+               "(cairn_replay)");
   app.add_option("--log-level", log_level);
   CLI11_PARSE(app, argc, argv);
   cairn::set_log_level(log_level);
@@ -61,7 +65,7 @@ int main(int argc, char** argv) {
   auto taps = cairn::bag::make_taps(*participant, robots,
                                     [&](const std::string& t) { return cairn::bag::topic_wanted(t, topics); });
   if (ros2) {
-    for (auto& tap : cairn::bag::make_ros2_taps(*participant, robots)) {
+    for (auto& tap : cairn::bag::make_ros2_taps(*participant, robots, ros2_reliable)) {
       if (cairn::bag::topic_wanted(tap->topic(), topics)) taps.push_back(std::move(tap));
     }
   }

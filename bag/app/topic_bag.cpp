@@ -213,8 +213,9 @@ std::vector<std::unique_ptr<TopicTap>> make_taps(dds::Participant& participant, 
   return out;
 }
 
-std::vector<std::unique_ptr<TopicTap>> make_ros2_taps(dds::Participant& p, int robot_count) {
+std::vector<std::unique_ptr<TopicTap>> make_ros2_taps(dds::Participant& p, int robot_count, bool reliable) {
   using dds::Ros2Qos;
+  const Ros2Qos sensor = reliable ? Ros2Qos::kReliableSensorData : Ros2Qos::kSensorData;
   std::vector<std::unique_ptr<TopicTap>> out;
   out.push_back(std::make_unique<Ros2Tap<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>>(
       p, "/map", "nav_msgs/msg/OccupancyGrid", Ros2Qos::kLatched));
@@ -229,9 +230,9 @@ std::vector<std::unique_ptr<TopicTap>> make_ros2_taps(dds::Participant& p, int r
     out.push_back(std::make_unique<Ros2Tap<nav_msgs::msg::dds_::Path_PubSubType>>(p, ns + "path", "nav_msgs/msg/Path",
                                                                                   Ros2Qos::kLatched));
     out.push_back(std::make_unique<Ros2Tap<sensor_msgs::msg::dds_::LaserScan_PubSubType>>(
-        p, ns + "scan", "sensor_msgs/msg/LaserScan", Ros2Qos::kSensorData));
-    out.push_back(std::make_unique<Ros2Tap<nav_msgs::msg::dds_::Odometry_PubSubType>>(
-        p, ns + "odom", "nav_msgs/msg/Odometry", Ros2Qos::kSensorData));
+        p, ns + "scan", "sensor_msgs/msg/LaserScan", sensor));
+    out.push_back(std::make_unique<Ros2Tap<nav_msgs::msg::dds_::Odometry_PubSubType>>(p, ns + "odom",
+                                                                                      "nav_msgs/msg/Odometry", sensor));
     out.push_back(std::make_unique<Ros2Tap<geometry_msgs::msg::dds_::Twist_PubSubType>>(
         p, ns + "cmd_vel", "geometry_msgs/msg/Twist", Ros2Qos::kSensorData));
   }

@@ -52,8 +52,11 @@ std::vector<std::unique_ptr<TopicTap>> make_taps(dds::Participant& participant, 
 /// Taps on the ROS 2 topics the base publishes with --ros2 (base_station/app/ros2_output.h), under
 /// their ROS names ("/map", "/tf", "/cairn/objects", "/cairn/object_clouds", "/robotN/path"), and
 /// on each ROS 2 robot's own topics under namespace robotN ("/robotN/scan", "/robotN/odom",
-/// "/robotN/cmd_vel": what cairn_agent --ros2 reads and writes).
-std::vector<std::unique_ptr<TopicTap>> make_ros2_taps(dds::Participant& participant, int robot_count);
+/// "/robotN/cmd_vel": what cairn_agent --ros2 reads and writes). The robots' scan and odometry taps
+/// are best effort (a driver's sensor publishers may be), or with `reliable` reliable and keep-all:
+/// nothing lost, but only reliable publishers match (cairn_replay's).
+std::vector<std::unique_ptr<TopicTap>> make_ros2_taps(dds::Participant& participant, int robot_count,
+                                                      bool reliable = false);
 
 enum class PlayResult { kWritten, kFilteredOut, kUndecodable, kWriteFailed };
 
