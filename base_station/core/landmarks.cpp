@@ -25,6 +25,12 @@ std::string format_number(const char* format, double value) {
   return buf;
 }
 
+std::string format_offset(const SE2& a, const SE2& b) {
+  const SE2 E = a.between(b);
+  return format_number("%.2f m", E.translation().norm()) + " and " +
+         format_number("%.1f deg", std::abs(E.yaw()) * 180.0 / M_PI);
+}
+
 int accumulate_landmarks(const Keyframe& kf, double min_range_m, LocalLandmarks* landmarks, int* invalid) {
   int used = 0;
   for (const LandmarkObservation& o : kf.landmarks) {

@@ -85,5 +85,7 @@ int shared_landmarks(const LocalLandmarks& a, const LocalLandmarks& b);
 
 /// printf-formats one number (for the reasons in link decisions).
 std::string format_number(const char* format, double value);
+/// How far placement `b` lies from `a`: "0.51 m and 4.9 deg" (for the same reasons).
+std::string format_offset(const SE2& a, const SE2& b);
 
 }  // namespace cairn::base

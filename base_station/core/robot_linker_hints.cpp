@@ -67,12 +67,10 @@ void RobotLinker::search_entry_hints(MapperData* data, LinkUpdate* update) {
     search.search.linear_window_m_per_m = 2.0 * hint.sigma_yaw_rad;
     PlacementJudgement j = judge_placement(*data, robot, hint.T_global_local, search, "its entry hint");
     if (j.accepted) {
-      const SE2 E = hint.T_global_local.between(j.placed);
       const double chi2 = hint.chi2(j.placed);
       if (chi2 > options_.entry_hint_chi2) {
         j.accepted = false;
-        j.reason = "placed " + format_number("%.2f m", E.translation().norm()) + " and " +
-                   format_number("%.1f deg", std::abs(E.yaw()) * 180.0 / M_PI) + " off its entry hint (chi-square " +
+        j.reason = "placed " + format_offset(hint.T_global_local, j.placed) + " off its entry hint (chi-square " +
                    format_number("%.1f", chi2) + " > " + format_number("%.2f", options_.entry_hint_chi2) + ")";
       }
     }

@@ -102,11 +102,8 @@ RobotLinker::PlacementJudgement RobotLinker::judge_placement(const MapperData& d
   j.accepted = true;
   j.guided = map.guided;
   j.placed = link_hypothesis(data, ra, j.agreeing);
-  const SE2 moved = T_global_local.between(j.placed);
   j.reason = "placed by " + std::to_string(j.agreeing.size()) + " verified scan matches, " +
-             format_number("%.2f m", (j.placed.translation() - T_global_local.translation()).norm()) + " and " +
-             format_number("%.1f deg", std::abs(moved.yaw()) * 180.0 / M_PI) + " from " + what +
-             "; the map check agrees";
+             format_offset(T_global_local, j.placed) + " from " + what + "; the map check agrees";
   return j;
 }
 
