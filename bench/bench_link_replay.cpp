@@ -71,11 +71,9 @@ int main(int argc, char** argv) {
     base::MultiRobotMapper mapper(options);
     mapper.set_robot_start(wf.world.robots.front().id, wf.world.robots.front().T_world_start);
     if (!entry_hints.empty()) {
-      double sigma_xy_m = 0, sigma_yaw_deg = 0;
-      if (std::sscanf(entry_hints.c_str(), "%lf,%lf", &sigma_xy_m, &sigma_yaw_deg) != 2 || !(sigma_xy_m > 0) ||
-          !(sigma_yaw_deg > 0))
-        throw std::runtime_error("--entry-hints '" + entry_hints + "': expected SIGMA_XY_M,SIGMA_YAW_DEG");
-      const double sigma_yaw_rad = sigma_yaw_deg * M_PI / 180.0;
+      const auto sigmas = sim::parse_entry_hint_sigmas(entry_hints);
+      if (!sigmas) throw std::runtime_error("--entry-hints '" + entry_hints + "': expected SIGMA_XY_M,SIGMA_YAW_DEG");
+      const double sigma_xy_m = sigmas->xy_m, sigma_yaw_rad = sigmas->yaw_deg * M_PI / 180.0;
       for (size_t i = 1; i < wf.world.robots.size(); ++i) {
         mapper.set_entry_hint(wf.world.robots[i].id, {sim::entry_hint_guess(wf.world, i, sigma_xy_m, sigma_yaw_rad),
                                                       sigma_xy_m, sigma_yaw_rad});

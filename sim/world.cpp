@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <set>
+#include <sstream>
 
 #include "common/errors.h"
 #include "common/yaml_config.h"
@@ -332,6 +333,16 @@ SE2 entry_hint_guess(const World& world, size_t index, double sigma_xy_m, double
   const double a = 2.0 * M_PI * double(index) / double(world.robots.size());
   return world.robots.at(index).T_world_start *
          SE2(sigma_xy_m * std::cos(a), sigma_xy_m * std::sin(a), 0.5 * sigma_yaw_rad);
+}
+
+std::optional<EntryHintSigmas> parse_entry_hint_sigmas(const std::string& text) {
+  EntryHintSigmas s;
+  char comma = 0;
+  std::istringstream in(text);
+  if (!(in >> s.xy_m >> comma >> s.yaw_deg) || comma != ',' || !(in >> std::ws).eof() || !(s.xy_m > 0) ||
+      !(s.yaw_deg > 0))
+    return std::nullopt;
+  return s;
 }
 
 }  // namespace cairn::sim

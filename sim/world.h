@@ -6,6 +6,7 @@
 // format; scripted routes live apart in a routes file (worlds/routes/office.yaml).
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,14 @@ struct WorldFile {
 /// The entry hint a rescue team would give for robot `index` (> 0) of `world`: its true start off
 /// by about one sigma, in a different direction for each robot, and half a sigma of heading.
 SE2 entry_hint_guess(const World& world, size_t index, double sigma_xy_m, double sigma_yaw_rad);
+
+/// The sigmas of `--entry-hints SIGMA_XY_M,SIGMA_YAW_DEG` (cairn_mission, bench_link_replay); nullopt
+/// unless both are there and positive.
+struct EntryHintSigmas {
+  double xy_m = 0.0;
+  double yaw_deg = 0.0;
+};
+std::optional<EntryHintSigmas> parse_entry_hint_sigmas(const std::string& text);
 
 /// Loads a world YAML (and the image it names, relative to the YAML file). Throws InputError naming
 /// the file and key for a missing/malformed file or an invalid value (non-positive resolution, a

@@ -308,5 +308,14 @@ TEST_F(BadInput, FuzzedWorldsAreNamedNotCrashedOrRun) {
   expect_error(yaml(good_map_, good_robot_) + "sensors: {camera: {width: 1000000}}\n", "sensors.camera.width");
 }
 
+TEST(EntryHintSigmas, BothPositiveOrNothing) {
+  const auto s = parse_entry_hint_sigmas("0.5,10");
+  ASSERT_TRUE(s);
+  EXPECT_DOUBLE_EQ(s->xy_m, 0.5);
+  EXPECT_DOUBLE_EQ(s->yaw_deg, 10.0);
+  for (const char* bad : {"", "0.5", "0.5;10", "0,10", "0.5,-1", "nan,10", "0.5,10,3", "0.5,10x"})
+    EXPECT_FALSE(parse_entry_hint_sigmas(bad)) << bad;
+}
+
 }  // namespace
 }  // namespace cairn::sim

@@ -205,14 +205,13 @@ int main(int argc, char** argv) {
   base_cmd.push_back("--start");
   base_cmd.push_back(fmt_pose(anchor.id.value, anchor.T_world_start));
   if (!opt.entry_hints.empty()) {
-    double sigma_xy_m = 0, sigma_yaw_deg = 0;
-    char comma = 0;
-    std::istringstream in(opt.entry_hints);
-    if (!(in >> sigma_xy_m >> comma >> sigma_yaw_deg) || comma != ',' || !(sigma_xy_m > 0) || !(sigma_yaw_deg > 0)) {
+    const auto sigmas = cairn::sim::parse_entry_hint_sigmas(opt.entry_hints);
+    if (!sigmas) {
       std::cerr << "cairn_mission: --entry-hints '" << opt.entry_hints
                 << "': expected SIGMA_XY_M,SIGMA_YAW_DEG, both positive\n";
       return 2;
     }
+    const double sigma_xy_m = sigmas->xy_m, sigma_yaw_deg = sigmas->yaw_deg;
     for (size_t i = 1; i < wf.world.robots.size(); ++i) {
       const cairn::SE2 guess = cairn::sim::entry_hint_guess(wf.world, i, sigma_xy_m, sigma_yaw_deg * M_PI / 180.0);
       std::ostringstream hint;
