@@ -178,6 +178,14 @@ class RobotLinker {
   /// the placements and tight hints put its keyframes (a clique from one spot may be a look-alike
   /// spot a metre off, which the hint's chi-square gate passes; see MapperOptions::entry_hint_chi2).
   bool hint_confirms(const MapperData& data, const std::vector<LoopClosure>& clique) const;
+  /// Where keyframe `id` lies in the global frame: under its robot's placement (variances 0), or
+  /// else its entry hint (a tight one only, with `tight_only`) and the hint's variances; nullopt
+  /// when neither places it.
+  struct HintedPose {
+    SE2 T_global;
+    double var_xy_m2 = 0.0, var_yaw_rad2 = 0.0;
+  };
+  std::optional<HintedPose> placed_or_hinted(const MapperData& data, KeyframeId id, bool tight_only) const;
   // Checks of link hypotheses and closures (robot_linker_checks.cpp).
   /// Why the clique `closures` (a = ra, b = rb) covers too little of a trajectory; empty if not.
   std::string spread_deficit(const MapperData& data, const std::vector<LoopClosure>& closures) const;

@@ -154,21 +154,22 @@ std::optional<double> RobotLinker::hint_chi2(const MapperData& data, const LoopC
   const auto hinted = [&](RobotId r) { return !data.linked(r) && data.entry_hints.count(r) > 0; };
   const LoopClosure l = hinted(c.b.robot) ? c : hinted(c.a.robot) ? reversed(c) : c;
   if (!hinted(l.b.robot)) return std::nullopt;
-  const EntryHint& hb = data.entry_hints.at(l.b.robot);
-  double var_xy = 0.0, var_yaw = 0.0;  // of the other side's hint, if that places it
-  SE2 T_global_a;
-  if (data.linked(l.a.robot)) {
-    T_global_a = *data.global_pose(l.a);
-  } else if (data.entry_hints.count(l.a.robot)) {
-    const EntryHint& ha = data.entry_hints.at(l.a.robot);
-    T_global_a = ha.T_global_local * data.refined_local_pose(l.a);
-    var_xy += ha.sigma_xy_m * ha.sigma_xy_m;
-    var_yaw += ha.sigma_yaw_rad * ha.sigma_yaw_rad;
-  } else {
-    return std::nullopt;  // nothing places the other side
-  }
-  // The start of b this closure implies, against b's hint (error at b's entry).
-  return hb.chi2(T_global_a * l.T_a_b * data.refined_local_pose(l.b).inverse(), var_xy, var_yaw);
+  const auto a = placed_or_hinted(data, l.a, /*tight_only=*/false);
+  if (!a) return std::nullopt;  // nothing places the other side
+  // The start of b this closure implies, against b's hint (error at b's entry), the other side's
+  // hint variances added when that is what places it.
+  return data.entry_hints.at(l.b.robot).chi2(a->T_global * l.T_a_b * data.refined_local_pose(l.b).inverse(),
+                                             a->var_xy_m2, a->var_yaw_rad2);
+}
+
+std::optional<RobotLinker::HintedPose> RobotLinker::placed_or_hinted(const MapperData& data, KeyframeId id,
+                                                                     bool tight_only) const {
+  if (data.linked(id.robot)) return HintedPose{*data.global_pose(id)};
+  const auto hint = data.entry_hints.find(id.robot);
+  if (hint == data.entry_hints.end() || (tight_only && !is_tight(hint->second))) return std::nullopt;
+  const EntryHint& h = hint->second;
+  return HintedPose{h.T_global_local * data.refined_local_pose(id), h.sigma_xy_m * h.sigma_xy_m,
+                    h.sigma_yaw_rad * h.sigma_yaw_rad};
 }
 
 bool RobotLinker::accept_intra_robot_closure(const MapperData& data, const LoopClosure& c) {

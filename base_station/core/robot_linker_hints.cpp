@@ -17,28 +17,15 @@ bool RobotLinker::is_tight(const EntryHint& hint) const {
 }
 
 bool RobotLinker::hint_confirms(const MapperData& data, const std::vector<LoopClosure>& clique) const {
-  // A keyframe's global pose under its robot's placement, or else its tight hint (and the hint's
-  // variances); nullopt when neither.
-  struct Guess {
-    SE2 T_global;
-    double var_xy = 0.0, var_yaw = 0.0;
-  };
-  const auto guess = [&](KeyframeId id) -> std::optional<Guess> {
-    if (data.linked(id.robot)) return Guess{*data.global_pose(id)};
-    const auto hint = data.entry_hints.find(id.robot);
-    if (hint == data.entry_hints.end() || !is_tight(hint->second)) return std::nullopt;
-    const EntryHint& h = hint->second;
-    return Guess{h.T_global_local * data.refined_local_pose(id), h.sigma_xy_m * h.sigma_xy_m,
-                 h.sigma_yaw_rad * h.sigma_yaw_rad};
-  };
   for (const LoopClosure& c : clique) {
-    const auto a = guess(c.a), b = guess(c.b);
-    if (!a || !b || (a->var_xy == 0.0 && b->var_xy == 0.0)) return false;
+    const auto a = placed_or_hinted(data, c.a, /*tight_only=*/true);
+    const auto b = placed_or_hinted(data, c.b, /*tight_only=*/true);
+    if (!a || !b || (a->var_xy_m2 == 0.0 && b->var_xy_m2 == 0.0)) return false;
     // Searched within one sigma of where the hints put b: a look-alike spot a metre off the truth
     // lies outside, the true one (the hint off by up to a sigma) inside.
     LoopVerifierOptions verifier = options_.entry_hint_search.search.search.verifier;
-    verifier.linear_window_m = std::sqrt(a->var_xy + b->var_xy);
-    verifier.angular_window_rad = std::sqrt(a->var_yaw + b->var_yaw);
+    verifier.linear_window_m = std::sqrt(a->var_xy_m2 + b->var_xy_m2);
+    verifier.angular_window_rad = std::sqrt(a->var_yaw_rad2 + b->var_yaw_rad2);
     const auto found = loop_closer_.verify_guided(c.a, c.b, a->T_global.between(b->T_global), data.keyframes, verifier);
     if (!found) return false;
     const SE2 E = found->T_a_b.between(c.T_a_b);
