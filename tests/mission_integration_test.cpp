@@ -361,13 +361,19 @@ TEST(MissionIntegration, RobotsThatNeverMeetInLookAlikeWingsAreNotMergedWrongly)
   }
 }
 
-TEST(MissionIntegration, TheOfficesThreeRobotsAllJoinTheMapBySeeingEachOther) {
-  // Robot 1 enters from the far end: its rooms overlap the others' only in look-alike corridor
-  // pieces, so no scan closure ever links it; the robots' markers seen by each other's cameras do.
+TEST(MissionIntegration, TheOfficesThreeRobotsAllJoinTheMapAndTheirSightingsOfEachOtherHoldItTogether) {
+  // Robots 1 and 2 enter far from robot 0 and overlap its rooms mostly in look-alike corridor pieces.
+  // Each is linked by whichever verified evidence comes first: the markers the robots' cameras see on
+  // each other, or (in about half the runs, for one of them) a scan closure through a room they share.
+  // Either way every robot must end up placed right, and the sightings must reach the global graph:
+  // a link made on them, or sighting nodes among the linked robots' poses.
   const MissionRun run = run_mission("worlds/office.yaml", "office", "--timeout 600");
   ASSERT_NO_FATAL_FAILURE(expect_office_mission_placed_every_robot(run));
   const std::string log = read_text(run.out / "logs" / "base.log");
-  EXPECT_TRUE(std::regex_search(log, std::regex("linked via [0-9]+ shared sightings"))) << "none linked on sightings";
+  const bool linked_on_sightings = std::regex_search(log, std::regex("linked via [0-9]+ shared sightings"));
+  const std::string graph = read_text(run.out / "map" / "graph.g2o");
+  const bool sightings_in_graph = std::regex_search(graph, std::regex("\\n# SIGHTING [0-9]+ [0-9]+"));
+  EXPECT_TRUE(linked_on_sightings || sightings_in_graph) << "no sighting linked a robot nor reached the graph";
 }
 
 TEST(MissionIntegration, OfficeRobotsNotOnTheMapAreSentToMeetATeammateAndLinkedRight) {
