@@ -47,6 +47,8 @@ async function align(page, p) {
   // Turned by dragging the heading handle well out along the wanted heading: a pixel off then
   // turns it little (the handle goes back to 3 m from the entry).
   await drag(page, ".align-handle.heading", p.x + 7 * Math.cos(p.yaw), p.y + 7 * Math.sin(p.yaw));
+  // The last drag event redraws on the next animation frame.
+  await page.evaluate(() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done))));
   const readout = await page.textContent(".align-readout");
   const m = /entry at \(([-\d.]+), ([-\d.]+)\) m, heading ([-\d.]+) deg/.exec(readout);
   const turn = m ? Math.atan2(Math.sin((+m[3] * Math.PI) / 180 - p.yaw), Math.cos((+m[3] * Math.PI) / 180 - p.yaw)) : 9;

@@ -107,6 +107,9 @@ const Align = (() => {
     stop,
     verify,
     aligning: () => (current ? current.robot : null),
+    /// The placement shown, in words ("" when not aligning): the panel's readout starts with it,
+    /// so a refresh of the panel mid-alignment never shows it blank.
+    readout: () => (current ? describe(current) : ""),
     /// The outline's new points while aligning (the robot's map grew).
     update(outlines) {
       if (current && outlines && outlines[current.robot]) {

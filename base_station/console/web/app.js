@@ -156,7 +156,7 @@ function alignControls(r) {
   const rerender = () => renderOwnMaps(view.robots.filter((x) => x.own_map));
   if (Align.aligning() === r.id) {
     out.push(el("p", { class: "hint", text: "Drag ✥ (where it entered) and ↻ (its heading) until its walls sit on the map's." }),
-      el("p", { class: "align-readout", "data-robot": String(r.id) }),
+      el("p", { class: "align-readout", "data-robot": String(r.id), text: Align.readout() }),
       button("align-verify", "Ask the base to verify", () => Align.verify((ok, text) => {
         alignFeedback = { robot: r.id, ok, text };
         rerender();
