@@ -80,16 +80,15 @@ void PathFollower::set_path(std::vector<Eigen::Vector2d> path_m) {
   progress_ = 0;
 }
 
-std::vector<Eigen::Vector2d> PathFollower::path_ahead(size_t max_points) const {
+std::vector<Eigen::Vector2d> PathFollower::path_ahead(size_t max_points, double tolerance_m) const {
   CAIRN_CHECK(max_points >= 2, "a path needs its start and its end");
   if (path_.size() < 2 || progress_ + 1 >= path_.size()) return {};
-  const size_t first = progress_, n = path_.size() - first;
+  const std::vector<Eigen::Vector2d> corners =
+      simplify_polyline({path_.begin() + std::ptrdiff_t(progress_), path_.end()}, tolerance_m);
+  const size_t n = corners.size();
+  if (n <= max_points) return corners;
   std::vector<Eigen::Vector2d> out;
-  for (size_t k = 0; k < std::min(n, max_points); ++k) {
-    // Evenly spaced indices from `first` to the last point, both kept.
-    const size_t i = n <= max_points ? first + k : first + (k * (n - 1)) / (max_points - 1);
-    out.push_back(path_[i]);
-  }
+  for (size_t k = 0; k < max_points; ++k) out.push_back(corners[(k * (n - 1)) / (max_points - 1)]);  // ends kept
   return out;
 }
 
@@ -231,6 +230,32 @@ void PathFollower::escape_step(const SE2& T_local_base, const LaserScan& scan, F
   }
   out->command.linear_mps = o.min_speed_mps;
   out->command.angular_radps = turn_rate(error);
+}
+
+std::vector<Eigen::Vector2d> simplify_polyline(const std::vector<Eigen::Vector2d>& points, double tolerance_m) {
+  CAIRN_CHECK(tolerance_m >= 0, "a simplification tolerance is not negative");
+  if (points.size() <= 2) return points;
+  std::vector<bool> keep(points.size(), false);
+  keep.front() = keep.back() = true;
+  std::vector<std::pair<size_t, size_t>> spans{{0, points.size() - 1}};  // explicit stack: no deep recursion
+  while (!spans.empty()) {
+    const auto [first, last] = spans.back();
+    spans.pop_back();
+    double worst = -1;
+    size_t at = first;
+    for (size_t i = first + 1; i < last; ++i) {
+      const double d = (closest_on_segment(points[first], points[last], points[i]) - points[i]).norm();
+      if (d > worst) worst = d, at = i;
+    }
+    if (worst <= tolerance_m) continue;
+    keep[at] = true;
+    spans.push_back({first, at});
+    spans.push_back({at, last});
+  }
+  std::vector<Eigen::Vector2d> out;
+  for (size_t i = 0; i < points.size(); ++i)
+    if (keep[i]) out.push_back(points[i]);
+  return out;
 }
 
 }  // namespace cairn::agent

@@ -51,6 +51,13 @@ struct FollowerOutput {
   Eigen::Vector2d lookahead_m{0, 0};  ///< the pursued point (map frame)
 };
 
+/// The fewest of `points` (its ends kept, in order) whose polyline stays within `tolerance_m` of
+/// every point dropped: Douglas-Peucker (1973). A grid planner's path of one point per cell becomes
+/// its corners, which is what a robot reports of its plan over a slow radio (a status every second).
+/// Written here: 25 lines, where Boost.Geometry's simplify would bring a header-only library of
+/// its own into the agent's core for this one call.
+std::vector<Eigen::Vector2d> simplify_polyline(const std::vector<Eigen::Vector2d>& points, double tolerance_m);
+
 /// The nearest return in the corridor of half width `half_width_m` ahead of the robot (x > 0 in
 /// the base frame), as distance from the robot's front edge (x - radius; negative: touching).
 double obstacle_ahead_m(const LaserScan& scan, double robot_radius_m, double half_width_m);
@@ -74,9 +81,10 @@ class PathFollower {
     escape_.reset();
   }
   const std::vector<Eigen::Vector2d>& path() const { return path_; }
-  /// What is left of the path (from the segment the robot is on to the end), thinned evenly to at
-  /// most `max_points` (>= 2) with its end kept: what the robot reports of its plan.
-  std::vector<Eigen::Vector2d> path_ahead(size_t max_points) const;
+  /// What is left of the path (from the segment the robot is on to the end), simplified to within
+  /// `tolerance_m` of it (simplify_polyline) and, if still longer, thinned evenly to at most
+  /// `max_points` (>= 2) with its end kept: what the robot reports of its plan.
+  std::vector<Eigen::Vector2d> path_ahead(size_t max_points, double tolerance_m = 0.05) const;
   /// The command for the robot at `T_local_base` seeing `scan` (zero without a path).
   FollowerOutput update(const SE2& T_local_base, const LaserScan& scan);
   const PathFollowerOptions& options() const { return options_; }

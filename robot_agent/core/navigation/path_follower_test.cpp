@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "robot_agent/core/navigation/nav_test_util.h"
@@ -182,24 +183,61 @@ TEST(PathFollower, PressedAgainstRubbleItStepsAwayToTheMiddleAfterBeingBlocked) 
 namespace cairn::agent {
 namespace {
 
-TEST(PathFollower, ThePathAheadStartsWhereTheRobotIsAndKeepsTheEnd) {
+TEST(PathFollower, ThePathAheadStartsWhereTheRobotIsAndKeepsItsCorners) {
   PathFollower f;
   std::vector<Eigen::Vector2d> path;
-  for (int i = 0; i <= 100; ++i) path.emplace_back(0.1 * i, 0.0);  // 10 m in 101 points
+  for (int i = 0; i <= 100; ++i) path.emplace_back(0.1 * i, 0.0);  // 10 m east in 101 points,
+  for (int i = 1; i <= 50; ++i) path.emplace_back(10.0, 0.1 * i);  // then 5 m north
   f.set_path(path);
   auto ahead = f.path_ahead(32);
-  ASSERT_EQ(ahead.size(), 32u);
-  EXPECT_TRUE(ahead.front().isApprox(path.front()));
-  EXPECT_TRUE(ahead.back().isApprox(path.back()));
-  for (size_t i = 1; i < ahead.size(); ++i) EXPECT_GT(ahead[i].x(), ahead[i - 1].x());  // in order, no repeats
+  ASSERT_EQ(ahead.size(), 3u);  // its start, its corner and its end
+  EXPECT_TRUE(ahead[0].isApprox(path.front()));
+  EXPECT_TRUE(ahead[1].isApprox(Eigen::Vector2d(10.0, 0.0)));
+  EXPECT_TRUE(ahead[2].isApprox(path.back()));
   for (double x : {2.0, 4.0, 6.05}) f.update(SE2(x, 0, 0), kClear);  // 6 m along: behind it is not reported
   ahead = f.path_ahead(32);
-  ASSERT_FALSE(ahead.empty());
+  ASSERT_EQ(ahead.size(), 3u);
   EXPECT_NEAR(ahead.front().x(), 6.0, 1e-9);
   EXPECT_TRUE(ahead.back().isApprox(path.back()));
-  EXPECT_EQ(f.path_ahead(100).size(), 41u);  // fewer points than asked: every one
   f.clear();
   EXPECT_TRUE(f.path_ahead(32).empty());
+}
+
+TEST(PathFollower, APathOfMoreCornersThanReportedIsThinnedWithItsEndsKept) {
+  PathFollower f;
+  std::vector<Eigen::Vector2d> zigzag;  // a corner every 0.5 m, 0.5 m to either side
+  for (int i = 0; i <= 80; ++i) zigzag.emplace_back(0.5 * i, i % 2 ? 0.5 : 0.0);
+  f.set_path(zigzag);
+  const auto ahead = f.path_ahead(32);
+  ASSERT_EQ(ahead.size(), 32u);
+  EXPECT_TRUE(ahead.front().isApprox(zigzag.front()));
+  EXPECT_TRUE(ahead.back().isApprox(zigzag.back()));
+  for (size_t i = 1; i < ahead.size(); ++i) EXPECT_GT(ahead[i].x(), ahead[i - 1].x());  // in order, no repeats
+}
+
+TEST(SimplifyPolyline, KeepsEveryPointFartherThanTheToleranceFromTheLineAndNoOther) {
+  // A grid path's staircase (0.05 m cells) toward the north-east, then a real corner.
+  std::vector<Eigen::Vector2d> stairs;
+  for (int i = 0; i < 40; ++i) stairs.emplace_back(0.05 * ((i + 1) / 2), 0.05 * (i / 2));
+  stairs.emplace_back(2.0, 0.95);  // sharp turn east
+  const auto out = simplify_polyline(stairs, 0.05);
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_TRUE(out.front().isApprox(stairs.front()));
+  EXPECT_TRUE(out.back().isApprox(stairs.back()));
+  // Every point dropped lies within the tolerance of the polyline kept.
+  for (const Eigen::Vector2d& p : stairs) {
+    double nearest = 1e9;
+    for (size_t i = 1; i < out.size(); ++i) {
+      const Eigen::Vector2d d = out[i] - out[i - 1];
+      const double t = std::clamp((p - out[i - 1]).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      nearest = std::min(nearest, (out[i - 1] + t * d - p).norm());
+    }
+    EXPECT_LE(nearest, 0.05 + 1e-12);
+  }
+  // No tolerance: every corner stays, and only the last stair's point goes (it lies on the way east).
+  EXPECT_EQ(simplify_polyline(stairs, 0.0).size(), stairs.size() - 1);
+  EXPECT_EQ(simplify_polyline({{1, 2}}, 0.05).size(), 1u);
+  EXPECT_TRUE(simplify_polyline({}, 0.05).empty());
 }
 
 }  // namespace
