@@ -54,6 +54,26 @@ struct GuidedLinkOptions {
   }();
 };
 
+/// Closures from each robot's first keyframe to its keyframes soon after (robot_linker_start.cpp).
+/// The first keyframe is where the robot entered (the anchor's is the world's origin), and its
+/// edges to the next are its local SLAM's weakest: turning in place against a submap of one or a
+/// few scans, the 1-degree beams alias and the heading comes out 0.3-1.3 deg off (docs/benchmarks.md
+/// "Where that heading error comes from"), which turns everything after it. The first scan matched
+/// (scan points and ICP, not a grid) into the local maps of later keyframes measures that heading
+/// directly; nothing else does until the robot comes back.
+struct StartClosureOptions {
+  int every_keyframes = 8;      ///< keyframes seq k x this (k >= 1) after the first ...
+  int max_keyframes = 64;       ///< ... up to this many after it ...
+  double max_distance_m = 4.0;  ///< ... and within this of it (its robot's own poses) are tried
+  /// Windows around the robot's own estimate: its start-up heading error, not aliasing.
+  LoopVerifierOptions verifier = [] {
+    LoopVerifierOptions o;
+    o.linear_window_m = 0.3;
+    o.angular_window_rad = 0.06;  // 3.4 deg
+    return o;
+  }();
+};
+
 /// The operator's alignment of an unlinked robot's map in the console (robot_linker_operator.cpp):
 /// a hypothesis searched around with windows for a hand's error, not a robot's drift.
 struct OperatorAlignmentOptions {
@@ -146,6 +166,7 @@ struct MapperOptions {
   GuidedLinkOptions guided_link;
   OperatorAlignmentOptions operator_alignment;
   EntryHintSearchOptions entry_hint_search;
+  StartClosureOptions start_closures;
   double linked_closure_gate_m = 0.3;
   double linked_closure_gate_rad = 0.1;
   /// ...but one that disagrees by more than this is no drift correction of the linked robots: it is

@@ -36,8 +36,12 @@ struct Merge {
 /// The anchor (exact, `anchor`) tours wing W; the new robot (`other`) tours room A, then drives
 /// the corridor east with its heading drifting. All of the new robot's keyframes reach the base
 /// before it is judged (a backlog after a radio outage).
-Merge run(const MapperOptions& options, const std::vector<SE2>& p1, size_t drift_from, double drift,
+/// Closures to the robots' first keyframes are off (StartClosureOptions): the synthetic drift is
+/// all front end over exact scans, so they would measure and undo the part of it near the new
+/// robot's start, and these tests need its map to drift.
+Merge run(MapperOptions options, const std::vector<SE2>& p1, size_t drift_from, double drift,
           RobotId anchor = RobotId(0), RobotId other = RobotId(1), size_t drift_until = SIZE_MAX) {
+  options.start_closures.every_keyframes = 0;
   Merge out{MultiRobotMapper(options), {}};
   for (const Keyframe& kf :
        testing::make_keyframes(anchor, along(testing::west_route(0)), testing::two_wing_building())) {

@@ -94,6 +94,10 @@ void RobotLinker::join_components(const MapperData& data, RobotId ra, RobotId rb
 
 void RobotLinker::detect_new_loops(MapperData* data, LinkUpdate* update) {
   for (KeyframeId id : detect_queue_) {
+    if (const std::optional<LoopClosure> c = start_closure(*data, id); c && accept_intra_robot_closure(*data, *c)) {
+      data->loops.push_back(*c);
+      ++stats_.start_closures;
+    }
     for (const LoopClosure& c : loop_closer_.add_and_detect(data->keyframe(id), data->keyframes)) {
       if (c.a.robot == c.b.robot || component_of(*data, c.a.robot) == component_of(*data, c.b.robot)) {
         // Intra-robot: must agree with the robot's own poses up to its drift; a pair already

@@ -11,7 +11,9 @@
 // - robots seeing robots (sightings.h), aligned and judged as markers are;
 // - the operator's alignment in the console: verified scan matches around it, then the map check.
 // Once a pair is linked, a closure that would move it passes a gate and the map check first, and a
-// closure within one robot must agree with its own map up to its drift.
+// closure within one robot must agree with its own map up to its drift. Each robot's first scan is
+// also verified in the local maps of its keyframes soon after (start closures), which measures the
+// heading its local SLAM loses while turning at its start.
 // add-side calls only store (note_keyframe); every decision happens in update(), which returns
 // what changed. Reads and writes MapperData (starts, loops, own frames), never the pose graph.
 #include <map>
@@ -60,6 +62,7 @@ struct LinkStats {
   int linked_pair_rejected = 0;        ///< of those, refuted and dropped
   int intra_closures = 0;              ///< verified closures within one robot's trajectory
   int intra_rejected = 0;              ///< of those, contradicting the robot's own map beyond its drift
+  int start_closures = 0;              ///< of those, from a robot's first keyframe (StartClosureOptions)
   int hint_refused = 0;                ///< inter-robot closures off an entry hint (MapperOptions::entry_hint_chi2)
 };
 
@@ -205,6 +208,9 @@ class RobotLinker {
   bool accept_linked_pair_closure(const MapperData& data, const LoopClosure& c, LinkUpdate* update);
   /// Whether a closure within one robot agrees with its own local poses up to its possible drift.
   bool accept_intra_robot_closure(const MapperData& data, const LoopClosure& c);
+  /// The closure from `id`'s robot's first keyframe to `id`, when `id` is one StartClosureOptions
+  /// names and the first scan verifies in its local map (robot_linker_start.cpp).
+  std::optional<LoopClosure> start_closure(const MapperData& data, KeyframeId id) const;
   // Guided search around a link hypothesis (robot_linker_guided.cpp).
   /// Verified closures (a in frame A, b = rb) between rb's keyframes placed by T_A_blocal and the
   /// nearest keyframes of frame A, each searched in a small window around the hypothesis.
