@@ -74,6 +74,9 @@ inline void decode_journal_payload(base::JournalKind kind, const std::vector<uin
         (void)controls.restore(*record, &error);
       }
       break;
+    case JournalKind::kAlignment:
+      (void)base::alignment_request_from_json(text, &error);
+      break;
   }
 }
 
